@@ -1,0 +1,66 @@
+"""The audit pipeline: every registered check on every case, failures contained.
+
+``audit_case`` needs no database (a notebook can audit a ``Case`` it just
+loaded); ``Registry.audit`` in ``api`` runs it over stored cases and records
+the run.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Iterable
+
+from .checks import CHECKS, CheckSpec, Mechanics
+from .model import Case, CaseAudit, CheckResult, Claim, ClaimKind, Verdict
+
+#: The case-level checks whose verdicts appear under ``checks`` in the JSON output.
+CASE_CHECKS = tuple(name for name, spec in CHECKS.items() if not spec.per_claim)
+
+
+def audit_case(case: Case, checks: Iterable[str] | None = None) -> CaseAudit:
+    """Run the named checks (default: all) on ``case``; a crash becomes an ``error`` result."""
+    wanted = set(CHECKS) if checks is None else set(checks)
+    unknown = wanted - set(CHECKS)
+    if unknown:
+        raise ValueError(f"unknown check(s): {', '.join(sorted(unknown))}")
+    mech = Mechanics(case)
+    results: list[CheckResult] = []
+    for spec in CHECKS.values():
+        if spec.name not in wanted:
+            continue
+        if not spec.per_claim:
+            results.append(_run(spec, mech))
+            continue
+        for claim in case.claims:
+            if spec.applies(claim):
+                results.append(_run(spec, mech, claim))
+    return CaseAudit(case.id, case.content_hash, tuple(results))
+
+
+def _run(spec: CheckSpec, mech: Mechanics, claim: Claim | None = None) -> CheckResult:
+    started = time.perf_counter()
+    try:
+        return spec.run(mech) if claim is None else spec.run(mech, claim)
+    except Exception as exc:  # one failing check must not stop the audit
+        return CheckResult(
+            check=spec.name,
+            verdict=Verdict.ERROR,
+            method="exception",
+            claim=None if claim is None else claim.label,
+            reason=f"{type(exc).__name__}: {exc}",
+            seconds=time.perf_counter() - started,
+        )
+
+
+def failed_case(case_id: str, content_hash: str, exc: Exception) -> CaseAudit:
+    """The audit of a case that could not even be loaded: one ``error`` result."""
+    return CaseAudit(
+        case_id,
+        content_hash,
+        (CheckResult("load", Verdict.ERROR, "exception", reason=f"{type(exc).__name__}: {exc}"),),
+    )
+
+
+def claim_verdict(kind: ClaimKind | str, integral: Verdict | str, casimir: Verdict | str) -> str:
+    """A claim's overall verdict: the verdict of the property its kind names."""
+    return str(integral if ClaimKind(kind) is ClaimKind.INTEGRAL else casimir)

@@ -1,0 +1,216 @@
+"""The checks: each a small function stating one mathematical claim about a case.
+
+A check returns a ``CheckResult`` (verdict, method, witness, time), never a
+bare bool. Case checks take the case's ``Mechanics``; claim checks also take
+the claim. The symbolic objects (Pi_mu, the vector field, H) are built once
+per case in ``Mechanics`` and shared by every check.
+"""
+
+from __future__ import annotations
+
+import time
+import zlib
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
+from functools import cached_property
+
+import sympy as sp
+
+from . import mechanics as mech
+from .model import Case, CheckResult, Claim, Verdict
+from .zero import Domain, ZeroTest, decide
+
+
+class Mechanics:
+    """The symbolic objects of one case, computed once: Pi_mu, X, H and the domain."""
+
+    def __init__(self, case: Case):
+        self.case = case
+        self.inertia = case.system.inertia_exprs
+        self.potential = case.system.potential.expr
+        self.mu = case.system.torque_exprs
+        self._memo: dict[tuple, CheckResult] = {}
+
+    @cached_property
+    def domain(self) -> Domain:
+        return Domain(
+            parameters=tuple(self.case.parameters.values()),
+            functions=dict(self.case.functions),
+            nonzero=tuple(self.inertia),
+        )
+
+    @cached_property
+    def pi(self) -> sp.Matrix:
+        return mech.poisson_tensor(self.mu)
+
+    @cached_property
+    def field(self) -> tuple[sp.Expr, ...]:
+        return mech.vector_field(self.inertia, self.potential, self.mu)
+
+    @cached_property
+    def hamiltonian(self) -> sp.Expr:
+        return mech.hamiltonian(self.inertia, self.potential)
+
+    def casimir_residual(self, expr: sp.Expr) -> dict[str, sp.Expr]:
+        """Pi_mu nabla f, by component (row of Pi_mu)."""
+        values = self.pi * sp.Matrix(mech.gradient(expr))
+        return {f"Pi grad[{v}]": values[i] for i, v in enumerate(mech.STATE)}
+
+    def once(self, key: tuple, compute: Callable[[], CheckResult]) -> CheckResult:
+        """Compute a result once per case (e.g. a level set's invariance, used twice)."""
+        if key not in self._memo:
+            self._memo[key] = compute()
+        return self._memo[key]
+
+    def seed(self, check: str, claim: str | None = None) -> int:
+        """A stable seed per case and check, so verdicts and witnesses reproduce."""
+        return zlib.crc32(f"{self.case.id}/{check}/{claim or ''}".encode())
+
+
+@dataclass(frozen=True)
+class CheckSpec:
+    """A registered check: its name, function, and whether it runs per claim."""
+
+    name: str
+    run: Callable[..., CheckResult]
+    per_claim: bool
+    cost: str  # "cheap" or "expensive", a note for schedulers and readers
+    applies: Callable[[Claim], bool] = lambda claim: True
+
+    @property
+    def statement(self) -> str:
+        return (self.run.__doc__ or "").strip().splitlines()[0]
+
+
+CHECKS: dict[str, CheckSpec] = {}
+
+
+def check(name: str, *, per_claim: bool = False, cost: str = "cheap", applies=None):
+    """Register a check under ``name``; its one-line docstring states the claim."""
+
+    def register(fn):
+        CHECKS[name] = CheckSpec(name, fn, per_claim, cost, applies or (lambda claim: True))
+        return fn
+
+    return register
+
+
+def _result(
+    name: str, test: ZeroTest, residuals: Mapping[str, sp.Expr], started: float,
+    claim: str | None = None, reason: str | None = None,
+) -> CheckResult:
+    residual = None
+    if test.verdict is Verdict.REFUTED and test.component is not None:
+        residual = _text(residuals[test.component])
+    return CheckResult(
+        check=name,
+        verdict=test.verdict,
+        method=test.method,
+        claim=claim,
+        reason=test.reason if reason is None else reason,
+        residual=residual,
+        witness=test.witness,
+        seconds=time.perf_counter() - started,
+    )
+
+
+def _text(expr: sp.Expr) -> str:
+    """An expression in the case-file language where possible (sympy's form otherwise)."""
+    from .expressions import to_text
+
+    try:
+        return to_text(expr)
+    except ValueError:
+        return sp.sstr(expr)
+
+
+def _decide(m: Mechanics, name: str, residuals, claim: str | None = None, on=()) -> ZeroTest:
+    domain = m.domain.restricted(on) if on else m.domain
+    return decide(residuals, domain, seed=m.seed(name, claim))
+
+
+@check("jacobi", cost="expensive")
+def jacobi(m: Mechanics) -> CheckResult:
+    """Pi_mu satisfies the Jacobi identity, i.e. it is a Poisson tensor (all 20 components)."""
+    started = time.perf_counter()
+    names = [str(v) for v in mech.STATE]
+    residuals = {
+        f"J[{names[i]},{names[j]},{names[k]}]": value
+        for (i, j, k), value in mech.jacobiator(m.pi).items()
+    }
+    return _result("jacobi", _decide(m, "jacobi", residuals), residuals, started)
+
+
+@check("energy")
+def energy(m: Mechanics) -> CheckResult:
+    """The Hamiltonian H = M.I^-1 M/2 + U is conserved: dH/dt = 0 along (2.2)."""
+    started = time.perf_counter()
+    residuals = {"dH/dt": mech.time_derivative(m.hamiltonian, m.field)}
+    return _result("energy", _decide(m, "energy", residuals), residuals, started)
+
+
+@check("c1")
+def c1(m: Mechanics) -> CheckResult:
+    """C1 = |gamma|^2/2 is a Casimir of Pi_mu: Pi_mu grad C1 = 0."""
+    started = time.perf_counter()
+    residuals = m.casimir_residual(mech.C1)
+    return _result("c1", _decide(m, "c1", residuals), residuals, started)
+
+
+@check("hamiltonian")
+def hamiltonian(m: Mechanics) -> CheckResult:
+    """System (2.2) is Hamiltonian for Pi_mu: its vector field equals Pi_mu grad H."""
+    started = time.perf_counter()
+    generated = mech.hamiltonian_vector_field(m.pi, m.hamiltonian)
+    residuals = {
+        f"X-Pi grad H[{v}]": x - y
+        for v, x, y in zip(mech.STATE, m.field, generated, strict=True)
+    }
+    return _result("hamiltonian", _decide(m, "hamiltonian", residuals), residuals, started)
+
+
+@check("invariant", per_claim=True, applies=lambda claim: bool(claim.on))
+def invariant(m: Mechanics, claim: Claim) -> CheckResult:
+    """The claim's level set is invariant under the flow: dg/dt = 0 where every g = 0."""
+
+    def compute() -> CheckResult:
+        started = time.perf_counter()
+        on = [eq.expr for eq in claim.on]
+        residuals = {
+            f"d/dt({eq.text})": mech.time_derivative(eq.expr, m.field) for eq in claim.on
+        }
+        test = _decide(m, "invariant", residuals, claim.label, on)
+        return _result("invariant", test, residuals, started, claim.label)
+
+    return m.once(("invariant", claim.label), compute)
+
+
+@check("integral", per_claim=True)
+def integral(m: Mechanics, claim: Claim) -> CheckResult:
+    """The claimed expression I is conserved: dI/dt = 0 along (2.2) (on its level set)."""
+    started = time.perf_counter()
+    on = [eq.expr for eq in claim.on]
+    residuals = {"dI/dt": mech.time_derivative(claim.expression.expr, m.field)}
+    test = _decide(m, "integral", residuals, claim.label, on)
+    reason = None
+    if test.verdict is Verdict.VERIFIED and on:
+        kept = invariant(m, claim)
+        if kept.verdict is not Verdict.VERIFIED:
+            why = (
+                "the flow does not keep the level set invariant"
+                if kept.verdict is Verdict.REFUTED
+                else "could not decide whether the flow keeps the level set invariant"
+            )
+            test = ZeroTest(Verdict.INCONCLUSIVE, test.method)
+            reason = f"dI/dt vanishes on the level set, but {why}"
+    return _result("integral", test, residuals, started, claim.label, reason)
+
+
+@check("casimir", per_claim=True)
+def casimir(m: Mechanics, claim: Claim) -> CheckResult:
+    """The claimed expression I is a Casimir of Pi_mu: Pi_mu grad I = 0 (on its level set)."""
+    started = time.perf_counter()
+    on = [eq.expr for eq in claim.on]
+    residuals = m.casimir_residual(claim.expression.expr)
+    test = _decide(m, "casimir", residuals, claim.label, on)
+    return _result("casimir", test, residuals, started, claim.label)

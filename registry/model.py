@@ -1,0 +1,215 @@
+"""The domain: a case from the literature, its system and the claims made for it.
+
+These frozen dataclasses are what a parsed case file becomes; storage rows
+are converted to and from them in one place (``storage``). Expressions are
+kept twice: as sympy objects for the algebra and as the text the author
+wrote, so that what is stored and printed is what the paper says.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from enum import StrEnum
+from types import MappingProxyType
+
+import sympy as sp
+
+from .mechanics import STATE, s
+
+
+class Assumption(StrEnum):
+    """What a case file may declare of a parameter (all parameters are real)."""
+
+    REAL = "real"
+    POSITIVE = "positive"
+    NONZERO = "nonzero"
+    INTEGER = "integer"
+
+
+class ClaimKind(StrEnum):
+    """What the source claims of an expression."""
+
+    INTEGRAL = "integral"  # conserved along every solution
+    CASIMIR = "casimir"  # a Casimir function of Pi_mu
+
+
+class Verdict(StrEnum):
+    """The outcome of one check. ``error`` means the check itself crashed."""
+
+    VERIFIED = "verified"
+    REFUTED = "refuted"
+    INCONCLUSIVE = "inconclusive"
+    ERROR = "error"
+
+
+@dataclass(frozen=True)
+class Expression:
+    """An expression of the case-file language: the text as written and its meaning."""
+
+    text: str
+    expr: sp.Expr
+
+    def __str__(self) -> str:
+        return self.text
+
+
+@dataclass(frozen=True)
+class Equation:
+    """One level-set equation ``lhs = rhs`` of a claim's ``on`` list."""
+
+    text: str
+    lhs: sp.Expr
+    rhs: sp.Expr
+
+    @property
+    def expr(self) -> sp.Expr:
+        """lhs - rhs, which vanishes on the level set."""
+        return self.lhs - self.rhs
+
+
+@dataclass(frozen=True)
+class Source:
+    """Where a case or claim comes from in the literature."""
+
+    citation: str
+    locator: str = ""
+    doi: str = ""
+
+
+@dataclass(frozen=True)
+class Claim:
+    """An integral of motion that a source claims for a system."""
+
+    label: str
+    kind: ClaimKind
+    expression: Expression
+    on: tuple[Equation, ...] = ()
+    locator: str = ""
+
+
+@dataclass(frozen=True)
+class System:
+    """Principal moments (A, B, C), the potential U(gamma) and the torque vector mu."""
+
+    inertia: tuple[Expression, Expression, Expression]
+    potential: Expression
+    torque: tuple[Expression, Expression, Expression]
+
+    @property
+    def inertia_exprs(self) -> tuple[sp.Expr, sp.Expr, sp.Expr]:
+        return tuple(e.expr for e in self.inertia)  # type: ignore[return-value]
+
+    @property
+    def torque_exprs(self) -> tuple[sp.Expr, sp.Expr, sp.Expr]:
+        return tuple(e.expr for e in self.torque)  # type: ignore[return-value]
+
+
+def _frozen(mapping: Mapping | None) -> Mapping:
+    return MappingProxyType(dict(mapping or {}))
+
+
+@dataclass(frozen=True)
+class Case:
+    """One system from the literature with the claims its source makes.
+
+    ``parameters`` maps each declared constant to its sympy symbol (which carries
+    the assumption); ``functions`` maps each declared arbitrary function to its
+    sympy function class and argument symbols. ``text`` is the case file as
+    loaded and ``content_hash`` identifies its content (see ``casefile``).
+    """
+
+    id: str
+    title: str
+    source: Source
+    system: System
+    claims: tuple[Claim, ...] = ()
+    parameters: Mapping[str, sp.Symbol] = field(default_factory=dict)
+    assumptions: Mapping[str, Assumption] = field(default_factory=dict)
+    functions: Mapping[str, tuple[sp.FunctionClass, tuple[sp.Symbol, ...]]] = field(
+        default_factory=dict
+    )
+    notes: str = ""
+    text: str = ""
+    content_hash: str = ""
+    path: str | None = None
+
+    def __post_init__(self) -> None:
+        for name in ("parameters", "assumptions", "functions"):
+            object.__setattr__(self, name, _frozen(getattr(self, name)))
+
+    def claim(self, label: str) -> Claim:
+        """The claim with this label (KeyError if the case has none)."""
+        for c in self.claims:
+            if c.label == label:
+                return c
+        raise KeyError(label)
+
+
+#: Names a case file may not use for parameters or functions.
+VARIABLE_NAMES: tuple[str, ...] = tuple(str(v) for v in STATE) + (str(s),)
+
+
+@dataclass(frozen=True)
+class Witness:
+    """A point where a residual was evaluated and found nonzero.
+
+    ``point`` gives exact values (expression-language text) of the state
+    variables and parameters; ``functions`` the concrete functions substituted
+    for a family's arbitrary ones; ``value`` the exact residual there (or a
+    certified enclosure) and ``approx`` a decimal approximation of it.
+    """
+
+    point: Mapping[str, str]
+    value: str
+    approx: str
+    component: str = ""
+    functions: Mapping[str, str] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "point", _frozen(self.point))
+        object.__setattr__(self, "functions", _frozen(self.functions))
+
+    def as_dict(self) -> dict:
+        return {
+            "point": dict(self.point),
+            "value": self.value,
+            "approx": self.approx,
+            "component": self.component,
+            "functions": dict(self.functions),
+        }
+
+
+@dataclass(frozen=True)
+class CheckResult:
+    """The outcome of one check on one case (and one claim, for claim checks).
+
+    ``method`` names the stage that decided (e.g. ``exact probe``,
+    ``rational normal form``); ``reason`` explains an inconclusive or error
+    verdict; ``residual`` is the expression that should vanish, as text.
+    """
+
+    check: str
+    verdict: Verdict
+    method: str
+    claim: str | None = None
+    reason: str = ""
+    residual: str | None = None
+    witness: Witness | None = None
+    seconds: float = 0.0
+
+
+@dataclass(frozen=True)
+class CaseAudit:
+    """All check results for one case version."""
+
+    case: str
+    content_hash: str
+    results: tuple[CheckResult, ...]
+
+    def result(self, check: str, claim: str | None = None) -> CheckResult:
+        """The result of ``check`` (on ``claim``); KeyError if it was not run."""
+        for r in self.results:
+            if r.check == check and r.claim == claim:
+                return r
+        raise KeyError((check, claim))

@@ -1,0 +1,415 @@
+"""Zero testing: does a residual vanish identically (on a level set)?
+
+The decision is made in stages, cheapest first, and the stage is recorded:
+
+1. *Exact probes.* Evaluate at random exact points (rational where the
+   case's radicals allow it), with ``certified.evaluate``. A value proven
+   nonzero refutes the identity, and the point is the witness.
+2. *Proof.* Put the residual in a normal form that is complete for its class:
+   radicals b**(p/q) become new symbols rho with rho**q = b, transcendental
+   terms and arbitrary functions become new symbols, the result is a rational
+   function whose numerator is reduced modulo the radical relations (and the
+   level-set equations, by a Groebner basis). A zero remainder is a proof.
+3. Otherwise the residual vanished at every probe but no proof was found:
+   ``inconclusive``, never ``verified``.
+"""
+
+from __future__ import annotations
+
+import itertools
+import random
+from collections.abc import Iterator, Mapping, Sequence
+from dataclasses import dataclass, field
+from fractions import Fraction
+
+import sympy as sp
+from sympy.core.function import AppliedUndef
+
+from .certified import OutsideDomain, Value, evaluate
+from .mechanics import AXIS, MOMENTUM, S_VALUE, STATE, s
+from .model import Verdict, Witness
+
+#: Points where every residual must vanish before a proof is attempted.
+PROBES = 4
+#: Attempts to find that many points inside the domain before giving up.
+MAX_ATTEMPTS = 40
+
+
+@dataclass(frozen=True)
+class Domain:
+    """Where residuals live: parameters (symbols carry assumptions), arbitrary
+    functions of a family, expressions that must not vanish (moments of inertia)
+    and the level set ``on`` (expressions that vanish there)."""
+
+    parameters: tuple[sp.Symbol, ...] = ()
+    functions: Mapping[str, tuple[sp.FunctionClass, tuple[sp.Symbol, ...]]] = field(
+        default_factory=dict
+    )
+    nonzero: tuple[sp.Expr, ...] = ()
+    on: tuple[sp.Expr, ...] = ()
+
+    def restricted(self, on: Sequence[sp.Expr]) -> Domain:
+        """The same domain restricted to the level set where ``on`` vanish."""
+        return Domain(self.parameters, self.functions, self.nonzero, tuple(on))
+
+
+@dataclass(frozen=True)
+class ZeroTest:
+    """The decision for a family of residuals: all zero (verified), one nonzero
+    somewhere (refuted, with the witness), or undecided (inconclusive, with why)."""
+
+    verdict: Verdict
+    method: str
+    reason: str = ""
+    witness: Witness | None = None
+    component: str | None = None
+
+
+def decide(
+    residuals: Mapping[str, sp.Expr],
+    domain: Domain,
+    *,
+    probes: int = PROBES,
+    seed: int = 0,
+) -> ZeroTest:
+    """Decide whether every residual vanishes on the domain (stages in the module doc)."""
+    live = {k: e for k, e in residuals.items() if e != 0}
+    if not live:
+        return ZeroTest(Verdict.VERIFIED, "identically zero")
+    probe = _probe(live, domain, probes, random.Random(seed))
+    if probe is not None:
+        return probe
+    methods = set()
+    for label, expr in live.items():
+        method = prove_zero(expr, domain.on)
+        if method is None:
+            return ZeroTest(
+                Verdict.INCONCLUSIVE,
+                "exact probes",
+                reason=f"vanishes at {probes} random points; no symbolic proof",
+                component=label,
+            )
+        methods.add(method)
+    return ZeroTest(Verdict.VERIFIED, max(methods, key=_METHOD_ORDER.index))
+
+
+_METHOD_ORDER = ["rational normal form", "algebraic normal form", "level-set reduction"]
+
+
+# --- stage 1: exact probes ---------------------------------------------------
+
+
+def _probe(live, domain: Domain, probes: int, rng: random.Random) -> ZeroTest | None:
+    """Refute at a random exact point, or return None when every probe vanished.
+
+    For a family, two concrete instances of its arbitrary functions alternate.
+    """
+    n_choices = 2 if domain.functions else 1
+    choices = [_concrete_functions(domain.functions, rng) for _ in range(n_choices)]
+    instances = [{k: _substitute_functions(e, f) for k, e in live.items()} for f in choices]
+    good = 0
+    for attempt in range(MAX_ATTEMPTS):
+        funcs, residuals = choices[attempt % len(choices)], instances[attempt % len(choices)]
+        point = _sample_point(domain, rng, funcs)
+        if point is None:
+            continue
+        try:
+            values = {label: evaluate(expr, point) for label, expr in residuals.items()}
+        except OutsideDomain:
+            continue
+        for label, value in values.items():
+            if value.certainly_nonzero():
+                return ZeroTest(
+                    Verdict.REFUTED,
+                    "exact probe" if value.is_exact else "interval probe",
+                    witness=_witness(point, value, label, funcs, domain),
+                    component=label,
+                )
+        good += 1
+        if good >= probes:
+            return None
+    if good == 0:
+        return ZeroTest(
+            Verdict.INCONCLUSIVE,
+            "exact probes",
+            reason="found no sample point where the residual is defined",
+        )
+    return None
+
+
+def _witness(point, value: Value, label: str, funcs, domain: Domain) -> Witness:
+    names = {str(k): sp.sstr(v) for k, v in point.items()}
+    shown = {
+        f"{name}({', '.join(map(str, args))})": sp.sstr(funcs[name].expr)
+        for name, (_, args) in domain.functions.items()
+    }
+    return Witness(names, value.text(), value.approx(), component=label, functions=shown)
+
+
+def _rational(rng: random.Random, *, positive=False, nonzero=False, integer=False) -> Fraction:
+    """A small random rational (or integer) respecting the assumptions."""
+    while True:
+        if integer:
+            v = Fraction(rng.randint(1 if positive else -6, 6))
+        else:
+            num = rng.randint(1 if positive else -23, 23)
+            v = Fraction(num, rng.randint(1, 11))
+        if v != 0 or not (positive or nonzero):
+            return v
+
+
+def _parameter_value(sym: sp.Symbol, rng: random.Random) -> Fraction:
+    return _rational(
+        rng,
+        positive=bool(sym.is_positive),
+        nonzero=bool(sym.is_nonzero),
+        integer=bool(sym.is_integer),
+    )
+
+
+def _pythagorean(rng: random.Random, radius: Fraction) -> tuple[Fraction, Fraction]:
+    """A rational point on the circle of the given radius."""
+    t = _rational(rng)
+    return radius * (1 - t * t) / (1 + t * t), radius * 2 * t / (1 + t * t)
+
+
+def _axis_point(rng: random.Random) -> list[Fraction]:
+    """Rational gamma with |gamma| and one planar radius rational, so square roots of
+    |gamma|**2 and of gamma_i**2 + gamma_j**2 evaluate exactly."""
+    big = _rational(rng, positive=True)
+    r, third = _pythagorean(rng, big)
+    a, b = _pythagorean(rng, r)
+    g = [a, b, third]
+    rng.shuffle(g)
+    return g
+
+
+def _sample_point(domain: Domain, rng: random.Random, funcs) -> dict | None:
+    """A random exact point of the domain (on the level set), or None."""
+    point: dict[sp.Symbol, sp.Expr] = {}
+    for sym in domain.parameters:
+        point[sym] = sp.Rational(_parameter_value(sym, rng))
+    for sym, v in zip(MOMENTUM, (_rational(rng) for _ in MOMENTUM), strict=True):
+        point[sym] = sp.Rational(v)
+    for sym, v in zip(AXIS, _axis_point(rng), strict=True):
+        point[sym] = sp.Rational(v)
+    if domain.on and not _place_on_set(point, domain.on, rng, funcs):
+        return None
+    point[s] = sp.expand(S_VALUE.xreplace(point))
+    for expr in domain.nonzero:
+        try:
+            if not evaluate(expr, point).certainly_nonzero():
+                return None
+        except OutsideDomain:
+            return None
+    return point
+
+
+def _place_on_set(point: dict, equations: Sequence[sp.Expr], rng, funcs) -> bool:
+    """Move ``point`` onto the level set, solving the equations one variable at a time.
+
+    Each equation pins unpinned state variables: linearly, by scaling a homogeneous
+    group (M or gamma), or by a real root of a quadratic. Orders are tried until the
+    exact point satisfies every equation.
+    """
+    eqs = [_substitute_functions(e, funcs).xreplace({s: S_VALUE}) for e in equations]
+    start = dict(point)
+    for order in itertools.islice(itertools.permutations(eqs), 6):
+        point.clear()
+        point.update(start)
+        pinned: set[sp.Symbol] = set()
+        if all(_pin(eq, point, pinned, rng) for eq in order) and _on_set(point, eqs):
+            return True
+    return False
+
+
+def _pin(eq: sp.Expr, point: dict, pinned: set, rng: random.Random) -> bool:
+    free = [v for v in STATE if v not in pinned and eq.has(v)]
+    if not free:
+        return False
+    known = {k: v for k, v in point.items() if k not in free}
+    reduced = sp.together(eq.xreplace(known))
+    numer = sp.numer(reduced)
+    for v in free:  # linear in one variable: a rational solution
+        fixed = {k: point[k] for k in free if k != v}
+        expr = numer.xreplace(fixed)
+        if not expr.is_polynomial(v):
+            continue
+        poly = sp.Poly(expr, v)
+        if poly.degree() == 1 and poly.nth(1) != 0:
+            point[v] = sp.expand(-poly.nth(0) / poly.nth(1))
+            pinned.add(v)
+            return True
+    for group in (AXIS, MOMENTUM):  # homogeneous in a group: scale the group
+        if _scale_group(numer, group, free, point, pinned):
+            return True
+    for v in free:  # quadratic (or higher) in one variable: a real root
+        fixed = {k: point[k] for k in free if k != v}
+        expr = numer.xreplace(fixed)
+        if not expr.is_polynomial(v):
+            continue
+        roots = [r for r in sp.Poly(expr, v).all_roots() if r.is_real]
+        if roots:
+            point[v] = rng.choice(roots)
+            pinned.add(v)
+            return True
+    return False
+
+
+def _scale_group(numer, group, free, point, pinned) -> bool:
+    if not all(g in free for g in group):
+        return False
+    lam = sp.Dummy("lam", positive=True)
+    others = {k: point[k] for k in free if k not in group}
+    scaled = sp.expand(numer.xreplace(others).xreplace({g: lam * point[g] for g in group}))
+    if not scaled.is_polynomial(lam):
+        return False
+    poly = sp.Poly(scaled, lam)
+    terms = [(m[0], c) for m, c in poly.terms() if c != 0]
+    if len(terms) != 2 or min(d for d, _ in terms) != 0:
+        return False
+    (d, a), (_, c) = sorted(terms, reverse=True)
+    ratio = -c / a
+    if not (ratio.is_positive):
+        return False
+    factor = ratio ** sp.Rational(1, d)
+    for g in group:
+        point[g] = point[g] * factor
+        pinned.add(g)
+    return True
+
+
+def _on_set(point: dict, eqs: Sequence[sp.Expr]) -> bool:
+    """Exact check that the point satisfies the equations."""
+    for eq in eqs:
+        value = eq.xreplace(point)
+        if sp.simplify(value) != 0:
+            return False
+    return True
+
+
+# --- arbitrary functions: concrete choices for probes -----------------------
+
+
+def _concrete_functions(functions, rng: random.Random) -> dict[str, sp.Lambda]:
+    """A random quadratic polynomial for each declared function (a family's instance)."""
+    chosen = {}
+    for name, (_, args) in functions.items():
+        terms = [sp.Rational(_rational(rng, nonzero=True))]
+        terms += [sp.Rational(_rational(rng)) * a for a in args]
+        terms += [
+            sp.Rational(_rational(rng)) / 2 * a * b
+            for a, b in itertools.combinations_with_replacement(args, 2)
+        ]
+        chosen[name] = sp.Lambda(args, sp.Add(*terms))
+    return chosen
+
+
+def _substitute_functions(expr: sp.Expr, funcs: Mapping[str, sp.Lambda]) -> sp.Expr:
+    """Replace each declared function by its concrete choice and evaluate derivatives."""
+    if not funcs or not expr.has(AppliedUndef):
+        return expr
+
+    def concrete(e) -> bool:
+        return isinstance(e, AppliedUndef) and e.func.__name__ in funcs
+
+    return expr.replace(concrete, lambda e: funcs[e.func.__name__](*e.args)).doit()
+
+
+# --- stage 2: proof by normal form ------------------------------------------
+
+
+class _Atoms:
+    """Rewrites an expression as a rational function of new symbols for its
+    radicals (rho**q = base) and its transcendental or arbitrary-function terms."""
+
+    def __init__(self) -> None:
+        self.radicals: dict[tuple[sp.Expr, int], sp.Symbol] = {}
+        self.others: dict[sp.Expr, sp.Symbol] = {}
+        self._memo: dict[sp.Expr, sp.Expr] = {}
+
+    def relations(self) -> list[tuple[sp.Symbol, int, sp.Expr]]:
+        return [(rho, q, base) for (base, q), rho in self.radicals.items()]
+
+    def rewrite(self, expr: sp.Expr) -> sp.Expr:
+        hit = self._memo.get(expr)
+        if hit is None:
+            hit = self._rewrite(expr)
+            self._memo[expr] = hit
+        return hit
+
+    def _key(self, expr: sp.Expr) -> sp.Expr:
+        return sp.expand(self.rewrite(expr).xreplace({s: S_VALUE}))
+
+    def _rewrite(self, expr: sp.Expr) -> sp.Expr:
+        if expr.is_Atom:
+            return expr
+        if isinstance(expr, (AppliedUndef, sp.Derivative, sp.Subs)):
+            return self._symbol_for(expr)
+        if expr.is_Pow:
+            base, exp = expr.base, expr.exp
+            if exp.is_Integer:
+                return self.rewrite(base) ** exp
+            if exp.is_Rational:
+                key = (self._key(base), int(exp.q))
+                rho = self.radicals.get(key)
+                if rho is None:
+                    rho = self.radicals[key] = sp.Dummy(f"rho{len(self.radicals)}")
+                return rho ** int(exp.p)
+            return self._symbol_for(sp.Pow(self._key(base), self._key(exp)))
+        if isinstance(expr, sp.Function):
+            return self._symbol_for(expr.func(*(self._key(a) for a in expr.args)))
+        return expr.func(*(self.rewrite(a) for a in expr.args))
+
+    def _symbol_for(self, key: sp.Expr) -> sp.Symbol:
+        sym = self.others.get(key)
+        if sym is None:
+            sym = self.others[key] = sp.Dummy(f"tau{len(self.others)}")
+        return sym
+
+
+def prove_zero(expr: sp.Expr, on: Sequence[sp.Expr] = ()) -> str | None:
+    """Prove ``expr`` == 0 (on the level set ``on``); return the method, or None."""
+    atoms = _Atoms()
+    numer = _numerator(atoms.rewrite(expr))
+    if numer == 0:
+        return "rational normal form"
+    relations = atoms.relations()
+    if not on:
+        for rho, q, base in relations:
+            numer = _reduce_radical(numer, rho, q, base)
+        return "algebraic normal form" if numer == 0 else None
+    eqs = [_numerator(atoms.rewrite(e)) for e in on]
+    eqs += [rho**q - base for rho, q, base in atoms.relations()]
+    gens = sorted(set().union(*(e.free_symbols for e in [numer, *eqs])), key=str)
+    basis = sp.groebner(eqs, *gens, order="grevlex")
+    _, remainder = basis.reduce(numer)
+    return "level-set reduction" if remainder == 0 else None
+
+
+def _numerator(rewritten: sp.Expr) -> sp.Expr:
+    rational = rewritten.xreplace({s: S_VALUE})
+    return sp.expand(sp.numer(sp.together(rational)))
+
+
+def _reduce_radical(numer: sp.Expr, rho: sp.Symbol, q: int, base: sp.Expr) -> sp.Expr:
+    """numer modulo rho**q - base: every rho**k becomes base**(k // q) * rho**(k % q)."""
+    if not numer.has(rho):
+        return numer
+    poly = sp.Poly(numer, rho)
+    reduced = sp.Add(
+        *(c * base ** (k // q) * rho ** (k % q) for (k,), c in poly.terms())
+    )
+    return sp.expand(reduced)
+
+
+def sample_points(domain: Domain, count: int, seed: int = 0) -> Iterator[dict]:
+    """Exact random points of the domain (used by tests and numeric evidence)."""
+    rng = random.Random(seed)
+    funcs = _concrete_functions(domain.functions, rng)
+    produced = 0
+    while produced < count:
+        point = _sample_point(domain, rng, funcs)
+        if point is not None:
+            produced += 1
+            yield point
