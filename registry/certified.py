@@ -177,7 +177,7 @@ def _pow(base, exp: sp.Expr, env, cache):
         if isinstance(base, Fraction):
             if base < 0:
                 raise OutsideDomain("root of a negative number")
-            root = _exact_root(base, q)
+            root = exact_root(base, q)
             if root is not None:
                 return root**p
         if not _positive(base):
@@ -208,7 +208,7 @@ def _iv_int_pow(v, n: int):
     return result
 
 
-def _exact_root(x: Fraction, q: int) -> Fraction | None:
+def exact_root(x: Fraction, q: int) -> Fraction | None:
     """The exact q-th root of a non-negative rational, if it is rational."""
     num = _int_root(x.numerator, q)
     den = _int_root(x.denominator, q)
@@ -300,4 +300,3 @@ _FUNCTIONS = {
     sp.cosh: _exact_zero(_cosh, Fraction(1)),
     sp.tanh: _exact_zero(_tanh, Fraction(0)),
 }
-

@@ -96,12 +96,16 @@ def check(name: str, *, per_claim: bool = False, cost: str = "cheap", applies=No
 
 
 def _result(
-    name: str, test: ZeroTest, residuals: Mapping[str, sp.Expr], started: float,
-    claim: str | None = None, reason: str | None = None,
+    name: str,
+    test: ZeroTest,
+    residuals: Mapping[str, sp.Expr],
+    started: float,
+    claim: str | None = None,
+    reason: str | None = None,
 ) -> CheckResult:
     residual = None
     if test.verdict is Verdict.REFUTED and test.component is not None:
-        residual = _text(residuals[test.component])
+        residual = _text(readable(residuals[test.component]))
     return CheckResult(
         check=name,
         verdict=test.verdict,
@@ -112,6 +116,21 @@ def _result(
         witness=test.witness,
         seconds=time.perf_counter() - started,
     )
+
+
+#: Residuals larger than this (in sympy operations, expanded) are shown unfactored.
+FACTOR_LIMIT = 3000
+
+
+def readable(expr: sp.Expr) -> sp.Expr:
+    """A residual in a form a person can read: s expanded, combined and factored.
+
+    Factoring is skipped for very large residuals, which are shown as computed.
+    """
+    expanded = sp.expand(expr.subs(mech.s, mech.S_VALUE))
+    if sp.count_ops(expanded) > FACTOR_LIMIT:
+        return expr
+    return sp.factor(sp.together(expanded))
 
 
 def _text(expr: sp.Expr) -> str:
@@ -163,8 +182,7 @@ def hamiltonian(m: Mechanics) -> CheckResult:
     started = time.perf_counter()
     generated = mech.hamiltonian_vector_field(m.pi, m.hamiltonian)
     residuals = {
-        f"X-Pi grad H[{v}]": x - y
-        for v, x, y in zip(mech.STATE, m.field, generated, strict=True)
+        f"X-Pi grad H[{v}]": x - y for v, x, y in zip(mech.STATE, m.field, generated, strict=True)
     }
     return _result("hamiltonian", _decide(m, "hamiltonian", residuals), residuals, started)
 
@@ -176,9 +194,7 @@ def invariant(m: Mechanics, claim: Claim) -> CheckResult:
     def compute() -> CheckResult:
         started = time.perf_counter()
         on = [eq.expr for eq in claim.on]
-        residuals = {
-            f"d/dt({eq.text})": mech.time_derivative(eq.expr, m.field) for eq in claim.on
-        }
+        residuals = {f"d/dt({eq.text})": mech.time_derivative(eq.expr, m.field) for eq in claim.on}
         test = _decide(m, "invariant", residuals, claim.label, on)
         return _result("invariant", test, residuals, started, claim.label)
 

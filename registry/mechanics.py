@@ -38,6 +38,7 @@ def total_diff(expr: sp.Expr, var: sp.Symbol) -> sp.Expr:
     """d expr / d var on R^6, with s = M . gamma differentiated by the chain rule."""
     if var not in STATE:
         raise ValueError(f"{var} is not a state variable")
+    expr = sp.sympify(expr)
     d = sp.diff(expr, var)
     if expr.has(s):
         d += sp.diff(S_VALUE, var) * sp.diff(expr, s)
@@ -147,9 +148,7 @@ def jacobi_reduced(mu: Sequence[sp.Expr]) -> tuple[tuple[sp.Expr, ...], sp.Expr]
     Returns the nine components of gamma x grad_M mu_k (k = 1, 2, 3) and the scalar
     gamma . curl_gamma mu + M . curl_M mu + mu . curl_M mu.
     """
-    first = tuple(
-        c for m in mu for c in cross(AXIS, [total_diff(m, x) for x in MOMENTUM])
-    )
+    first = tuple(c for m in mu for c in cross(AXIS, [total_diff(m, x) for x in MOMENTUM]))
     curl_g = _curl(mu, AXIS)
     curl_m = _curl(mu, MOMENTUM)
     last = dot(AXIS, curl_g) + dot(MOMENTUM, curl_m) + dot(mu, curl_m)

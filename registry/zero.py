@@ -25,7 +25,7 @@ from fractions import Fraction
 import sympy as sp
 from sympy.core.function import AppliedUndef
 
-from .certified import OutsideDomain, Value, evaluate
+from .certified import OutsideDomain, Value, evaluate, exact_root
 from .mechanics import AXIS, MOMENTUM, S_VALUE, STATE, s
 from .model import Verdict, Witness
 
@@ -107,10 +107,11 @@ def _probe(live, domain: Domain, probes: int, rng: random.Random) -> ZeroTest | 
     n_choices = 2 if domain.functions else 1
     choices = [_concrete_functions(domain.functions, rng) for _ in range(n_choices)]
     instances = [{k: _substitute_functions(e, f) for k, e in live.items()} for f in choices]
+    bases = _radical_bases(instances[0].values())
     good = 0
     for attempt in range(MAX_ATTEMPTS):
         funcs, residuals = choices[attempt % len(choices)], instances[attempt % len(choices)]
-        point = _sample_point(domain, rng, funcs)
+        point = _sample_point(domain, rng, funcs, bases)
         if point is None:
             continue
         try:
@@ -173,29 +174,66 @@ def _pythagorean(rng: random.Random, radius: Fraction) -> tuple[Fraction, Fracti
     return radius * (1 - t * t) / (1 + t * t), radius * 2 * t / (1 + t * t)
 
 
-def _axis_point(rng: random.Random) -> list[Fraction]:
-    """Rational gamma with |gamma| and one planar radius rational, so square roots of
-    |gamma|**2 and of gamma_i**2 + gamma_j**2 evaluate exactly."""
+def _axis_points(rng: random.Random) -> list[list[Fraction]]:
+    """Rational gamma with |gamma| and one planar radius rational, so that square roots
+    of |gamma|**2 and of gamma_i**2 + gamma_j**2 evaluate exactly; the three
+    arrangements make each planar radius the rational one in turn."""
     big = _rational(rng, positive=True)
     r, third = _pythagorean(rng, big)
     a, b = _pythagorean(rng, r)
-    g = [a, b, third]
-    rng.shuffle(g)
-    return g
+    if rng.random() < 0.5:
+        a, b = b, a
+    return [[a, b, third], [third, a, b], [a, third, b]]
 
 
-def _sample_point(domain: Domain, rng: random.Random, funcs) -> dict | None:
-    """A random exact point of the domain (on the level set), or None."""
+def _radical_bases(exprs) -> list[tuple[sp.Expr, int]]:
+    """The bases and root orders of the radicals in ``exprs``."""
+    found = {
+        (p.base, int(p.exp.q))
+        for e in exprs
+        for p in e.atoms(sp.Pow)
+        if p.exp.is_Rational and not p.exp.is_Integer and p.base.free_symbols
+    }
+    return sorted(found, key=str)
+
+
+def _exact_radicals(point: Mapping, bases: Sequence[tuple[sp.Expr, int]]) -> int:
+    """How many of the radicals are rational at the point (higher is better)."""
+    count = 0
+    for base, q in bases:
+        try:
+            value = evaluate(base, point)
+        except (OutsideDomain, ValueError):
+            continue
+        if value.is_exact and value.exact >= 0 and exact_root(value.exact, q) is not None:
+            count += 1
+    return count
+
+
+def _sample_point(domain: Domain, rng: random.Random, funcs, bases=()) -> dict | None:
+    """A random exact point of the domain (on the level set), or None.
+
+    Of the candidate arrangements of gamma, the one where most of the ``bases``
+    (radicals of the residuals) are rational is taken, so values stay exact.
+    """
     point: dict[sp.Symbol, sp.Expr] = {}
     for sym in domain.parameters:
         point[sym] = sp.Rational(_parameter_value(sym, rng))
-    for sym, v in zip(MOMENTUM, (_rational(rng) for _ in MOMENTUM), strict=True):
-        point[sym] = sp.Rational(v)
-    for sym, v in zip(AXIS, _axis_point(rng), strict=True):
-        point[sym] = sp.Rational(v)
-    if domain.on and not _place_on_set(point, domain.on, rng, funcs):
-        return None
-    point[s] = sp.expand(S_VALUE.xreplace(point))
+    for sym in MOMENTUM:
+        point[sym] = sp.Rational(_rational(rng))
+    best, best_score = None, -1
+    for axis in _axis_points(rng):
+        candidate = {**point, **{g: sp.Rational(v) for g, v in zip(AXIS, axis, strict=True)}}
+        candidate[s] = sp.expand(S_VALUE.xreplace(candidate))
+        score = _exact_radicals(candidate, bases) if bases else 0
+        if score > best_score:
+            best, best_score = candidate, score
+    point = best
+    if domain.on:
+        del point[s]
+        if not _place_on_set(point, domain.on, rng, funcs):
+            return None
+        point[s] = sp.expand(S_VALUE.xreplace(point))
     for expr in domain.nonzero:
         try:
             if not evaluate(expr, point).certainly_nonzero():
@@ -397,9 +435,7 @@ def _reduce_radical(numer: sp.Expr, rho: sp.Symbol, q: int, base: sp.Expr) -> sp
     if not numer.has(rho):
         return numer
     poly = sp.Poly(numer, rho)
-    reduced = sp.Add(
-        *(c * base ** (k // q) * rho ** (k % q) for (k,), c in poly.terms())
-    )
+    reduced = sp.Add(*(c * base ** (k // q) * rho ** (k % q) for (k,), c in poly.terms()))
     return sp.expand(reduced)
 
 

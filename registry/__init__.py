@@ -1,0 +1,52 @@
+"""The registry of rigid-body integrability claims.
+
+Load literature cases from TOML files, re-check every claimed integral of
+motion symbolically, and query the verdicts with pandas::
+
+    import registry
+    reg = registry.open("data/registry.sqlite")
+    reg.add("data/cases")
+    reg.audit()
+    reg.verdicts()
+"""
+
+from .api import AddResult, AuditReport, Registry, open_registry
+from .audit import audit_case
+from .casefile import load_case, parse_case_text
+from .errors import (
+    CaseFormatError,
+    ExpressionError,
+    Problem,
+    RegistryError,
+    StorageError,
+    UnknownCaseError,
+    UnknownRunError,
+)
+from .model import Case, CaseAudit, CheckResult, Claim, ClaimKind, Verdict, Witness
+
+open = open_registry  # noqa: A001 - registry.open(path) reads like sqlite3.connect
+
+__all__ = [
+    "AddResult",
+    "AuditReport",
+    "Case",
+    "CaseAudit",
+    "CaseFormatError",
+    "CheckResult",
+    "Claim",
+    "ClaimKind",
+    "ExpressionError",
+    "Problem",
+    "Registry",
+    "RegistryError",
+    "StorageError",
+    "UnknownCaseError",
+    "UnknownRunError",
+    "Verdict",
+    "Witness",
+    "audit_case",
+    "load_case",
+    "open",
+    "open_registry",
+    "parse_case_text",
+]

@@ -1,0 +1,179 @@
+"""The Python API that notebooks and the CLI share.
+
+>>> import registry
+>>> reg = registry.open(":memory:")
+>>> [r.status for r in reg.add("data/cases/borisov-mamaev-1997.toml")]
+['added']
+>>> run = reg.audit()
+>>> reg.verdicts().query("claim == 'C' and check == 'casimir'")["verdict"].tolist()
+['verified']
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Callable, Iterable, Sequence
+from dataclasses import dataclass, field
+from importlib import metadata
+from pathlib import Path
+
+import pandas as pd
+
+from .audit import audit_case, failed_case
+from .casefile import load_case, parse_case_text
+from .errors import CaseFormatError, RegistryError
+from .model import Case, CaseAudit
+from .report import audit_document
+from .storage import Store
+
+#: Where the registry lives when neither --db nor REGISTRY_DB says otherwise.
+DEFAULT_DB = Path("data") / "registry.sqlite"
+
+
+def code_version() -> str:
+    """The installed version of this package, recorded with every audit run."""
+    try:
+        return metadata.version("rigid-body-registry")
+    except metadata.PackageNotFoundError:
+        return "0+unknown"
+
+
+def default_target() -> str:
+    """--db default: the REGISTRY_DB environment variable, else data/registry.sqlite."""
+    return os.environ.get("REGISTRY_DB") or str(DEFAULT_DB)
+
+
+@dataclass(frozen=True)
+class AddResult:
+    """What happened to one file: added, unchanged, new version, or refused (with why)."""
+
+    path: str
+    status: str
+    case: str | None = None
+    version: int | None = None
+    error: RegistryError | None = None
+
+
+@dataclass(frozen=True)
+class AuditReport:
+    """One audit run: its number, the audits of its cases and the cases themselves."""
+
+    run: int
+    audits: tuple[CaseAudit, ...]
+    cases: dict[str, Case] = field(default_factory=dict)
+    versions: dict[str, int] = field(default_factory=dict)
+
+    def document(self) -> dict:
+        """The JSON document of CASE_FORMAT.md for this run."""
+        return audit_document(self.run, self.audits, self.cases, self.versions)
+
+
+def case_files(paths: Iterable[str | os.PathLike]) -> list[Path]:
+    """The case files named by ``paths``: files as given, folders as their *.toml files."""
+    files: list[Path] = []
+    for p in map(Path, paths):
+        files.extend(sorted(p.glob("*.toml")) if p.is_dir() else [p])
+    return files
+
+
+class Registry:
+    """A registry database: add cases, audit them, query the results as DataFrames."""
+
+    def __init__(self, store: Store):
+        self.store = store
+
+    # --- adding -----------------------------------------------------------
+
+    def add(self, *paths: str | os.PathLike) -> list[AddResult]:
+        """Load case files (or folders of them); each file is stored whole or not at all."""
+        results = []
+        for path in case_files(paths):
+            try:
+                case = load_case(path)
+            except CaseFormatError as err:
+                results.append(AddResult(str(path), "refused", error=err))
+                continue
+            outcome = self.store.add_case(case)
+            results.append(AddResult(str(path), outcome.status, outcome.case_id, outcome.version))
+        return results
+
+    def add_case(self, case: Case) -> AddResult:
+        """Store a case built in Python (e.g. from ``parse_case_text``)."""
+        outcome = self.store.add_case(case)
+        return AddResult(case.path or "<python>", outcome.status, outcome.case_id, outcome.version)
+
+    # --- auditing ---------------------------------------------------------
+
+    def case(self, case_id: str) -> Case:
+        """The latest stored version of a case, parsed."""
+        (stored,) = self.store.case_versions([case_id])
+        return parse_case_text(stored.text, stored.path or stored.case_id)
+
+    def audit(
+        self,
+        case_ids: Sequence[str] | None = None,
+        *,
+        progress: Callable[[str], None] | None = None,
+    ) -> AuditReport:
+        """Audit the latest version of every case (or the named ones) and store the run.
+
+        Each case's results are committed as it finishes; a case that fails to
+        load or crashes is recorded as ``error`` and the others go on.
+        """
+        stored = self.store.case_versions(list(case_ids) if case_ids else None)
+        options = {"cases": list(case_ids) if case_ids else None}
+        run = self.store.start_run(options, code_version())
+        audits, cases, versions = [], {}, {}
+        status = "failed"
+        try:
+            for row in stored:
+                if progress is not None:
+                    progress(row.case_id)
+                try:
+                    case = parse_case_text(row.text, row.path or row.case_id)
+                    audit = audit_case(case)
+                    cases[case.id] = case
+                except Exception as exc:  # a broken case must not stop the run
+                    audit = failed_case(row.case_id, row.content_hash, exc)
+                self.store.record_case(run, row.pk, audit)
+                audits.append(audit)
+                versions[row.case_id] = row.version
+            status = "complete"
+        except KeyboardInterrupt:
+            status = "interrupted"
+            raise
+        finally:
+            self.store.finish_run(run, status)
+        return AuditReport(run, tuple(audits), cases, versions)
+
+    # --- queries ----------------------------------------------------------
+
+    def cases(self) -> pd.DataFrame:
+        """One row per case (its latest version)."""
+        return self.store.cases_frame()
+
+    def claims(self) -> pd.DataFrame:
+        """One row per claim of the latest case versions."""
+        return self.store.claims_frame()
+
+    def verdicts(self, run: int | None = None) -> pd.DataFrame:
+        """The newest verdict of every check and claim (or those of one run)."""
+        return self.store.verdicts_frame(run)
+
+    def runs(self) -> pd.DataFrame:
+        """One row per audit run: when, status, code and sympy versions."""
+        return self.store.runs_frame()
+
+    def close(self) -> None:
+        self.store.close()
+
+    def __enter__(self) -> Registry:
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
+
+
+def open_registry(target: str | os.PathLike | None = None) -> Registry:
+    """Open (creating if needed) the registry at a path or SQLAlchemy URL."""
+    return Registry(Store(target if target is not None else default_target()))

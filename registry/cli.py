@@ -1,0 +1,153 @@
+"""The ``registry`` command: a thin layer over ``registry.api``.
+
+Each command opens the database, calls one API function and formats the
+result. User errors print one line per problem, starting ``Error:``, and exit
+with status 1; ``--debug`` shows the traceback instead.
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+from functools import wraps
+
+import click
+import pandas as pd
+
+from .api import Registry, default_target, open_registry
+from .errors import RegistryError
+from .report import verdict_table
+
+
+def _user_errors(fn):
+    """Turn a RegistryError into ``Error: ...`` and exit status 1 (unless --debug)."""
+
+    @wraps(fn)
+    def wrapper(*args, **kwargs):
+        ctx = click.get_current_context()
+        try:
+            return fn(*args, **kwargs)
+        except RegistryError as err:
+            if ctx.obj and ctx.obj.get("debug"):
+                raise
+            raise click.ClickException(str(err)) from None
+
+    return wrapper
+
+
+def _registry() -> Registry:
+    ctx = click.get_current_context()
+    if "registry" not in ctx.obj:
+        ctx.obj["registry"] = ctx.with_resource(open_registry(ctx.obj["db"]))
+    return ctx.obj["registry"]
+
+
+@click.group(context_settings={"help_option_names": ["-h", "--help"]})
+@click.option(
+    "--db",
+    metavar="PATH|URL",
+    default=None,
+    help="Database file or SQLAlchemy URL (default: $REGISTRY_DB, else data/registry.sqlite).",
+)
+@click.option("--debug", is_flag=True, help="Show tracebacks instead of one-line errors.")
+@click.pass_context
+def main(ctx: click.Context, db: str | None, debug: bool) -> None:
+    """The registry of rigid-body integrability claims.
+
+    Example: registry add data/cases && registry audit
+    """
+    ctx.ensure_object(dict)
+    ctx.obj.update(db=db or default_target(), debug=debug)
+
+
+@main.command()
+@click.argument("paths", nargs=-1, required=True, type=click.Path(exists=True))
+@_user_errors
+def add(paths: tuple[str, ...]) -> None:
+    """Load case files (or folders of them) into the registry.
+
+    Each file is stored whole or not at all; a refused file is reported with
+    every problem found, and the others are still added.
+
+    Example: registry add data/cases
+    """
+    results = _registry().add(*paths)
+    refused = [r for r in results if r.status == "refused"]
+    for r in results:
+        if r.status != "refused":
+            click.echo(f"{r.status:12} {r.case} (version {r.version})  {r.path}")
+    for r in refused:
+        click.echo(f"Error: {r.error}", err=True)
+    if refused:
+        sys.exit(1)
+
+
+@main.command()
+@click.option("--case", "case_ids", multiple=True, metavar="ID", help="Audit only this case.")
+@click.option("--json", "as_json", is_flag=True, help="Print the JSON document of CASE_FORMAT.md.")
+@_user_errors
+def audit(case_ids: tuple[str, ...], as_json: bool) -> None:
+    """Re-check every claim of every case (or the named ones) and store the run.
+
+    Example: registry audit --case yehia-2003-kovalevskaya-b --json
+    """
+    reg = _registry()
+    progress = None
+    if not as_json and sys.stderr.isatty():
+
+        def progress(case_id: str) -> None:
+            click.echo(f"auditing {case_id} ...", err=True)
+
+    report = reg.audit(case_ids or None, progress=progress)
+    document = report.document()
+    if as_json:
+        click.echo(json.dumps(document, indent=2, ensure_ascii=False))
+    else:
+        click.echo(verdict_table(document))
+
+
+def _print_frame(frame: pd.DataFrame) -> None:
+    with pd.option_context(
+        "display.max_rows",
+        None,
+        "display.max_columns",
+        None,
+        "display.width",
+        200,
+        "display.max_colwidth",
+        60,
+    ):
+        click.echo(frame.to_string(index=False) if len(frame) else "(none)")
+
+
+@main.command()
+@_user_errors
+def cases() -> None:
+    """List the cases in the registry (latest versions).
+
+    Example: registry cases
+    """
+    _print_frame(_registry().cases())
+
+
+@main.command()
+@click.option("--run", type=int, default=None, help="Verdicts of this run (default: newest).")
+@_user_errors
+def verdicts(run: int | None) -> None:
+    """List the newest verdict of every check and claim.
+
+    Example: registry verdicts --run 3
+    """
+    frame = _registry().verdicts(run)
+    columns = [c for c in ("case", "claim", "check", "verdict", "method", "run") if c in frame]
+    _print_frame(frame[columns])
+
+
+@main.command()
+@_user_errors
+def runs() -> None:
+    """List the audit runs.
+
+    Example: registry runs
+    """
+    _print_frame(_registry().runs())

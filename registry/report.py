@@ -1,0 +1,136 @@
+"""Presenting audit results: the JSON document of CASE_FORMAT.md and the verdict table.
+
+Only presentation lives here; the verdicts themselves come from ``audit``.
+"""
+
+from __future__ import annotations
+
+from collections import Counter
+from collections.abc import Mapping, Sequence
+
+from .audit import CASE_CHECKS, claim_verdict
+from .model import Case, CaseAudit, CheckResult, Verdict
+
+
+def _detail(result: CheckResult) -> dict:
+    detail = {
+        "verdict": str(result.verdict),
+        "method": result.method,
+        "seconds": round(result.seconds, 4),
+    }
+    if result.reason:
+        detail["reason"] = result.reason
+    if result.residual is not None:
+        detail["residual"] = result.residual
+    if result.witness is not None:
+        detail["witness"] = result.witness.as_dict()
+    return detail
+
+
+def _missing(check: str, claim: str | None = None) -> CheckResult:
+    return CheckResult(check, Verdict.ERROR, "not run", claim=claim, reason="check was not run")
+
+
+def case_document(audit: CaseAudit, case: Case | None, version: int | None = None) -> dict:
+    """One entry of ``cases`` in the audit JSON: case checks and claim verdicts."""
+    by_key = {(r.check, r.claim): r for r in audit.results}
+    load_error = by_key.get(("load", None))
+    doc: dict = {"case": audit.case}
+    if version is not None:
+        doc["version"] = version
+    if case is not None:
+        doc["title"] = case.title
+    if load_error is not None:
+        doc["error"] = load_error.reason
+    checks = {
+        name: by_key.get((name, None)) or load_error or _missing(name) for name in CASE_CHECKS
+    }
+    doc["checks"] = {name: str(r.verdict) for name, r in checks.items()}
+    doc["details"] = {name: _detail(r) for name, r in checks.items()}
+    doc["claims"] = []
+    for claim in case.claims if case is not None else ():
+        per = {
+            name: by_key.get((name, claim.label)) or load_error or _missing(name, claim.label)
+            for name in ("integral", "casimir")
+        }
+        entry = {
+            "label": claim.label,
+            "kind": str(claim.kind),
+            "integral": str(per["integral"].verdict),
+            "casimir": str(per["casimir"].verdict),
+            "verdict": claim_verdict(claim.kind, per["integral"].verdict, per["casimir"].verdict),
+        }
+        if claim.on:
+            entry["on"] = [eq.text for eq in claim.on]
+            kept = by_key.get(("invariant", claim.label))
+            if kept is not None:
+                per["invariant"] = kept
+                entry["invariant"] = str(kept.verdict)
+        entry["details"] = {name: _detail(r) for name, r in per.items()}
+        doc["claims"].append(entry)
+    return doc
+
+
+def audit_document(
+    run: int | None,
+    audits: Sequence[CaseAudit],
+    cases: Mapping[str, Case],
+    versions: Mapping[str, int] | None = None,
+) -> dict:
+    """The document ``registry audit --json`` prints (shape fixed by CASE_FORMAT.md)."""
+    versions = versions or {}
+    return {
+        "run": run,
+        "cases": [case_document(a, cases.get(a.case), versions.get(a.case)) for a in audits],
+    }
+
+
+def verdict_table(document: dict) -> str:
+    """A plain-text table of an audit document: one row per claim, then a summary."""
+    header = ("case", "Poisson", "claim", "kind", "integral", "casimir", "verdict")
+    rows = []
+    notes = []
+    for case in document["cases"]:
+        poisson = case["checks"].get("jacobi", "")
+        for name, detail in case["details"].items():
+            if detail["verdict"] != "verified" and name != "jacobi":
+                notes.append(
+                    f"{case['case']}: {name} {detail['verdict']}"
+                    + (f" ({detail['reason']})" if detail.get("reason") else "")
+                )
+        if not case["claims"]:
+            rows.append((case["case"], poisson, "-", "", "", "", ""))
+        for claim in case["claims"]:
+            label = claim["label"] + (" (on set)" if claim.get("on") else "")
+            rows.append(
+                (
+                    case["case"],
+                    poisson,
+                    label,
+                    claim["kind"],
+                    claim["integral"],
+                    claim["casimir"],
+                    claim["verdict"],
+                )
+            )
+            for prop in ("integral", "casimir", "invariant"):
+                detail = claim["details"].get(prop)
+                if detail and detail["verdict"] in ("inconclusive", "error"):
+                    notes.append(
+                        f"{case['case']}/{claim['label']}: {prop} {detail['verdict']}: "
+                        f"{detail.get('reason', '')}"
+                    )
+    widths = [max(len(str(r[i])) for r in [header, *rows]) for i in range(len(header))]
+    lines = [
+        "  ".join(str(c).ljust(w) for c, w in zip(row, widths, strict=True)).rstrip()
+        for row in [header, *rows]
+    ]
+    lines.insert(1, "  ".join("-" * w for w in widths))
+    counts = Counter(c["verdict"] for case in document["cases"] for c in case["claims"])
+    n_cases = len(document["cases"])
+    summary = ", ".join(f"{n} {v}" for v, n in sorted(counts.items()))
+    run = f"run {document['run']}: " if document.get("run") is not None else ""
+    lines.append("")
+    lines.append(f"{run}{n_cases} cases, {sum(counts.values())} claims ({summary or 'none'})")
+    lines.extend(f"  note: {n}" for n in notes)
+    return "\n".join(lines)

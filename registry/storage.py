@@ -1,0 +1,898 @@
+"""The registry database: cases, audit runs and check results (SQLAlchemy 2.0).
+
+The database never does algebra: it keeps expressions as the text their
+authors wrote (and JSON lists/maps of such text), so a stored case is parsed
+again from its ``text`` when it is needed. Rows are converted to and from the
+domain objects of ``model`` here and nowhere else; no ORM row leaves this module.
+
+SQLite is the default (foreign keys on, WAL journal, 30 s busy timeout); any
+SQLAlchemy URL works. On SQLite, write transactions start with
+``BEGIN IMMEDIATE`` so that reading the next version number and inserting it
+happen under one write lock, even with several processes on one file.
+"""
+
+from __future__ import annotations
+
+import functools
+import platform
+from collections.abc import Callable, Iterable, Iterator, Sequence
+from contextlib import contextmanager
+from dataclasses import dataclass, field
+from datetime import UTC, datetime
+from importlib import metadata as importlib_metadata
+from pathlib import Path
+from typing import TYPE_CHECKING, Any, Literal, ParamSpec, TypeVar
+
+from sqlalchemy import (
+    JSON,
+    Boolean,
+    Column,
+    DateTime,
+    Float,
+    ForeignKey,
+    MetaData,
+    Select,
+    Table,
+    Text,
+    UniqueConstraint,
+    create_engine,
+    event,
+    false,
+    func,
+    inspect,
+    select,
+)
+from sqlalchemy import case as sql_case
+from sqlalchemy.engine import URL, Connection, Engine, make_url
+from sqlalchemy.exc import ArgumentError, DBAPIError, NoSuchModuleError, OperationalError
+from sqlalchemy.orm import DeclarativeBase, Mapped, Session, mapped_column
+from sqlalchemy.pool import StaticPool
+from sqlalchemy.types import TypeDecorator
+
+from .errors import StorageError, UnknownCaseError, UnknownRunError
+from .model import Case, CaseAudit, CheckResult, Claim, Verdict, Witness
+
+if TYPE_CHECKING:
+    import pandas as pd
+
+__all__ = [
+    "SCHEMA_VERSION",
+    "RUN_STATUSES",
+    "AddOutcome",
+    "StoredCase",
+    "Store",
+    "Base",
+]
+
+#: Version of the table layout; kept in the ``meta`` table for future migrations.
+SCHEMA_VERSION = 1
+
+#: The states of an audit run; every run starts as ``running``.
+RUN_STATUSES = ("running", "complete", "failed", "interrupted")
+
+#: Execution option that makes a SQLite transaction start with BEGIN IMMEDIATE.
+_WRITE_OPTION = "registry_write"
+
+VIEW_NAME = "latest_verdicts"
+
+
+# --------------------------------------------------------------------------- types
+
+
+class UTCDateTime(TypeDecorator[datetime]):
+    """A timezone-aware UTC datetime, also on backends (SQLite) that store naive values."""
+
+    impl = DateTime(timezone=True)
+    cache_ok = True
+
+    def process_bind_param(self, value: datetime | None, dialect: Any) -> datetime | None:
+        if value is None:
+            return None
+        if value.tzinfo is None:
+            raise ValueError(f"naive datetime {value!r}: use an aware (UTC) datetime")
+        return value.astimezone(UTC)
+
+    def process_result_value(self, value: datetime | None, dialect: Any) -> datetime | None:
+        if value is None:
+            return None
+        if value.tzinfo is None:
+            return value.replace(tzinfo=UTC)
+        return value.astimezone(UTC)
+
+
+def _now() -> datetime:
+    return datetime.now(UTC)
+
+
+# -------------------------------------------------------------------------- tables
+
+
+class Base(DeclarativeBase):
+    """Declarative base of the registry tables."""
+
+
+class MetaRow(Base):
+    """Key/value facts about the database itself (``schema_version``)."""
+
+    __tablename__ = "meta"
+
+    key: Mapped[str] = mapped_column(Text, primary_key=True)
+    value: Mapped[str] = mapped_column(Text)
+
+
+class SourceRow(Base):
+    """A publication; shared by all cases citing it the same way."""
+
+    __tablename__ = "sources"
+    __table_args__ = (UniqueConstraint("citation", "doi"),)
+
+    id: Mapped[int] = mapped_column(primary_key=True)
+    citation: Mapped[str] = mapped_column(Text)
+    doi: Mapped[str] = mapped_column(Text, default="")
+
+
+class CaseRow(Base):
+    """One version of one case file; old versions stay when the file changes."""
+
+    __tablename__ = "cases"
+    __table_args__ = (UniqueConstraint("case_id", "version"),)
+
+    id: Mapped[int] = mapped_column(primary_key=True)
+    case_id: Mapped[str] = mapped_column(Text)
+    version: Mapped[int]
+    title: Mapped[str] = mapped_column(Text)
+    source_id: Mapped[int] = mapped_column(ForeignKey("sources.id"))
+    locator: Mapped[str] = mapped_column(Text, default="")
+    notes: Mapped[str] = mapped_column(Text, default="")
+    content_hash: Mapped[str] = mapped_column(Text)
+    text: Mapped[str] = mapped_column(Text)
+    path: Mapped[str | None] = mapped_column(Text)
+    inertia: Mapped[list[str]] = mapped_column(JSON)
+    potential: Mapped[str] = mapped_column(Text)
+    torque: Mapped[list[str]] = mapped_column(JSON)
+    parameters: Mapped[dict[str, str]] = mapped_column(JSON)
+    functions: Mapped[dict[str, list[str]]] = mapped_column(JSON)
+    added_at: Mapped[datetime] = mapped_column(UTCDateTime)
+
+
+class ClaimRow(Base):
+    """One claim of one case version, in file order (``position``)."""
+
+    __tablename__ = "claims"
+    __table_args__ = (UniqueConstraint("case_pk", "label"),)
+
+    id: Mapped[int] = mapped_column(primary_key=True)
+    case_pk: Mapped[int] = mapped_column(ForeignKey("cases.id"))
+    position: Mapped[int]
+    label: Mapped[str] = mapped_column(Text)
+    kind: Mapped[str] = mapped_column(Text)
+    expression: Mapped[str] = mapped_column(Text)
+    on: Mapped[list[str]] = mapped_column(JSON)
+    locator: Mapped[str] = mapped_column(Text, default="")
+
+
+class RunRow(Base):
+    """One audit run: when, with which code, and how it ended."""
+
+    __tablename__ = "audit_runs"
+
+    id: Mapped[int] = mapped_column(primary_key=True)
+    started_at: Mapped[datetime] = mapped_column(UTCDateTime)
+    finished_at: Mapped[datetime | None] = mapped_column(UTCDateTime)
+    status: Mapped[str] = mapped_column(Text)
+    code_version: Mapped[str] = mapped_column(Text)
+    sympy_version: Mapped[str] = mapped_column(Text)
+    python_version: Mapped[str] = mapped_column(Text)
+    options: Mapped[dict[str, Any]] = mapped_column(JSON)
+
+
+class ResultRow(Base):
+    """One check result of one run on one case version (and claim, for claim checks)."""
+
+    __tablename__ = "check_results"
+
+    id: Mapped[int] = mapped_column(primary_key=True)
+    run_id: Mapped[int] = mapped_column(ForeignKey("audit_runs.id"), index=True)
+    case_pk: Mapped[int] = mapped_column(ForeignKey("cases.id"), index=True)
+    claim_id: Mapped[int | None] = mapped_column(ForeignKey("claims.id"))
+    check: Mapped[str] = mapped_column(Text)
+    verdict: Mapped[str] = mapped_column(Text)
+    method: Mapped[str] = mapped_column(Text, default="")
+    reason: Mapped[str] = mapped_column(Text, default="")
+    residual: Mapped[str | None] = mapped_column(Text)
+    witness: Mapped[dict[str, Any] | None] = mapped_column(JSON(none_as_null=True))
+    seconds: Mapped[float] = mapped_column(Float, default=0.0)
+    reused: Mapped[bool] = mapped_column(Boolean, default=False, server_default=false())
+
+
+# --------------------------------------------------------------------------- views
+
+
+def _latest_verdicts_select() -> Select:
+    """For each (case id, claim label or NULL, check): the result of the newest run.
+
+    PARTITION BY groups NULL labels together (as GROUP BY does) on SQLite and
+    PostgreSQL, so case-level checks form one partition per (case, check).
+    """
+    r, c, cl = ResultRow.__table__, CaseRow.__table__, ClaimRow.__table__
+    rank = (
+        func.row_number()
+        .over(
+            partition_by=(c.c.case_id, cl.c.label, r.c.check),
+            order_by=(r.c.run_id.desc(), r.c.id.desc()),
+        )
+        .label("rn")
+    )
+    ranked = (
+        select(
+            c.c.case_id.label("case"),
+            c.c.version,
+            cl.c.label.label("claim"),
+            r.c.check,
+            r.c.verdict,
+            r.c.method,
+            r.c.reason,
+            r.c.residual,
+            r.c.witness,
+            r.c.run_id.label("run"),
+            r.c.seconds,
+            r.c.reused,
+            r.c.id.label("result"),
+            rank,
+        )
+        .select_from(r.join(c, r.c.case_pk == c.c.id).outerjoin(cl, r.c.claim_id == cl.c.id))
+        .subquery("ranked")
+    )
+    return select(*(col for col in ranked.c if col.name != "rn")).where(ranked.c.rn == 1)
+
+
+_views = MetaData()
+#: The ``latest_verdicts`` view as a queryable table, typed like the select it is made of.
+latest_verdicts = Table(
+    VIEW_NAME,
+    _views,
+    *(Column(col.name, col.type) for col in _latest_verdicts_select().selected_columns),
+)
+
+
+def _create_view(conn: Connection) -> None:
+    """Create the ``latest_verdicts`` view from its select, compiled for this database."""
+    body = _latest_verdicts_select().compile(
+        dialect=conn.dialect, compile_kwargs={"literal_binds": True}
+    )
+    create = "CREATE VIEW IF NOT EXISTS" if conn.dialect.name == "sqlite" else "CREATE VIEW"
+    conn.exec_driver_sql(f"{create} {VIEW_NAME} AS {body}")
+
+
+# ---------------------------------------------------------------- public dataclasses
+
+
+@dataclass(frozen=True)
+class AddOutcome:
+    """What ``Store.add_case`` did: ``added``, ``unchanged`` or ``new version``."""
+
+    case_id: str
+    version: int
+    status: Literal["added", "unchanged", "new version"]
+    pk: int | None = field(default=None, compare=False)
+
+
+@dataclass(frozen=True)
+class StoredCase:
+    """One stored case version: enough to parse it again (``text``) and audit it (``pk``)."""
+
+    pk: int
+    case_id: str
+    version: int
+    content_hash: str
+    text: str
+    path: str | None
+
+
+# ------------------------------------------------------------------- conversions
+
+
+def _case_row(case: Case, version: int, source_id: int) -> CaseRow:
+    """The row of one case version (claims are separate rows)."""
+    names = list(case.parameters) + [n for n in case.assumptions if n not in case.parameters]
+    return CaseRow(
+        case_id=case.id,
+        version=version,
+        title=case.title,
+        source_id=source_id,
+        locator=case.source.locator,
+        notes=case.notes,
+        content_hash=case.content_hash,
+        text=case.text,
+        path=case.path,
+        inertia=[e.text for e in case.system.inertia],
+        potential=case.system.potential.text,
+        torque=[e.text for e in case.system.torque],
+        parameters={n: str(case.assumptions.get(n, "real")) for n in names},
+        functions={name: [str(a) for a in args] for name, (_, args) in case.functions.items()},
+        added_at=_now(),
+    )
+
+
+def _claim_row(claim: Claim, case_pk: int, position: int) -> ClaimRow:
+    """The row of one claim of a stored case version."""
+    return ClaimRow(
+        case_pk=case_pk,
+        position=position,
+        label=claim.label,
+        kind=str(claim.kind),
+        expression=claim.expression.text,
+        on=[eq.text for eq in claim.on],
+        locator=claim.locator,
+    )
+
+
+def _witness(data: dict[str, Any] | None) -> Witness | None:
+    """A Witness from its ``as_dict`` form (None stays None)."""
+    if data is None:
+        return None
+    return Witness(
+        point=data.get("point", {}),
+        value=data.get("value", ""),
+        approx=data.get("approx", ""),
+        component=data.get("component", ""),
+        functions=data.get("functions", {}),
+    )
+
+
+def _check_result(row: ResultRow, label: str | None) -> CheckResult:
+    """A CheckResult from its row and its claim's label."""
+    return CheckResult(
+        check=row.check,
+        verdict=Verdict(row.verdict),
+        method=row.method,
+        claim=label,
+        reason=row.reason,
+        residual=row.residual,
+        witness=_witness(row.witness),
+        seconds=row.seconds,
+    )
+
+
+def _frame(rows: Iterable[Sequence[Any]], columns: Sequence[str]) -> pd.DataFrame:
+    """A DataFrame with these columns, also when there are no rows."""
+    import pandas as pd  # imported here: adding cases should not pay for pandas
+
+    return pd.DataFrame([tuple(r) for r in rows], columns=list(columns))
+
+
+# ------------------------------------------------------------------------ opening
+
+
+def _resolve(url_or_path: str | Path) -> tuple[URL, str]:
+    """The SQLAlchemy URL for a path, ``:memory:`` or URL, and how to name it in messages."""
+    if isinstance(url_or_path, str) and "://" in url_or_path:
+        try:
+            url = make_url(url_or_path)
+        except ArgumentError as err:
+            raise StorageError(f"cannot open database {url_or_path!r}: {err}") from err
+        return url, url.render_as_string(hide_password=True)
+    if str(url_or_path) == ":memory:":
+        return URL.create("sqlite", database=":memory:"), ":memory:"
+    path = Path(url_or_path).expanduser()
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+    except OSError as err:
+        raise StorageError(f"cannot create the folder of database {str(path)!r}: {err}") from err
+    return URL.create("sqlite", database=str(path)), str(path)
+
+
+def _is_memory(url: URL) -> bool:
+    return url.get_backend_name() == "sqlite" and url.database in (None, "", ":memory:")
+
+
+def _configure_sqlite(engine: Engine, file_db: bool) -> None:
+    """Per-connection SQLite settings, and BEGIN emitted by SQLAlchemy (not by sqlite3).
+
+    sqlite3's own transaction handling skips BEGIN before SELECT and DDL; taking it
+    over makes reads transactional and lets writers start with BEGIN IMMEDIATE.
+    """
+
+    @event.listens_for(engine, "connect")
+    def _on_connect(dbapi_connection: Any, _record: Any) -> None:
+        dbapi_connection.isolation_level = None
+        cursor = dbapi_connection.cursor()
+        try:
+            cursor.execute("PRAGMA foreign_keys=ON")
+            cursor.execute("PRAGMA busy_timeout=30000")
+            if file_db:
+                cursor.execute("PRAGMA journal_mode=WAL")
+        finally:
+            cursor.close()
+
+    @event.listens_for(engine, "begin")
+    def _on_begin(conn: Connection) -> None:
+        write = conn.get_execution_options().get(_WRITE_OPTION, False)
+        conn.exec_driver_sql("BEGIN IMMEDIATE" if write else "BEGIN")
+
+
+P = ParamSpec("P")
+T = TypeVar("T")
+
+
+def _guarded(method: Callable[P, T]) -> Callable[P, T]:
+    """Turn a database failure (locked, read-only, disk full) into a one-line StorageError."""
+
+    @functools.wraps(method)
+    def wrapper(*args: P.args, **kwargs: P.kwargs) -> T:
+        try:
+            return method(*args, **kwargs)
+        except OperationalError as err:
+            location = getattr(args[0], "location", "")
+            raise StorageError(f"database {location!r}: {err.orig}") from err
+
+    return wrapper
+
+
+# -------------------------------------------------------------------------- store
+
+
+class Store:
+    """The registry database. ``Store(path)``, ``Store(":memory:")`` or ``Store(url)``.
+
+    Every method takes and returns domain objects or plain Python values; each
+    write is one transaction. Use as a context manager or call ``close()``.
+    """
+
+    def __init__(self, url_or_path: str | Path):
+        url, self.location = _resolve(url_or_path)
+        try:
+            if _is_memory(url):
+                engine = create_engine(
+                    url, poolclass=StaticPool, connect_args={"check_same_thread": False}
+                )
+            else:
+                engine = create_engine(url)
+        except (ArgumentError, NoSuchModuleError, ImportError) as err:
+            raise StorageError(f"cannot open database {self.location!r}: {err}") from err
+        if url.get_backend_name() == "sqlite":
+            _configure_sqlite(engine, file_db=not _is_memory(url))
+        self._engine = engine
+        self._writer = engine.execution_options(**{_WRITE_OPTION: True})
+        try:
+            self._init_schema()
+        except DBAPIError as err:
+            engine.dispose()
+            raise StorageError(f"cannot open database {self.location!r}: {err.orig}") from err
+
+    # ----------------------------------------------------------------- lifecycle
+
+    @property
+    def engine(self) -> Engine:
+        """The SQLAlchemy engine, for ad-hoc SQL (e.g. ``pandas.read_sql``)."""
+        return self._engine
+
+    def close(self) -> None:
+        """Close all pooled connections."""
+        self._engine.dispose()
+
+    def __enter__(self) -> Store:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+    def __repr__(self) -> str:
+        return f"Store({self.location!r})"
+
+    def _init_schema(self) -> None:
+        """Create missing tables, the view and the schema version; refuse newer schemas.
+
+        A complete database is only read, so a read-only registry file still opens.
+        """
+        tables = set(Base.metadata.tables)
+        with self._engine.connect() as conn:
+            insp = inspect(conn)
+            complete = tables <= set(insp.get_table_names()) and VIEW_NAME in set(
+                insp.get_view_names()
+            )
+            version = self._schema_version(conn) if complete else None
+        if version is None:
+            with self._writer.begin() as conn:
+                Base.metadata.create_all(conn)
+                if VIEW_NAME not in inspect(conn).get_view_names():
+                    _create_view(conn)
+                version = self._schema_version(conn)
+                if version is None:
+                    conn.execute(
+                        MetaRow.__table__.insert().values(
+                            key="schema_version", value=str(SCHEMA_VERSION)
+                        )
+                    )
+                    version = SCHEMA_VERSION
+        if version > SCHEMA_VERSION:
+            raise StorageError(
+                f"database {self.location!r} has schema version {version}, "
+                f"newer than this program supports ({SCHEMA_VERSION})"
+            )
+
+    @staticmethod
+    def _schema_version(conn: Connection) -> int | None:
+        value = conn.scalar(select(MetaRow.value).where(MetaRow.key == "schema_version"))
+        return None if value is None else int(value)
+
+    @contextmanager
+    def _write(self) -> Iterator[Session]:
+        """A session in one write transaction: committed on success, rolled back on error."""
+        with Session(self._writer) as session, session.begin():
+            yield session
+
+    @contextmanager
+    def _read(self) -> Iterator[Session]:
+        """A session for reading (one consistent snapshot)."""
+        with Session(self._engine) as session:
+            yield session
+
+    # --------------------------------------------------------------------- cases
+
+    @_guarded
+    def add_case(self, case: Case) -> AddOutcome:
+        """Store a parsed case: ``unchanged`` if the newest version has this content,
+        else a new version (also when a file returns to an older content).
+
+        One transaction: either the case version with all its claims is stored, or nothing.
+        """
+        if not case.content_hash:
+            raise ValueError(f"case {case.id!r} has no content_hash; parse it with casefile")
+        with self._write() as session:
+            newest = session.execute(
+                select(CaseRow.id, CaseRow.version, CaseRow.content_hash)
+                .where(CaseRow.case_id == case.id)
+                .order_by(CaseRow.version.desc())
+                .limit(1)
+            ).first()
+            if newest is not None and newest.content_hash == case.content_hash:
+                return AddOutcome(case.id, newest.version, "unchanged", pk=newest.id)
+            version = 1 if newest is None else newest.version + 1
+            row = _case_row(case, version, self._source_id(session, case))
+            session.add(row)
+            session.flush()
+            session.add_all(_claim_row(c, row.id, i) for i, c in enumerate(case.claims))
+            session.flush()
+            status = "added" if version == 1 else "new version"
+            return AddOutcome(case.id, version, status, pk=row.id)
+
+    @staticmethod
+    def _source_id(session: Session, case: Case) -> int:
+        """The id of the source row for this citation and DOI, inserted if new."""
+        citation, doi = case.source.citation, case.source.doi or ""
+        found = session.scalar(
+            select(SourceRow.id).where(SourceRow.citation == citation, SourceRow.doi == doi)
+        )
+        if found is not None:
+            return found
+        source = SourceRow(citation=citation, doi=doi)
+        session.add(source)
+        session.flush()
+        return source.id
+
+    @_guarded
+    def case_ids(self) -> list[str]:
+        """All stored case ids, sorted."""
+        with self._read() as session:
+            ids = select(CaseRow.case_id).distinct().order_by(CaseRow.case_id)
+            return list(session.scalars(ids))
+
+    @_guarded
+    def case_versions(
+        self, case_ids: Sequence[str] | None = None, latest_only: bool = True
+    ) -> list[StoredCase]:
+        """Stored versions of these cases (all cases if None), newest only by default.
+
+        Ordered as ``case_ids`` (or by id), then by version. Raises UnknownCaseError.
+        """
+        with self._read() as session:
+            stmt = select(CaseRow)
+            if latest_only:
+                newest = (
+                    select(CaseRow.case_id, func.max(CaseRow.version).label("version"))
+                    .group_by(CaseRow.case_id)
+                    .subquery()
+                )
+                stmt = stmt.join(
+                    newest,
+                    (CaseRow.case_id == newest.c.case_id) & (CaseRow.version == newest.c.version),
+                )
+            if case_ids is not None:
+                wanted = list(dict.fromkeys(case_ids))
+                stmt = stmt.where(CaseRow.case_id.in_(wanted))
+            rows = session.scalars(stmt.order_by(CaseRow.case_id, CaseRow.version)).all()
+            if case_ids is None:
+                return [_stored(r) for r in rows]
+            by_id: dict[str, list[StoredCase]] = {}
+            for r in rows:
+                by_id.setdefault(r.case_id, []).append(_stored(r))
+            missing = [c for c in wanted if c not in by_id]
+            if missing:
+                known = list(session.scalars(select(CaseRow.case_id).distinct()))
+                raise UnknownCaseError(missing[0], known=sorted(known))
+            return [s for c in wanted for s in by_id[c]]
+
+    # ---------------------------------------------------------------------- runs
+
+    @_guarded
+    def start_run(self, options: dict[str, Any], code_version: str) -> int:
+        """Record the start of an audit run (status ``running``) and return its number."""
+        run = RunRow(
+            started_at=_now(),
+            finished_at=None,
+            status="running",
+            code_version=code_version,
+            sympy_version=_package_version("sympy"),
+            python_version=platform.python_version(),
+            options=dict(options),
+        )
+        with self._write() as session:
+            session.add(run)
+            session.flush()
+            return run.id
+
+    @_guarded
+    def record_case(
+        self, run_id: int, case_pk: int, audit: CaseAudit, reused: bool = False
+    ) -> None:
+        """Store all check results of one case version in a running run, in one transaction.
+
+        Claim results are tied to the claim with the same label in that case version
+        (ValueError if there is none, or if ``audit`` is of another case or content).
+        """
+        with self._write() as session:
+            run = self._run(session, run_id)
+            if run.status != "running":
+                raise ValueError(f"audit run {run_id} is {run.status}; it takes no more results")
+            case = session.get(CaseRow, case_pk)
+            if case is None:
+                raise ValueError(f"no stored case version with key {case_pk}")
+            if audit.case != case.case_id or (
+                audit.content_hash and audit.content_hash != case.content_hash
+            ):
+                raise ValueError(
+                    f"audit of {audit.case!r} does not match stored case {case.case_id!r} "
+                    f"version {case.version}"
+                )
+            claim_ids = {
+                label: claim_id
+                for label, claim_id in session.execute(
+                    select(ClaimRow.label, ClaimRow.id).where(ClaimRow.case_pk == case_pk)
+                )
+            }
+            for result in audit.results:
+                if result.claim is not None and result.claim not in claim_ids:
+                    raise ValueError(
+                        f"case {case.case_id!r} version {case.version} has no claim "
+                        f"{result.claim!r}"
+                    )
+                session.add(
+                    ResultRow(
+                        run_id=run_id,
+                        case_pk=case_pk,
+                        claim_id=None if result.claim is None else claim_ids[result.claim],
+                        check=result.check,
+                        verdict=str(result.verdict),
+                        method=result.method,
+                        reason=result.reason,
+                        residual=result.residual,
+                        witness=None if result.witness is None else result.witness.as_dict(),
+                        seconds=float(result.seconds),
+                        reused=reused,
+                    )
+                )
+
+    @_guarded
+    def finish_run(self, run_id: int, status: str = "complete") -> None:
+        """Mark a run ``complete``, ``failed`` or ``interrupted`` and stamp its end time."""
+        if status not in RUN_STATUSES or status == "running":
+            raise ValueError(f"a run cannot finish as {status!r}; use one of {RUN_STATUSES[1:]}")
+        with self._write() as session:
+            run = self._run(session, run_id)
+            run.status = status
+            run.finished_at = _now()
+
+    @staticmethod
+    def _run(session: Session, run_id: int) -> RunRow:
+        run = session.get(RunRow, run_id)
+        if run is None:
+            raise UnknownRunError(run_id)
+        return run
+
+    @_guarded
+    def run_results(self, run_id: int) -> list[tuple[str, CaseAudit]]:
+        """The results of one run as (case id, CaseAudit), in the order they were recorded."""
+        with self._read() as session:
+            self._run(session, run_id)
+            return _audits(session, ResultRow.run_id == run_id)
+
+    @_guarded
+    def stored_audit(
+        self, case_pk: int, code_version: str | None = None
+    ) -> tuple[int, CaseAudit] | None:
+        """The newest stored audit of one case version (by runs of ``code_version``, if given).
+
+        Returns (run number, audit), or None; lets an audit reuse results of unchanged cases.
+        """
+        with self._read() as session:
+            stmt = select(func.max(ResultRow.run_id)).where(ResultRow.case_pk == case_pk)
+            if code_version is not None:
+                stmt = stmt.join(RunRow, RunRow.id == ResultRow.run_id).where(
+                    RunRow.code_version == code_version
+                )
+            run_id = session.scalar(stmt)
+            if run_id is None:
+                return None
+            audits = _audits(session, (ResultRow.run_id == run_id) & (ResultRow.case_pk == case_pk))
+            return run_id, audits[0][1]
+
+    # -------------------------------------------------------------------- frames
+
+    @_guarded
+    def cases_frame(self) -> pd.DataFrame:
+        """One row per case (newest version): case, version, title, citation, n_claims, ..."""
+        n_claims = (
+            select(ClaimRow.case_pk, func.count(ClaimRow.id).label("n"))
+            .group_by(ClaimRow.case_pk)
+            .subquery()
+        )
+        newest = (
+            select(CaseRow.case_id, func.max(CaseRow.version).label("version"))
+            .group_by(CaseRow.case_id)
+            .subquery()
+        )
+        stmt = (
+            select(
+                CaseRow.case_id.label("case"),
+                CaseRow.version,
+                CaseRow.title,
+                SourceRow.citation,
+                CaseRow.locator,
+                SourceRow.doi,
+                CaseRow.content_hash,
+                func.coalesce(n_claims.c.n, 0).label("n_claims"),
+                CaseRow.added_at,
+            )
+            .join(SourceRow, SourceRow.id == CaseRow.source_id)
+            .join(
+                newest,
+                (CaseRow.case_id == newest.c.case_id) & (CaseRow.version == newest.c.version),
+            )
+            .outerjoin(n_claims, n_claims.c.case_pk == CaseRow.id)
+            .order_by(CaseRow.case_id)
+        )
+        return self._select_frame(stmt)
+
+    @_guarded
+    def claims_frame(self) -> pd.DataFrame:
+        """One row per claim of each newest case version, in file order."""
+        newest = (
+            select(CaseRow.case_id, func.max(CaseRow.version).label("version"))
+            .group_by(CaseRow.case_id)
+            .subquery()
+        )
+        stmt = (
+            select(
+                CaseRow.case_id.label("case"),
+                CaseRow.version,
+                ClaimRow.label,
+                ClaimRow.kind,
+                ClaimRow.expression,
+                ClaimRow.on,
+                ClaimRow.locator,
+            )
+            .join(CaseRow, CaseRow.id == ClaimRow.case_pk)
+            .join(
+                newest,
+                (CaseRow.case_id == newest.c.case_id) & (CaseRow.version == newest.c.version),
+            )
+            .order_by(CaseRow.case_id, ClaimRow.position)
+        )
+        return self._select_frame(stmt)
+
+    @_guarded
+    def verdicts_frame(self, run: int | None = None) -> pd.DataFrame:
+        """Check results: the newest per (case, claim, check) if ``run`` is None, else that run's.
+
+        Columns: case, version, claim (None for case checks), check, verdict, method,
+        reason, run, seconds, witness (a dict or None), residual, reused.
+        """
+        if run is None:
+            v = latest_verdicts.c
+            stmt = select(
+                v.case, v.version, v.claim, v.check, v.verdict, v.method, v.reason, v.run,
+                v.seconds, v.witness, v.residual, v.reused,
+            ).order_by(v.case, v.result)  # fmt: skip
+            return self._select_frame(stmt)
+        with self._read() as session:
+            self._run(session, run)
+        stmt = (
+            select(
+                CaseRow.case_id.label("case"),
+                CaseRow.version,
+                ClaimRow.label.label("claim"),
+                ResultRow.check,
+                ResultRow.verdict,
+                ResultRow.method,
+                ResultRow.reason,
+                ResultRow.run_id.label("run"),
+                ResultRow.seconds,
+                ResultRow.witness,
+                ResultRow.residual,
+                ResultRow.reused,
+            )
+            .join(CaseRow, CaseRow.id == ResultRow.case_pk)
+            .outerjoin(ClaimRow, ClaimRow.id == ResultRow.claim_id)
+            .where(ResultRow.run_id == run)
+            .order_by(ResultRow.id)
+        )
+        return self._select_frame(stmt)
+
+    @_guarded
+    def runs_frame(self) -> pd.DataFrame:
+        """One row per audit run with counts of its results by verdict, newest run last."""
+
+        def count(verdict: Verdict) -> Any:
+            hit = sql_case((ResultRow.verdict == str(verdict), 1), else_=0)
+            return func.coalesce(func.sum(hit), 0).label(f"n_{verdict}")
+
+        stmt = (
+            select(
+                RunRow.id.label("run"),
+                RunRow.started_at,
+                RunRow.finished_at,
+                RunRow.status,
+                RunRow.code_version,
+                RunRow.sympy_version,
+                RunRow.python_version,
+                func.count(ResultRow.case_pk.distinct()).label("n_cases"),
+                func.count(ResultRow.id).label("n_results"),
+                *(count(v) for v in Verdict),
+                func.coalesce(func.sum(sql_case((ResultRow.reused, 1), else_=0)), 0).label(
+                    "n_reused"
+                ),
+                RunRow.options,
+            )
+            .outerjoin(ResultRow, ResultRow.run_id == RunRow.id)
+            .group_by(RunRow.id)
+            .order_by(RunRow.id)
+        )
+        return self._select_frame(stmt)
+
+    def _select_frame(self, stmt: Select) -> pd.DataFrame:
+        """Run a select and return its rows as a DataFrame named by its columns."""
+        with self._engine.connect() as conn:
+            result = conn.execute(stmt)
+            return _frame(result.all(), list(result.keys()))
+
+
+def _stored(row: CaseRow) -> StoredCase:
+    return StoredCase(row.id, row.case_id, row.version, row.content_hash, row.text, row.path)
+
+
+def _audits(session: Session, where: Any) -> list[tuple[str, CaseAudit]]:
+    """Rebuild CaseAudits from the result rows matching ``where``, in recording order."""
+    rows = session.execute(
+        select(ResultRow, CaseRow.case_id, CaseRow.content_hash, ClaimRow.label)
+        .join(CaseRow, CaseRow.id == ResultRow.case_pk)
+        .outerjoin(ClaimRow, ClaimRow.id == ResultRow.claim_id)
+        .where(where)
+        .order_by(ResultRow.id)
+    ).all()
+    grouped: dict[int, tuple[str, str, list[CheckResult]]] = {}
+    for result, case_id, content_hash, label in rows:
+        entry = grouped.setdefault(result.case_pk, (case_id, content_hash, []))
+        entry[2].append(_check_result(result, label))
+    return [
+        (case_id, CaseAudit(case_id, content_hash, tuple(results)))
+        for case_id, content_hash, results in grouped.values()
+    ]
+
+
+def _package_version(name: str) -> str:
+    """An installed package's version, read from its metadata (the package is not imported)."""
+    try:
+        return importlib_metadata.version(name)
+    except importlib_metadata.PackageNotFoundError:
+        return "unknown"

@@ -1,0 +1,105 @@
+"""Shared fixtures: stores (in memory and on disk) and sample cases built in code."""
+
+from __future__ import annotations
+
+import hashlib
+from collections.abc import Callable, Iterator
+
+import pytest
+import sympy as sp
+
+from registry.model import (
+    Assumption,
+    Case,
+    Claim,
+    ClaimKind,
+    Equation,
+    Expression,
+    Source,
+    System,
+)
+from registry.storage import Store
+
+C = sp.Symbol("C", positive=True)
+N = sp.Symbol("N", real=True)
+g1, g2, g3 = sp.symbols("gamma1 gamma2 gamma3", real=True)
+ZERO = Expression("0", sp.Integer(0))
+
+
+def _hash(text: str) -> str:
+    return hashlib.sha256(text.encode()).hexdigest()
+
+
+def make_case(
+    case_id: str = "demo-2003-lagrange",
+    text: str = 'id = "demo-2003-lagrange"\n',
+    *,
+    citation: str = "A. Author, Journal 1 (2003) 1-10",
+    doi: str = "",
+    claims: tuple[Claim, ...] | None = None,
+) -> Case:
+    """A small case (Lagrange-like top with a torque parameter N) whose hash is that of ``text``."""
+    if claims is None:
+        claims = (
+            Claim("I1", ClaimKind.INTEGRAL, Expression("gamma3", g3), locator="p. 2"),
+            Claim(
+                "I2",
+                ClaimKind.CASIMIR,
+                Expression("N*gamma1", N * g1),
+                on=(Equation("gamma1**2 + gamma2**2 + gamma3**2 = 1", g1**2 + g2**2 + g3**2, 1),),
+            ),
+        )
+    return Case(
+        id=case_id,
+        title=f"Title of {case_id}",
+        source=Source(citation, locator="p. 1", doi=doi),
+        system=System(
+            inertia=(Expression("C", C), Expression("C", C), Expression("2*C", 2 * C)),
+            potential=Expression("C*gamma3", C * g3),
+            torque=(ZERO, ZERO, Expression("N*gamma3", N * g3)),
+        ),
+        claims=claims,
+        parameters={"C": C, "N": N},
+        assumptions={"C": Assumption.POSITIVE, "N": Assumption.REAL},
+        notes="made in conftest",
+        text=text,
+        content_hash=_hash(text),
+        path=f"data/cases/{case_id}.toml",
+    )
+
+
+@pytest.fixture
+def case_factory() -> Callable[..., Case]:
+    """``make_case`` as a fixture, for cases with other ids, texts or claims."""
+    return make_case
+
+
+@pytest.fixture
+def sample_case() -> Case:
+    return make_case()
+
+
+@pytest.fixture
+def other_case() -> Case:
+    """A second case from the same source, without claims."""
+    return make_case("demo-1999-euler", 'id = "demo-1999-euler"\n', claims=())
+
+
+@pytest.fixture
+def memory_store() -> Iterator[Store]:
+    with Store(":memory:") as store:
+        yield store
+
+
+@pytest.fixture
+def file_store(tmp_path) -> Iterator[Store]:
+    with Store(tmp_path / "db" / "registry.sqlite") as store:
+        yield store
+
+
+@pytest.fixture(params=["memory", "file"])
+def store(request, tmp_path) -> Iterator[Store]:
+    """Each test using it runs on an in-memory and on a file database."""
+    target = ":memory:" if request.param == "memory" else tmp_path / "registry.sqlite"
+    with Store(target) as s:
+        yield s

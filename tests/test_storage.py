@@ -1,0 +1,407 @@
+"""Tests of the registry database (registry.storage)."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from datetime import datetime
+
+import pandas as pd
+import pytest
+from sqlalchemy import func, insert, select, text
+from sqlalchemy.exc import IntegrityError
+from sqlalchemy.orm import Session
+
+from registry import storage
+from registry.errors import StorageError, UnknownCaseError, UnknownRunError
+from registry.model import CaseAudit, CheckResult, Verdict, Witness
+from registry.storage import (
+    AddOutcome,
+    CaseRow,
+    ClaimRow,
+    ResultRow,
+    RunRow,
+    SourceRow,
+    Store,
+    StoredCase,
+)
+
+
+def count(store: Store, row: type) -> int:
+    with Session(store.engine) as session:
+        return session.scalar(select(func.count()).select_from(row))
+
+
+def audit_of(case, stored: StoredCase, integral: Verdict = Verdict.VERIFIED) -> CaseAudit:
+    """An audit of ``case`` with two case checks and the integral check of each claim."""
+    witness = Witness(
+        point={"gamma1": "1", "N": "1/2"},
+        value="1/2",
+        approx="0.5",
+        component="casimir[1]",
+        functions={"phi": "gamma1**2"},
+    )
+    results = [
+        CheckResult("jacobi", Verdict.VERIFIED, "rational normal form", seconds=0.25),
+        CheckResult("energy", Verdict.VERIFIED, "exact probe"),
+    ]
+    for claim in case.claims:
+        refuted = integral is Verdict.REFUTED
+        results.append(
+            CheckResult(
+                "integral",
+                integral,
+                "exact probe",
+                claim=claim.label,
+                reason="" if not refuted else "nonzero at a point",
+                residual="N*gamma1" if refuted else None,
+                witness=witness if refuted else None,
+                seconds=1.5,
+            )
+        )
+    return CaseAudit(stored.case_id, stored.content_hash, tuple(results))
+
+
+# -------------------------------------------------------------------- opening
+
+
+def test_memory_store_has_schema_version(memory_store):
+    with memory_store.engine.connect() as conn:
+        value = conn.scalar(text("SELECT value FROM meta WHERE key = 'schema_version'"))
+    assert value == str(storage.SCHEMA_VERSION) == "1"
+
+
+def test_file_store_uses_wal_and_foreign_keys(file_store, tmp_path):
+    assert (tmp_path / "db" / "registry.sqlite").exists()  # parent folder created
+    with file_store.engine.connect() as conn:
+        assert conn.exec_driver_sql("PRAGMA journal_mode").scalar() == "wal"
+        assert conn.exec_driver_sql("PRAGMA foreign_keys").scalar() == 1
+        assert conn.exec_driver_sql("PRAGMA busy_timeout").scalar() == 30000
+
+
+def test_reopening_a_file_keeps_its_content(tmp_path, sample_case):
+    path = str(tmp_path / "registry.sqlite")
+    with Store(path) as store:
+        store.add_case(sample_case)
+    with Store(f"sqlite:///{path}") as store:
+        assert store.case_ids() == [sample_case.id]
+        assert store.add_case(sample_case).status == "unchanged"
+
+
+def test_directory_path_is_a_storage_error(tmp_path):
+    with pytest.raises(StorageError, match="cannot open database") as info:
+        Store(tmp_path)
+    assert str(tmp_path) in str(info.value)
+    assert "\n" not in str(info.value)
+
+
+def test_file_that_is_not_a_database_is_a_storage_error(tmp_path):
+    junk = tmp_path / "notes.sqlite"
+    junk.write_bytes(b"this is not a database\n" * 100)
+    with pytest.raises(StorageError, match="not a database") as info:
+        Store(junk)
+    assert str(junk) in str(info.value)
+
+
+def test_bad_url_is_a_storage_error():
+    with pytest.raises(StorageError):
+        Store("nosuchdialect://host/db")
+
+
+def test_newer_schema_is_refused(tmp_path):
+    path = tmp_path / "registry.sqlite"
+    with Store(path) as store, store.engine.begin() as conn:
+        conn.execute(text("UPDATE meta SET value = '99' WHERE key = 'schema_version'"))
+    with pytest.raises(StorageError, match="schema version 99"):
+        Store(path)
+
+
+def test_database_failure_after_opening_is_a_storage_error(memory_store):
+    with memory_store.engine.begin() as conn:
+        conn.execute(text("DROP VIEW latest_verdicts"))
+    with pytest.raises(StorageError, match="no such table: latest_verdicts"):
+        memory_store.verdicts_frame()
+
+
+# ---------------------------------------------------------------------- cases
+
+
+def test_add_then_readd_is_unchanged(store, sample_case):
+    first = store.add_case(sample_case)
+    assert first == AddOutcome(sample_case.id, 1, "added")
+    rows = {t: count(store, t) for t in (SourceRow, CaseRow, ClaimRow)}
+    assert rows == {SourceRow: 1, CaseRow: 1, ClaimRow: 2}
+
+    again = store.add_case(sample_case)
+    assert again == AddOutcome(sample_case.id, 1, "unchanged")
+    assert again.pk == first.pk
+    assert {t: count(store, t) for t in rows} == rows
+
+
+def test_changed_text_is_a_new_version_and_keeps_the_old(store, sample_case, case_factory):
+    store.add_case(sample_case)
+    changed = case_factory(text=sample_case.text + "# a correction\n")
+    assert store.add_case(changed) == AddOutcome(sample_case.id, 2, "new version")
+    assert store.add_case(changed).status == "unchanged"
+
+    latest = store.case_versions()
+    assert [(s.case_id, s.version) for s in latest] == [(sample_case.id, 2)]
+    assert latest[0].text == changed.text
+    every = store.case_versions([sample_case.id], latest_only=False)
+    assert [s.version for s in every] == [1, 2]
+    assert every[0].content_hash == sample_case.content_hash
+    assert count(store, SourceRow) == 1  # same citation and DOI: one source
+    assert count(store, ClaimRow) == 4  # each version has its own claims
+
+
+def test_a_file_returning_to_older_content_becomes_the_newest_version(
+    store, sample_case, case_factory
+):
+    store.add_case(sample_case)
+    store.add_case(case_factory(text=sample_case.text + "# a correction\n"))
+    reverted = store.add_case(sample_case)
+    assert reverted == AddOutcome(sample_case.id, 3, "new version")
+    (latest,) = store.case_versions([sample_case.id])
+    assert latest.version == 3 and latest.content_hash == sample_case.content_hash
+
+
+def test_stored_case_content(store, sample_case):
+    store.add_case(sample_case)
+    with Session(store.engine) as session:
+        row = session.scalars(select(CaseRow)).one()
+        claims = session.scalars(select(ClaimRow).order_by(ClaimRow.position)).all()
+    assert row.inertia == ["C", "C", "2*C"]
+    assert row.potential == "C*gamma3"
+    assert row.torque == ["0", "0", "N*gamma3"]
+    assert row.parameters == {"C": "positive", "N": "real"}
+    assert row.functions == {}
+    assert row.locator == "p. 1" and row.notes == "made in conftest"
+    assert row.path == "data/cases/demo-2003-lagrange.toml"
+    assert row.added_at.tzinfo is not None and row.added_at.utcoffset().total_seconds() == 0
+    assert [(c.label, c.kind, c.expression, c.on) for c in claims] == [
+        ("I1", "integral", "gamma3", []),
+        ("I2", "casimir", "N*gamma1", ["gamma1**2 + gamma2**2 + gamma3**2 = 1"]),
+    ]
+
+
+def test_different_doi_is_a_different_source(store, case_factory):
+    store.add_case(case_factory("a-1", "a"))
+    store.add_case(case_factory("b-1", "b", doi="10.1000/xyz"))
+    store.add_case(case_factory("c-1", "c"))
+    assert count(store, SourceRow) == 2
+
+
+def test_failed_claim_insert_stores_nothing(store, sample_case, monkeypatch):
+    def broken(*args, **kwargs):
+        raise RuntimeError("disk on fire")
+
+    monkeypatch.setattr(storage, "_claim_row", broken)
+    with pytest.raises(RuntimeError, match="disk on fire"):
+        store.add_case(sample_case)
+    assert {count(store, t) for t in (SourceRow, CaseRow, ClaimRow)} == {0}
+    assert store.case_ids() == []
+
+
+def test_constraint_violation_stores_nothing(store, sample_case):
+    twice = replace(sample_case, claims=sample_case.claims + sample_case.claims[:1])
+    with pytest.raises(IntegrityError):
+        store.add_case(twice)
+    assert {count(store, t) for t in (SourceRow, CaseRow, ClaimRow)} == {0}
+    assert store.add_case(sample_case).status == "added"
+
+
+def test_case_without_hash_is_refused(store, sample_case):
+    with pytest.raises(ValueError, match="content_hash"):
+        store.add_case(replace(sample_case, content_hash=""))
+
+
+def test_case_ids_and_versions(store, sample_case, other_case):
+    store.add_case(sample_case)
+    store.add_case(other_case)
+    assert store.case_ids() == sorted([sample_case.id, other_case.id])
+    chosen = store.case_versions([sample_case.id, other_case.id, sample_case.id])
+    assert [s.case_id for s in chosen] == [sample_case.id, other_case.id]
+    assert all(isinstance(s, StoredCase) for s in chosen)
+
+
+def test_unknown_case_id(store, sample_case):
+    store.add_case(sample_case)
+    with pytest.raises(UnknownCaseError) as info:
+        store.case_versions(["demo-2003-lagrang"])
+    assert info.value.known == [sample_case.id]
+    assert "did you mean" in str(info.value)
+
+
+def test_cases_and_claims_frames(store, sample_case, other_case, case_factory):
+    store.add_case(sample_case)
+    store.add_case(other_case)
+    store.add_case(case_factory(text="v2"))
+    cases = store.cases_frame()
+    assert list(cases.columns) == [
+        "case", "version", "title", "citation", "locator", "doi", "content_hash", "n_claims",
+        "added_at",
+    ]  # fmt: skip
+    assert cases.set_index("case")["version"].to_dict() == {other_case.id: 1, sample_case.id: 2}
+    assert cases.set_index("case")["n_claims"].to_dict() == {other_case.id: 0, sample_case.id: 2}
+
+    claims = store.claims_frame()
+    assert list(claims.columns) == [
+        "case", "version", "label", "kind", "expression", "on", "locator",
+    ]  # fmt: skip
+    assert claims["label"].tolist() == ["I1", "I2"]
+    assert set(claims["version"]) == {2}
+    assert claims["on"].tolist()[1] == ["gamma1**2 + gamma2**2 + gamma3**2 = 1"]
+
+
+# ----------------------------------------------------------------------- runs
+
+
+def test_run_round_trip(store, sample_case):
+    store.add_case(sample_case)
+    (stored,) = store.case_versions()
+    run = store.start_run({"fresh": True, "cases": [sample_case.id]}, code_version="abc123")
+    audit = audit_of(sample_case, stored, integral=Verdict.REFUTED)
+    store.record_case(run, stored.pk, audit)
+    store.finish_run(run)
+
+    assert store.run_results(run) == [(sample_case.id, audit)]
+    witness = store.run_results(run)[0][1].result("integral", "I1").witness
+    assert witness == audit.result("integral", "I1").witness
+    assert store.stored_audit(stored.pk) == (run, audit)
+    assert store.stored_audit(stored.pk, code_version="other") is None
+
+    runs = store.runs_frame()
+    assert len(runs) == 1
+    row = runs.iloc[0]
+    assert (row["run"], row["status"], row["code_version"]) == (run, "complete", "abc123")
+    assert (row["n_results"], row["n_refuted"], row["n_verified"], row["n_cases"]) == (4, 2, 2, 1)
+    assert row["sympy_version"] and row["python_version"]
+    assert row["options"] == {"fresh": True, "cases": [sample_case.id]}
+    assert row["finished_at"] >= row["started_at"]
+    assert isinstance(row["started_at"], datetime) and row["started_at"].tzinfo is not None
+
+
+def test_run_status_and_errors(store, sample_case):
+    store.add_case(sample_case)
+    (stored,) = store.case_versions()
+    run = store.start_run({}, code_version="x")
+    assert store.runs_frame().iloc[0]["status"] == "running"
+    assert store.runs_frame().iloc[0]["finished_at"] is None
+    with pytest.raises(ValueError, match="cannot finish"):
+        store.finish_run(run, "running")
+    store.finish_run(run, "interrupted")
+    assert store.runs_frame().iloc[0]["status"] == "interrupted"
+    with pytest.raises(ValueError, match="interrupted"):
+        store.record_case(run, stored.pk, audit_of(sample_case, stored))
+    for call in (
+        lambda: store.finish_run(99),
+        lambda: store.run_results(99),
+        lambda: store.verdicts_frame(99),
+        lambda: store.record_case(99, stored.pk, audit_of(sample_case, stored)),
+    ):
+        with pytest.raises(UnknownRunError, match="99"):
+            call()
+
+
+def test_record_case_rejects_unknown_label_and_stores_nothing(store, sample_case):
+    store.add_case(sample_case)
+    (stored,) = store.case_versions()
+    run = store.start_run({}, code_version="x")
+    good = audit_of(sample_case, stored)
+    bad = CheckResult("integral", Verdict.VERIFIED, "exact probe", claim="I9")
+    with pytest.raises(ValueError, match="I9"):
+        store.record_case(run, stored.pk, replace(good, results=good.results + (bad,)))
+    assert count(store, ResultRow) == 0
+    with pytest.raises(ValueError, match="does not match"):
+        store.record_case(run, stored.pk, replace(good, content_hash="0" * 64))
+
+
+def test_claim_results_belong_to_the_audited_version(store, sample_case, case_factory):
+    store.add_case(sample_case)
+    store.add_case(case_factory(text="v2"))
+    v1, v2 = store.case_versions(latest_only=False)
+    run = store.start_run({}, code_version="x")
+    store.record_case(run, v1.pk, audit_of(sample_case, v1))
+    with Session(store.engine) as session:
+        pairs = session.execute(
+            select(ResultRow.case_pk, ClaimRow.case_pk).join(
+                ClaimRow, ClaimRow.id == ResultRow.claim_id
+            )
+        ).all()
+    assert pairs and all(result == claim == v1.pk for result, claim in pairs)
+    assert set(store.verdicts_frame(run)["version"]) == {1}
+
+
+def test_latest_verdicts_follow_the_newest_run_and_keep_history(store, sample_case):
+    store.add_case(sample_case)
+    (stored,) = store.case_versions()
+    first = store.start_run({}, code_version="x")
+    store.record_case(first, stored.pk, audit_of(sample_case, stored, Verdict.VERIFIED))
+    store.finish_run(first)
+    second = store.start_run({}, code_version="x")
+    store.record_case(
+        second, stored.pk, audit_of(sample_case, stored, Verdict.REFUTED), reused=False
+    )
+    store.finish_run(second)
+
+    latest = store.verdicts_frame()
+    assert list(latest.columns)[:10] == [
+        "case", "version", "claim", "check", "verdict", "method", "reason", "run", "seconds",
+        "witness",
+    ]  # fmt: skip
+    # one row per (case, claim or none, check): NULL claims form one partition per check
+    assert len(latest) == 4
+    assert set(latest["run"]) == {second}
+    # missing labels are None or, with pandas' string dtype, NaN
+    by_key = {(None if pd.isna(r.claim) else r.claim, r.check): r for r in latest.itertuples()}
+    assert by_key[("I1", "integral")].verdict == "refuted"
+    assert by_key[("I1", "integral")].witness["point"] == {"gamma1": "1", "N": "1/2"}
+    assert by_key[(None, "jacobi")].verdict == "verified"
+    assert by_key[(None, "jacobi")].witness is None
+
+    assert count(store, ResultRow) == 8  # both runs kept
+    assert store.verdicts_frame(first)["verdict"].tolist() == ["verified"] * 4
+    history = store.runs_frame()
+    assert history["n_refuted"].tolist() == [0, 2]
+
+
+def test_latest_verdicts_span_case_versions(store, sample_case, case_factory):
+    store.add_case(sample_case)
+    (v1,) = store.case_versions()
+    run1 = store.start_run({}, code_version="x")
+    store.record_case(run1, v1.pk, audit_of(sample_case, v1))
+    v2_case = case_factory(text="v2")
+    store.add_case(v2_case)
+    (v2,) = store.case_versions()
+    run2 = store.start_run({}, code_version="x")
+    store.record_case(run2, v2.pk, audit_of(v2_case, v2, Verdict.REFUTED), reused=True)
+    latest = store.verdicts_frame()
+    assert set(zip(latest["version"], latest["run"], strict=True)) == {(2, run2)}
+    assert latest["reused"].all()
+    assert store.runs_frame()["n_reused"].tolist() == [0, 4]
+
+
+def test_foreign_keys_are_enforced(store, sample_case):
+    store.add_case(sample_case)
+    (stored,) = store.case_versions()
+    with pytest.raises(IntegrityError), store.engine.begin() as conn:
+        conn.execute(
+            insert(ResultRow).values(
+                run_id=12345, case_pk=stored.pk, check="jacobi", verdict="verified",
+                method="m", reason="", seconds=0.0,
+            )
+        )  # fmt: skip
+    assert count(store, ResultRow) == 0
+    assert count(store, RunRow) == 0
+
+
+def test_view_is_queryable_with_plain_sql(file_store, sample_case):
+    file_store.add_case(sample_case)
+    (stored,) = file_store.case_versions()
+    run = file_store.start_run({}, code_version="x")
+    file_store.record_case(run, stored.pk, audit_of(sample_case, stored))
+    with file_store.engine.connect() as conn:
+        rows = conn.execute(
+            text('SELECT "case", claim, "check", verdict FROM latest_verdicts ORDER BY result')
+        ).all()
+    assert rows[0] == (sample_case.id, None, "jacobi", "verified")
+    assert rows[-1] == (sample_case.id, "I2", "integral", "verified")

@@ -1,0 +1,108 @@
+"""Zero testing: probes refute with checked witnesses, proofs are complete for their class."""
+
+import sympy as sp
+
+from registry.certified import evaluate
+from registry.mechanics import AXIS, S_VALUE, gamma1, gamma2, gamma3, s
+from registry.model import Verdict
+from registry.zero import Domain, decide, prove_zero, sample_points
+
+k = sp.Symbol("k", positive=True)
+DOMAIN = Domain(parameters=(k,))
+SPHERE = gamma1**2 + gamma2**2 + gamma3**2 - 1
+
+
+def test_identical_zero_is_verified_without_work():
+    assert decide({"r": sp.Integer(0)}, DOMAIN).method == "identically zero"
+
+
+def test_equal_radicals_written_differently_are_not_refuted():
+    x, y = gamma1, gamma2
+    r = sp.sqrt((x + y) ** 2 + 1) - sp.sqrt(x**2 + 2 * x * y + y**2 + 1)
+    result = decide({"r": r}, DOMAIN)
+    assert result.verdict is Verdict.VERIFIED
+
+
+def test_radical_identity_needs_the_relation():
+    x, y = gamma1, gamma2
+    product = sp.sqrt((x + y) ** 2 + 1) * sp.sqrt(x**2 + 2 * x * y + y**2 + 1)
+    assert prove_zero(product - (x + y) ** 2 - 1) == "algebraic normal form"
+    assert prove_zero(product - (x + y) ** 2) is None
+
+
+def test_s_is_the_product_m_gamma():
+    assert decide({"r": s - S_VALUE}, DOMAIN).verdict is Verdict.VERIFIED
+
+
+def test_a_nonzero_residual_is_refuted_with_a_checked_witness():
+    r = k * gamma1 * sp.sqrt(gamma1**2 + gamma2**2) - gamma3
+    result = decide({"r": r}, DOMAIN)
+    assert result.verdict is Verdict.REFUTED
+    w = result.witness
+    point = {sp.Symbol(n, real=True): sp.sympify(v) for n, v in w.point.items() if n != "k"}
+    point[k] = sp.sympify(w.point["k"])
+    # re-evaluate independently with sympy at 30 digits
+    assert abs(sp.N(r.xreplace(point), 30)) > 0
+    assert evaluate(r, point).text() == w.value
+
+
+def test_parameters_respect_their_assumptions():
+    # k is positive: sqrt(k**2) - k is zero on the domain, though not for real k
+    assert decide({"r": sp.sqrt(k**2) - k}, DOMAIN).verdict is Verdict.VERIFIED
+    n = sp.Symbol("n", integer=True, nonzero=True)
+    result = decide({"r": k * n - gamma1}, Domain(parameters=(k, n)))
+    assert result.verdict is Verdict.REFUTED
+    assert sp.Rational(result.witness.point["k"]) > 0
+    assert sp.Rational(result.witness.point["n"]).q == 1 and result.witness.point["n"] != "0"
+
+
+def test_level_sets_restrict_the_question():
+    residual = gamma1**2 + gamma2**2 + gamma3**2 - 1
+    assert decide({"r": residual}, DOMAIN).verdict is Verdict.REFUTED
+    on_sphere = decide({"r": residual}, DOMAIN.restricted([SPHERE]))
+    assert on_sphere.verdict is Verdict.VERIFIED and on_sphere.method == "level-set reduction"
+    off = decide({"r": gamma3**2 - 1 + gamma1**2}, DOMAIN.restricted([SPHERE]))
+    assert off.verdict is Verdict.REFUTED
+
+
+def test_witnesses_on_level_sets_lie_on_the_set():
+    on = [SPHERE, s]
+    result = decide({"r": gamma1 * s + gamma2}, DOMAIN.restricted(on))
+    assert result.verdict is Verdict.REFUTED
+    point = {sp.Symbol(n, real=True): sp.sympify(v) for n, v in result.witness.point.items()}
+    assert sp.simplify(SPHERE.xreplace(point)) == 0
+    assert sp.simplify(S_VALUE.xreplace(point)) == 0
+
+
+def test_sample_points_respect_nonzero_conditions_and_level_sets():
+    domain = Domain(parameters=(k,), nonzero=(gamma3,), on=(SPHERE,))
+    for point in sample_points(domain, 5, seed=3):
+        assert point[gamma3] != 0 and point[k] > 0
+        assert sp.simplify(SPHERE.xreplace(point)) == 0
+        assert point[s] == sp.expand(S_VALUE.xreplace(point))
+
+
+def test_transcendental_identities_with_branch_cuts_are_decided_correctly():
+    # atan(x) + atan(1/x) = pi/2 only for x > 0: refuted, with an interval witness
+    r = sp.atan(gamma1) + sp.atan(1 / gamma1) - sp.pi / 2
+    result = decide({"r": r}, DOMAIN)
+    assert result.verdict is Verdict.REFUTED and result.method == "interval probe"
+
+
+def test_true_identity_without_a_normal_form_is_inconclusive_not_verified():
+    r = sp.sin(gamma1) ** 2 + sp.cos(gamma1) ** 2 - 1
+    result = decide({"r": r}, DOMAIN)
+    assert result.verdict is Verdict.INCONCLUSIVE
+    assert "no symbolic proof" in result.reason
+
+
+def test_families_are_refuted_with_concrete_functions():
+    phi = sp.Function("phi")
+    domain = Domain(functions={"phi": (phi, AXIS)})
+    r = sp.diff(phi(*AXIS), gamma1) - sp.diff(phi(*AXIS), gamma2)
+    result = decide({"r": r}, domain)
+    assert result.verdict is Verdict.REFUTED
+    assert "phi(gamma1, gamma2, gamma3)" in result.witness.functions
+    # and a true family identity (mixed partials commute) is proven
+    ok = sp.diff(phi(*AXIS), gamma1, gamma2) - sp.diff(phi(*AXIS), gamma2, gamma1)
+    assert decide({"r": ok}, domain).verdict is Verdict.VERIFIED
