@@ -22,6 +22,7 @@ import pandas as pd
 from .audit import audit_case, failed_case
 from .casefile import load_case, parse_case_text
 from .errors import CaseFormatError, RegistryError
+from .export import corrected_case_text
 from .model import Case, CaseAudit
 from .report import audit_document
 from .storage import Store
@@ -159,6 +160,32 @@ class Registry:
     def verdicts(self, run: int | None = None) -> pd.DataFrame:
         """The newest verdict of every check and claim (or those of one run)."""
         return self.store.verdicts_frame(run)
+
+    def corrections(self, run: int | None = None) -> pd.DataFrame:
+        """Families, re-checked repairs and parameter conditions of a run (default: newest)."""
+        return self.store.corrections_frame(run)
+
+    def export_case(self, case_id: str, claim: str | None = None, kind: str = "torque") -> str:
+        """A corrected case file (TOML text) from the newest audit of ``case_id``.
+
+        ``kind`` is ``torque`` (the claim becomes a Casimir of a repaired torque) or
+        ``casimir`` (the case's own torque with its derived Casimir as the claim).
+        """
+        (stored,) = self.store.case_versions([case_id])
+        found = self.store.stored_audit(stored.pk)
+        if found is None:
+            raise RegistryError(f"case {case_id!r} has not been audited yet; run 'registry audit'")
+        run, audit = found
+        matches = [
+            c for c in audit.corrections if c.kind == kind and (claim is None or c.claim == claim)
+        ]
+        if not matches:
+            which = f" for claim {claim!r}" if claim else ""
+            raise RegistryError(
+                f"the newest audit of {case_id!r} found no {kind} correction{which}"
+            )
+        case = parse_case_text(stored.text, stored.path or stored.case_id)
+        return corrected_case_text(case, matches[0], run)
 
     def runs(self) -> pd.DataFrame:
         """One row per audit run: when, status, code and sympy versions."""

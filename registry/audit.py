@@ -9,16 +9,24 @@ from __future__ import annotations
 
 import time
 from collections.abc import Iterable
+from dataclasses import replace
 
 from .checks import CHECKS, CheckSpec, Mechanics
-from .model import Case, CaseAudit, CheckResult, Claim, ClaimKind, Verdict
+from .corrections import repairs
+from .model import Case, CaseAudit, CheckResult, Claim, ClaimKind, FamilyRecord, Verdict
 
 #: The case-level checks whose verdicts appear under ``checks`` in the JSON output.
 CASE_CHECKS = tuple(name for name, spec in CHECKS.items() if not spec.per_claim)
 
 
-def audit_case(case: Case, checks: Iterable[str] | None = None) -> CaseAudit:
-    """Run the named checks (default: all) on ``case``; a crash becomes an ``error`` result."""
+def audit_case(
+    case: Case, checks: Iterable[str] | None = None, *, repair: bool | None = None
+) -> CaseAudit:
+    """Run the named checks (default: all) on ``case``; a crash becomes an ``error`` result.
+
+    With ``repair`` (the default when every check runs) the torque's family, the
+    repairs of refuted claims and the conditions for failed identities are derived.
+    """
     wanted = set(CHECKS) if checks is None else set(checks)
     unknown = wanted - set(CHECKS)
     if unknown:
@@ -34,7 +42,19 @@ def audit_case(case: Case, checks: Iterable[str] | None = None) -> CaseAudit:
         for claim in case.claims:
             if spec.applies(claim):
                 results.append(_run(spec, mech, claim))
-    return CaseAudit(case.id, case.content_hash, tuple(results))
+    audit = CaseAudit(case.id, case.content_hash, tuple(results))
+    if repair if repair is not None else checks is None:
+        audit = _with_repairs(audit, mech)
+    return audit
+
+
+def _with_repairs(audit: CaseAudit, mech: Mechanics) -> CaseAudit:
+    try:
+        family, corrections, conditions = repairs(mech, audit.results)
+    except Exception as exc:  # a failed repair must not lose the verdicts
+        family = FamilyRecord("none", reason=f"repair failed: {type(exc).__name__}: {exc}")
+        corrections, conditions = (), ()
+    return replace(audit, family=family, corrections=corrections, conditions=conditions)
 
 
 def _run(spec: CheckSpec, mech: Mechanics, claim: Claim | None = None) -> CheckResult:

@@ -144,6 +144,50 @@ def verdicts(run: int | None) -> None:
 
 
 @main.command()
+@click.option("--run", type=int, default=None, help="Corrections of this run (default: newest).")
+@_user_errors
+def corrections(run: int | None) -> None:
+    """List torque families, re-checked repairs and parameter conditions.
+
+    Example: registry corrections --run 3
+    """
+    frame = _registry().corrections(run)
+    _print_frame(frame.drop(columns=["payload"]) if "payload" in frame else frame)
+
+
+@main.command("export-case")
+@click.argument("case_id")
+@click.option("--claim", default=None, metavar="LABEL", help="The claim whose repair to use.")
+@click.option(
+    "--kind",
+    type=click.Choice(["torque", "casimir"]),
+    default="torque",
+    show_default=True,
+    help="torque: repaired torque, claim kept; casimir: same torque, derived Casimir.",
+)
+@click.option(
+    "-o",
+    "--output",
+    type=click.Path(dir_okay=False),
+    default=None,
+    help="Write to this file instead of standard output.",
+)
+@_user_errors
+def export_case(case_id: str, claim: str | None, kind: str, output: str | None) -> None:
+    """Write a corrected case, from the newest audit, as a new case file.
+
+    Example: registry export-case yehia-2003-kovalevskaya-b --claim I2 -o fixed.toml
+    """
+    text = _registry().export_case(case_id, claim, kind)
+    if output is None:
+        click.echo(text, nl=False)
+    else:
+        with open(output, "w", encoding="utf-8") as f:
+            f.write(text)
+        click.echo(f"wrote {output}", err=True)
+
+
+@main.command()
 @_user_errors
 def runs() -> None:
     """List the audit runs.

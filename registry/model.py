@@ -200,12 +200,76 @@ class CheckResult:
 
 
 @dataclass(frozen=True)
+class Correction:
+    """A repair, re-checked before it is reported (``checks``: check name -> verdict).
+
+    ``kind`` is ``casimir`` (a Casimir of the case's own torque, ``expression``) or
+    ``torque`` (a torque ``torque`` under which the claim is a Casimir, differing
+    from the case's in the 0-based components ``changed``). ``claim`` is the claim
+    it repairs, or None for a Casimir the case did not claim. Expressions are
+    written in the case-file language.
+    """
+
+    kind: str
+    claim: str | None = None
+    expression: str | None = None
+    torque: tuple[str, str, str] | None = None
+    changed: tuple[int, ...] = ()
+    method: str = ""
+    checks: Mapping[str, str] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "checks", _frozen(self.checks))
+
+    def as_dict(self) -> dict:
+        out: dict = {"kind": self.kind}
+        if self.expression is not None:
+            out["expression"] = self.expression
+        if self.torque is not None:
+            out["torque"] = list(self.torque)
+            out["changed"] = [k + 1 for k in self.changed]
+        out["method"] = self.method
+        out["checks"] = dict(self.checks)
+        return out
+
+
+@dataclass(frozen=True)
+class Conditions:
+    """Parameter equations under which a failed identity holds: ``target`` is
+    ``jacobi`` or a claim label; each branch is a tuple of ``lhs = rhs`` texts,
+    the most general first; ``reason`` says why there is none."""
+
+    target: str
+    branches: tuple[tuple[str, ...], ...] = ()
+    reason: str = ""
+
+
+@dataclass(frozen=True)
+class FamilyRecord:
+    """The paper's family of the case's torque, and the functions that exhibit it (as text)."""
+
+    name: str
+    phi: str | None = None
+    psi: str | None = None
+    a: str | None = None
+    casimir: str | None = None
+    method: str = ""
+    reason: str = ""
+
+    def as_dict(self) -> dict:
+        return {k: v for k, v in self.__dict__.items() if v not in (None, "")}
+
+
+@dataclass(frozen=True)
 class CaseAudit:
-    """All check results for one case version."""
+    """All check results for one case version, with the repairs derived from them."""
 
     case: str
     content_hash: str
     results: tuple[CheckResult, ...]
+    family: FamilyRecord | None = None
+    corrections: tuple[Correction, ...] = ()
+    conditions: tuple[Conditions, ...] = ()
 
     def result(self, check: str, claim: str | None = None) -> CheckResult:
         """The result of ``check`` (on ``claim``); KeyError if it was not run."""

@@ -47,6 +47,17 @@ def case_document(audit: CaseAudit, case: Case | None, version: int | None = Non
     }
     doc["checks"] = {name: str(r.verdict) for name, r in checks.items()}
     doc["details"] = {name: _detail(r) for name, r in checks.items()}
+    if audit.family is not None:
+        doc["family"] = audit.family.as_dict()
+    conditions = {c.target: c for c in audit.conditions}
+    if "jacobi" in conditions and conditions["jacobi"].branches:
+        first, *more = conditions["jacobi"].branches
+        doc["conditions"] = {"jacobi": list(first)}
+        if more:
+            doc["conditions"]["jacobi_branches"] = [list(b) for b in more]
+    discovered = [c.as_dict() for c in audit.corrections if c.claim is None]
+    if discovered:
+        doc["casimirs"] = discovered
     doc["claims"] = []
     for claim in case.claims if case is not None else ():
         per = {
@@ -67,6 +78,17 @@ def case_document(audit: CaseAudit, case: Case | None, version: int | None = Non
                 per["invariant"] = kept
                 entry["invariant"] = str(kept.verdict)
         entry["details"] = {name: _detail(r) for name, r in per.items()}
+        repairs = [c.as_dict() for c in audit.corrections if c.claim == claim.label]
+        if repairs:
+            entry["corrections"] = repairs
+        found = conditions.get(claim.label)
+        if found is not None and found.branches:
+            first, *more = found.branches
+            entry["holds_when"] = list(first)
+            if more:
+                entry["holds_when_branches"] = [list(b) for b in more]
+        elif found is not None:
+            entry["holds_when_note"] = found.reason
         doc["claims"].append(entry)
     return doc
 
@@ -87,11 +109,14 @@ def audit_document(
 
 def verdict_table(document: dict) -> str:
     """A plain-text table of an audit document: one row per claim, then a summary."""
-    header = ("case", "Poisson", "claim", "kind", "integral", "casimir", "verdict")
+    header = ("case", "family", "Poisson", "claim", "kind", "integral", "casimir", "verdict")
     rows = []
     notes = []
+    repairs = []
     for case in document["cases"]:
         poisson = case["checks"].get("jacobi", "")
+        family = case.get("family", {}).get("name", "")
+        repairs.extend(_repair_lines(case))
         for name, detail in case["details"].items():
             if detail["verdict"] != "verified" and name != "jacobi":
                 notes.append(
@@ -99,12 +124,13 @@ def verdict_table(document: dict) -> str:
                     + (f" ({detail['reason']})" if detail.get("reason") else "")
                 )
         if not case["claims"]:
-            rows.append((case["case"], poisson, "-", "", "", "", ""))
+            rows.append((case["case"], family, poisson, "-", "", "", "", ""))
         for claim in case["claims"]:
             label = claim["label"] + (" (on set)" if claim.get("on") else "")
             rows.append(
                 (
                     case["case"],
+                    family,
                     poisson,
                     label,
                     claim["kind"],
@@ -133,4 +159,27 @@ def verdict_table(document: dict) -> str:
     lines.append("")
     lines.append(f"{run}{n_cases} cases, {sum(counts.values())} claims ({summary or 'none'})")
     lines.extend(f"  note: {n}" for n in notes)
+    if repairs:
+        lines += ["", "Repairs (each re-checked):", *repairs]
     return "\n".join(lines)
+
+
+def _repair_lines(case: dict) -> list[str]:
+    """Readable lines for a case's conditions, discovered Casimirs and claim repairs."""
+    lines = []
+    name = case["case"]
+    if "conditions" in case:
+        lines.append(f"  {name}: Poisson when {', '.join(case['conditions']['jacobi'])}")
+    for c in case.get("casimirs", []):
+        lines.append(f"  {name}: a Casimir: {c['expression']}")
+    for claim in case["claims"]:
+        where = f"{name}/{claim['label']}"
+        if "holds_when" in claim:
+            lines.append(f"  {where}: holds when {', '.join(claim['holds_when'])}")
+        for c in claim.get("corrections", []):
+            if c["kind"] == "casimir":
+                lines.append(f"  {where}: corrected Casimir: {c['expression']}")
+            else:
+                changed = ", ".join(f"mu{k} = {c['torque'][k - 1]}" for k in c["changed"])
+                lines.append(f"  {where}: corrected torque: {changed}")
+    return lines

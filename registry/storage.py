@@ -50,7 +50,17 @@ from sqlalchemy.pool import StaticPool
 from sqlalchemy.types import TypeDecorator
 
 from .errors import StorageError, UnknownCaseError, UnknownRunError
-from .model import Case, CaseAudit, CheckResult, Claim, Verdict, Witness
+from .model import (
+    Case,
+    CaseAudit,
+    CheckResult,
+    Claim,
+    Conditions,
+    Correction,
+    FamilyRecord,
+    Verdict,
+    Witness,
+)
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -203,6 +213,24 @@ class ResultRow(Base):
     witness: Mapped[dict[str, Any] | None] = mapped_column(JSON(none_as_null=True))
     seconds: Mapped[float] = mapped_column(Float, default=0.0)
     reused: Mapped[bool] = mapped_column(Boolean, default=False, server_default=false())
+
+
+class CorrectionRow(Base):
+    """A derived fact about one case version in one run: the torque's ``family``, a
+    re-checked repair (``casimir`` or ``torque``), or the parameter ``conditions``
+    under which a failed identity holds. ``payload`` holds the whole record."""
+
+    __tablename__ = "corrections"
+
+    id: Mapped[int] = mapped_column(primary_key=True)
+    run_id: Mapped[int] = mapped_column(ForeignKey("audit_runs.id"), index=True)
+    case_pk: Mapped[int] = mapped_column(ForeignKey("cases.id"), index=True)
+    claim_id: Mapped[int | None] = mapped_column(ForeignKey("claims.id"))
+    kind: Mapped[str] = mapped_column(Text)
+    expression: Mapped[str | None] = mapped_column(Text)
+    method: Mapped[str] = mapped_column(Text, default="")
+    verdict: Mapped[str] = mapped_column(Text, default="")
+    payload: Mapped[dict[str, Any]] = mapped_column(JSON)
 
 
 # --------------------------------------------------------------------------- views
@@ -661,12 +689,15 @@ class Store:
                     select(ClaimRow.label, ClaimRow.id).where(ClaimRow.case_pk == case_pk)
                 )
             }
-            for result in audit.results:
-                if result.claim is not None and result.claim not in claim_ids:
+            labels = [r.claim for r in audit.results] + [c.claim for c in audit.corrections]
+            labels += [c.target for c in audit.conditions if c.target != "jacobi"]
+            for label in labels:
+                if label is not None and label not in claim_ids:
                     raise ValueError(
-                        f"case {case.case_id!r} version {case.version} has no claim "
-                        f"{result.claim!r}"
+                        f"case {case.case_id!r} version {case.version} has no claim {label!r}"
                     )
+            session.add_all(_correction_rows(run_id, case_pk, audit, claim_ids))
+            for result in audit.results:
                 session.add(
                     ResultRow(
                         run_id=run_id,
@@ -860,6 +891,33 @@ class Store:
         )
         return self._select_frame(stmt)
 
+    @_guarded
+    def corrections_frame(self, run: int | None = None) -> pd.DataFrame:
+        """Families, repairs and conditions of one run (default: the newest run)."""
+        with self._read() as session:
+            if run is None:
+                run = session.scalar(select(func.max(CorrectionRow.run_id)))
+            elif session.get(RunRow, run) is None:
+                raise UnknownRunError(run)
+        stmt = (
+            select(
+                CorrectionRow.run_id.label("run"),
+                CaseRow.case_id.label("case"),
+                CaseRow.version,
+                ClaimRow.label.label("claim"),
+                CorrectionRow.kind,
+                CorrectionRow.expression,
+                CorrectionRow.method,
+                CorrectionRow.verdict,
+                CorrectionRow.payload,
+            )
+            .join(CaseRow, CaseRow.id == CorrectionRow.case_pk)
+            .outerjoin(ClaimRow, ClaimRow.id == CorrectionRow.claim_id)
+            .where(CorrectionRow.run_id == run)
+            .order_by(CorrectionRow.id)
+        )
+        return self._select_frame(stmt)
+
     def _select_frame(self, stmt: Select) -> pd.DataFrame:
         """Run a select and return its rows as a DataFrame named by its columns."""
         with self._engine.connect() as conn:
@@ -871,6 +929,83 @@ def _stored(row: CaseRow) -> StoredCase:
     return StoredCase(row.id, row.case_id, row.version, row.content_hash, row.text, row.path)
 
 
+def _correction_rows(
+    run_id: int, case_pk: int, audit: CaseAudit, claim_ids: dict[str, int]
+) -> list[CorrectionRow]:
+    """The family, repairs and conditions of an audit, as rows."""
+    rows = []
+    if audit.family is not None:
+        rows.append(
+            CorrectionRow(
+                run_id=run_id,
+                case_pk=case_pk,
+                kind="family",
+                expression=audit.family.casimir,
+                method=audit.family.method,
+                verdict="",
+                payload=audit.family.as_dict(),
+            )
+        )
+    for c in audit.corrections:
+        verdict = "verified" if set(c.checks.values()) == {"verified"} else "unverified"
+        rows.append(
+            CorrectionRow(
+                run_id=run_id,
+                case_pk=case_pk,
+                claim_id=claim_ids.get(c.claim) if c.claim else None,
+                kind=c.kind,
+                expression=c.expression,
+                method=c.method,
+                verdict=verdict,
+                payload={**c.as_dict(), "claim": c.claim},
+            )
+        )
+    for cond in audit.conditions:
+        payload = {
+            "target": cond.target,
+            "branches": [list(b) for b in cond.branches],
+            "reason": cond.reason,
+        }
+        claim_id = None if cond.target == "jacobi" else claim_ids.get(cond.target)
+        rows.append(
+            CorrectionRow(
+                run_id=run_id,
+                case_pk=case_pk,
+                claim_id=claim_id,
+                kind="conditions",
+                verdict="verified" if cond.branches else "",
+                payload=payload,
+            )
+        )
+    return rows
+
+
+def _derived(rows: Iterable[CorrectionRow]) -> dict:
+    """CaseAudit fields rebuilt from correction rows."""
+    family, corrections, conditions = None, [], []
+    for row in rows:
+        p = row.payload
+        if row.kind == "family":
+            family = FamilyRecord(**p)
+        elif row.kind == "conditions":
+            conditions.append(
+                Conditions(p["target"], tuple(tuple(b) for b in p["branches"]), p.get("reason", ""))
+            )
+        else:
+            corrections.append(
+                Correction(
+                    kind=row.kind,
+                    claim=p.get("claim"),
+                    expression=p.get("expression"),
+                    torque=tuple(p["torque"]) if p.get("torque") else None,
+                    changed=tuple(k - 1 for k in p.get("changed", [])),
+                    method=p.get("method", ""),
+                    checks=p.get("checks", {}),
+                )
+            )
+    return {"family": family, "corrections": tuple(corrections), "conditions": tuple(conditions)}
+
+
 def _audits(session: Session, where: Any) -> list[tuple[str, CaseAudit]]:
     """Rebuild CaseAudits from the result rows matching ``where``, in recording order."""
     rows = session.execute(
@@ -880,14 +1015,21 @@ def _audits(session: Session, where: Any) -> list[tuple[str, CaseAudit]]:
         .where(where)
         .order_by(ResultRow.id)
     ).all()
-    grouped: dict[int, tuple[str, str, list[CheckResult]]] = {}
+    grouped: dict[tuple[int, int], tuple[str, str, list[CheckResult]]] = {}
     for result, case_id, content_hash, label in rows:
-        entry = grouped.setdefault(result.case_pk, (case_id, content_hash, []))
+        entry = grouped.setdefault((result.run_id, result.case_pk), (case_id, content_hash, []))
         entry[2].append(_check_result(result, label))
-    return [
-        (case_id, CaseAudit(case_id, content_hash, tuple(results)))
-        for case_id, content_hash, results in grouped.values()
-    ]
+    audits = []
+    for (run_id, case_pk), (case_id, content_hash, results) in grouped.items():
+        derived = session.scalars(
+            select(CorrectionRow)
+            .where(CorrectionRow.run_id == run_id, CorrectionRow.case_pk == case_pk)
+            .order_by(CorrectionRow.id)
+        )
+        audits.append(
+            (case_id, CaseAudit(case_id, content_hash, tuple(results), **_derived(derived)))
+        )
+    return audits
 
 
 def _package_version(name: str) -> str:

@@ -389,15 +389,23 @@ class _Atoms:
             if exp.is_Integer:
                 return self.rewrite(base) ** exp
             if exp.is_Rational:
-                key = (self._key(base), int(exp.q))
-                rho = self.radicals.get(key)
-                if rho is None:
-                    rho = self.radicals[key] = sp.Dummy(f"rho{len(self.radicals)}")
-                return rho ** int(exp.p)
+                # (p/q)**e = p**e * q**-e wherever the left side is real
+                num, den = sp.fraction(sp.together(self._key(base)))
+                return self._radical(sp.expand(num), exp) * self._radical(sp.expand(den), -exp)
             return self._symbol_for(sp.Pow(self._key(base), self._key(exp)))
         if isinstance(expr, sp.Function):
             return self._symbol_for(expr.func(*(self._key(a) for a in expr.args)))
         return expr.func(*(self.rewrite(a) for a in expr.args))
+
+    def _radical(self, base: sp.Expr, exp: sp.Rational) -> sp.Expr:
+        """base**exp as rho**p with rho**q = base (exp = p/q)."""
+        if base == 1 or exp.is_Integer:
+            return base**exp
+        key = (base, int(exp.q))
+        rho = self.radicals.get(key)
+        if rho is None:
+            rho = self.radicals[key] = sp.Dummy(f"rho{len(self.radicals)}")
+        return rho ** int(exp.p)
 
     def _symbol_for(self, key: sp.Expr) -> sp.Symbol:
         sym = self.others.get(key)

@@ -1,0 +1,507 @@
+"""Case files: read one TOML file (CASE_FORMAT.md) into a ``registry.model.Case``.
+
+Everything in a file is validated before anything is built, and every problem
+found is reported at once in one ``CaseFormatError``, each with its field
+(``claims[2].expression``), what is wrong and the offending text.
+
+Examples
+--------
+>>> case = parse_case_text('''
+... id = "free-body"
+... title = "Euler's free rigid body"
+... [source]
+... citation = "L. Euler (1765)"
+... [system]
+... inertia = ["A", "B", "C"]
+... [parameters]
+... A = "positive"
+... B = "positive"
+... C = "positive"
+... [[claims]]
+... label = "H"
+... kind = "integral"
+... expression = "M1**2/A + M2**2/B + M3**2/C"
+... ''')
+>>> case.claims[0].expression.expr
+M1**2/A + M2**2/B + M3**2/C
+"""
+
+from __future__ import annotations
+
+import difflib
+import hashlib
+import json
+import keyword
+import os
+import re
+import tomllib
+from dataclasses import replace
+from typing import Any
+
+import sympy as sp
+
+from .errors import CaseFormatError, ExpressionError, Problem
+from .expressions import RESERVED_NAMES, VARIABLES, Namespace, parse_equation, parse_expression
+from .mechanics import MOMENTUM, STATE, s
+from .model import Assumption, Case, Claim, ClaimKind, Equation, Expression, Source, System
+
+#: Largest case file, in bytes.
+MAX_FILE_BYTES = 1_000_000
+#: Most claims in one case.
+MAX_CLAIMS = 200
+#: Most parameters in one case (and, separately, most declared functions).
+MAX_PARAMETERS = 100
+
+#: A case id: lowercase letters, digits, '.' and '-', starting with a letter or digit.
+ID_PATTERN = re.compile(r"[a-z0-9][a-z0-9.-]*")
+
+_TOP_KEYS = ("id", "title", "source", "parameters", "functions", "system", "claims", "notes")
+_SOURCE_KEYS = ("citation", "locator", "doi")
+_SYSTEM_KEYS = ("inertia", "potential", "torque")
+_CLAIM_KEYS = ("label", "kind", "expression", "on", "locator")
+_VARIABLE_LIST = ", ".join(VARIABLES)
+_ZERO = Expression("0", sp.Integer(0))
+
+
+def load_case(path: str | os.PathLike) -> Case:
+    """The case in the file at ``path``; CaseFormatError if it is not a valid case file."""
+    file = str(path)
+    text = _read_text(path, file)
+    return replace(parse_case_text(text, file), path=file)
+
+
+def parse_case_text(text: str, file: str = "<string>") -> Case:
+    """The case that a case file's ``text`` describes (``file`` names it in errors)."""
+    data = _load_toml(text, file)
+    reader = _Reader()
+    case = reader.case(data)
+    if reader.problems or case is None:
+        raise CaseFormatError(file, reader.problems)
+    return replace(case, text=text, content_hash=_hash_data(data))
+
+
+def content_hash(text: str) -> str:
+    """sha256 (hex) of the canonical JSON of the TOML content: comments and layout do not count."""
+    return _hash_data(_load_toml(text, "<string>"))
+
+
+def _hash_data(data: dict) -> str:
+    canonical = json.dumps(
+        data, sort_keys=True, ensure_ascii=False, separators=(",", ":"), default=str
+    )
+    return hashlib.sha256(canonical.encode("utf-8")).hexdigest()
+
+
+def _fail(file: str, message: str) -> CaseFormatError:
+    """An error about the file as a whole."""
+    return CaseFormatError(file, [Problem("", message)])
+
+
+def _read_text(path: str | os.PathLike, file: str) -> str:
+    """The file's text: at most MAX_FILE_BYTES of UTF-8 (a leading BOM is dropped)."""
+    try:
+        with open(path, "rb") as handle:
+            data = handle.read(MAX_FILE_BYTES + 1)
+    except OSError as err:
+        raise _fail(file, f"cannot read the file ({err.strerror or err})") from None
+    if len(data) > MAX_FILE_BYTES:
+        raise _fail(file, f"the file is too large (more than {MAX_FILE_BYTES} bytes)")
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError as err:
+        raise _fail(
+            file, f"the file is not UTF-8 text (byte 0x{data[err.start]:02x} at offset {err.start})"
+        ) from None
+    return text.removeprefix("\ufeff")
+
+
+def _load_toml(text: str, file: str) -> dict:
+    """The TOML document in ``text``, or CaseFormatError naming the line and column."""
+    if not isinstance(text, str):
+        raise TypeError(f"a case file text must be a str, not {type(text).__name__}")
+    if len(text.encode("utf-8", "replace")) > MAX_FILE_BYTES:
+        raise _fail(file, f"the file is too large (more than {MAX_FILE_BYTES} bytes)")
+    if not text.strip():
+        raise _fail(file, "the file is empty")
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as err:
+        raise _fail(file, f"invalid TOML: {err}") from None
+    except RecursionError:
+        raise _fail(file, "invalid TOML: nested too deeply") from None
+
+
+def _found(value: Any) -> str:
+    """What kind of TOML value ``value`` is, for 'expected ..., found ...' messages."""
+    if isinstance(value, bool):
+        return "a boolean"
+    if isinstance(value, int):
+        return "an integer"
+    if isinstance(value, float):
+        return "a float"
+    if isinstance(value, str):
+        return "a string"
+    if isinstance(value, list):
+        return "an array"
+    if isinstance(value, dict):
+        return "a table"
+    return "a date or time"
+
+
+def _key(parent: str, key: str) -> str:
+    """The field name of ``key`` inside ``parent`` (quoted when it is no bare TOML key)."""
+    shown = key if re.fullmatch(r"[A-Za-z0-9_-]+", key) else json.dumps(key)
+    return f"{parent}.{shown}" if parent else shown
+
+
+def _name_problem(name: str) -> str | None:
+    """Why ``name`` cannot name a parameter or a function, or None if it can."""
+    if not (name.isascii() and name.isidentifier()):
+        return "not a valid name (use ASCII letters, digits and '_', not starting with a digit)"
+    if keyword.iskeyword(name):
+        return f"{name!r} is a reserved name (a Python keyword)"
+    if name in RESERVED_NAMES:
+        return f"{name!r} is a reserved name ({RESERVED_NAMES[name]})"
+    return None
+
+
+def _parameter_symbol(name: str, assumption: Assumption) -> sp.Symbol:
+    """The real symbol of a parameter, carrying its declared assumption."""
+    extra = {} if assumption is Assumption.REAL else {assumption.value: True}
+    return sp.Symbol(name, real=True, **extra)
+
+
+def _first_of(expr: sp.Expr, symbols: tuple[sp.Symbol, ...]) -> sp.Symbol | None:
+    """The first of ``symbols`` that ``expr`` depends on, or None."""
+    free = expr.free_symbols
+    return next((x for x in symbols if x in free), None)
+
+
+class _Reader:
+    """Validates the TOML data of one case file, collecting every problem on the way."""
+
+    def __init__(self) -> None:
+        self.problems: list[Problem] = []
+        self.ns = Namespace()
+
+    def problem(self, field: str, message: str, text: str | None = None) -> None:
+        self.problems.append(Problem(field, message, text))
+
+    # ------------------------------------------------------- generic checks
+
+    def check_keys(self, table: dict, allowed: tuple[str, ...], field: str) -> None:
+        """Report keys of ``table`` that the format does not know (with a suggestion)."""
+        for key in table:
+            if key not in allowed:
+                close = difflib.get_close_matches(key, allowed, n=1)
+                hint = f" (did you mean {close[0]!r}?)" if close else ""
+                self.problem(field, f"unknown key {key!r}{hint}")
+
+    def table(self, data: dict, key: str, field: str) -> dict | None:
+        """The sub-table ``data[key]``; None when absent or not a table (reported)."""
+        value = data.get(key)
+        if value is None or isinstance(value, dict):
+            return value
+        self.problem(field, f"expected a table, found {_found(value)}")
+        return None
+
+    def string(
+        self, data: dict, key: str, field: str, required: bool = False, nonempty: bool = False
+    ) -> str | None:
+        """The string ``data[key]``; None (reported if required or wrong) otherwise."""
+        if key not in data:
+            if required:
+                self.problem(field, "required field is missing")
+            return None
+        value = data[key]
+        if not isinstance(value, str):
+            self.problem(field, f"expected a string, found {_found(value)}")
+            return None
+        if nonempty and not value.strip():
+            self.problem(field, "must not be empty")
+            return None
+        return value
+
+    def expression(self, text: Any, field: str) -> Expression | None:
+        """A string parsed in the case's namespace; parse errors become problems."""
+        if not isinstance(text, str):
+            self.problem(field, f"expected a string, found {_found(text)}")
+            return None
+        try:
+            return Expression(text, parse_expression(text, self.ns))
+        except ExpressionError as err:
+            self.problem(field, err.message, err.text)
+            return None
+
+    def equation(self, text: Any, field: str) -> Equation | None:
+        """A level-set equation ``lhs = rhs``; parse errors become problems."""
+        if not isinstance(text, str):
+            self.problem(field, f"expected a string, found {_found(text)}")
+            return None
+        try:
+            lhs, rhs = parse_equation(text, self.ns)
+        except ExpressionError as err:
+            self.problem(field, err.message, err.text)
+            return None
+        return Equation(text, lhs, rhs)
+
+    # --------------------------------------------------------------- the case
+
+    def case(self, data: dict) -> Case | None:
+        """The whole case, or None when anything is wrong (problems hold why)."""
+        self.check_keys(data, _TOP_KEYS, "")
+        case_id = self.case_id(data)
+        title = self.string(data, "title", "title", required=True, nonempty=True)
+        source = self.source(data)
+        parameters, assumptions = self.parameters(data)
+        functions = self.functions(data, parameters)
+        self.ns = Namespace(parameters, functions)
+        system = self.system(data)
+        claims = self.claims(data)
+        notes = self.string(data, "notes", "notes")
+        if self.problems:
+            return None
+        return Case(
+            id=case_id,
+            title=title,
+            source=source,
+            system=system,
+            claims=claims,
+            parameters=parameters,
+            assumptions=assumptions,
+            functions=functions,
+            notes=notes or "",
+        )
+
+    def case_id(self, data: dict) -> str | None:
+        """The id: lowercase letters, digits, '.' and '-', starting with a letter or digit."""
+        case_id = self.string(data, "id", "id", required=True)
+        if case_id is not None and not ID_PATTERN.fullmatch(case_id):
+            self.problem(
+                "id",
+                "an id may hold only lowercase letters, digits, '.' and '-', "
+                "and starts with a letter or digit",
+                case_id,
+            )
+            return None
+        return case_id
+
+    def source(self, data: dict) -> Source | None:
+        """[source]: citation (required), locator, doi."""
+        table = self.table(data, "source", "source")
+        if table is None:
+            if "source" not in data:
+                self.problem("source.citation", "required field is missing")
+            return None
+        self.check_keys(table, _SOURCE_KEYS, "source")
+        citation = self.string(table, "citation", "source.citation", required=True, nonempty=True)
+        locator = self.string(table, "locator", "source.locator")
+        doi = self.string(table, "doi", "source.doi")
+        if citation is None:
+            return None
+        return Source(citation, locator or "", doi or "")
+
+    def parameters(self, data: dict) -> tuple[dict[str, sp.Symbol], dict[str, Assumption]]:
+        """[parameters]: name -> assumption, each name a fresh identifier."""
+        table = self.table(data, "parameters", "parameters") or {}
+        if len(table) > MAX_PARAMETERS:
+            self.problem(
+                "parameters", f"too many parameters ({len(table)}; at most {MAX_PARAMETERS})"
+            )
+        symbols, assumptions = {}, {}
+        for name, value in list(table.items())[:MAX_PARAMETERS]:
+            field = _key("parameters", name)
+            bad_name = _name_problem(name)
+            if bad_name:
+                self.problem(field, bad_name)
+            assumption = self.assumption(value, field)
+            if bad_name is None:
+                # A bad assumption still declares the name, so its uses are not reported too.
+                assumptions[name] = assumption or Assumption.REAL
+                symbols[name] = _parameter_symbol(name, assumptions[name])
+        return symbols, assumptions
+
+    def assumption(self, value: Any, field: str) -> Assumption | None:
+        """One of real, positive, nonzero, integer."""
+        if not isinstance(value, str):
+            self.problem(field, f"expected a string, found {_found(value)}")
+            return None
+        try:
+            return Assumption(value)
+        except ValueError:
+            expected = ", ".join(repr(a.value) for a in Assumption)
+            expected = " or ".join(expected.rsplit(", ", 1))
+            self.problem(field, f"unknown assumption {value!r} (expected {expected})")
+            return None
+
+    def functions(
+        self, data: dict, parameters: dict[str, sp.Symbol]
+    ) -> dict[str, tuple[sp.FunctionClass, tuple[sp.Symbol, ...]]]:
+        """[functions]: name -> argument list, drawn from the six variables and s."""
+        table = self.table(data, "functions", "functions") or {}
+        if len(table) > MAX_PARAMETERS:
+            self.problem(
+                "functions", f"too many functions ({len(table)}; at most {MAX_PARAMETERS})"
+            )
+        functions = {}
+        for name, value in list(table.items())[:MAX_PARAMETERS]:
+            field = _key("functions", name)
+            bad_name = _name_problem(name)
+            if bad_name:
+                self.problem(field, bad_name)
+            elif name in parameters:
+                self.problem(field, f"{name!r} is declared both as a parameter and as a function")
+                bad_name = "clash"
+            args = self.arguments(value, field)
+            if bad_name is None and args is not None:
+                functions[name] = (sp.Function(name, real=True), args)
+        return functions
+
+    def arguments(self, value: Any, field: str) -> tuple[sp.Symbol, ...] | None:
+        """The argument symbols of a declared function: distinct variables or s."""
+        if not isinstance(value, list):
+            self.problem(field, f"expected an array of argument names, found {_found(value)}")
+            return None
+        if not value:
+            self.problem(field, "a function needs at least one argument")
+            return None
+        args: list[sp.Symbol] = []
+        ok = True
+        for i, arg in enumerate(value):
+            where = f"{field}[{i}]"
+            if not isinstance(arg, str):
+                self.problem(where, f"expected a string, found {_found(arg)}")
+            elif arg not in VARIABLES:
+                self.problem(where, f"unknown argument {arg!r} (expected one of {_VARIABLE_LIST})")
+            elif VARIABLES[arg] in args:
+                self.problem(where, f"duplicate argument {arg!r}")
+            else:
+                args.append(VARIABLES[arg])
+                continue
+            ok = False
+        return tuple(args) if ok else None
+
+    # ------------------------------------------------------------- the system
+
+    def system(self, data: dict) -> System | None:
+        """[system]: inertia (required), potential, torque."""
+        table = self.table(data, "system", "system")
+        if table is None:
+            if "system" not in data:
+                self.problem("system.inertia", "required field is missing")
+            return None
+        self.check_keys(table, _SYSTEM_KEYS, "system")
+        if "inertia" not in table:
+            self.problem("system.inertia", "required field is missing")
+            inertia = None
+        else:
+            inertia = self.triple(table["inertia"], "system.inertia", self.check_moment)
+        potential = _ZERO
+        if "potential" in table:
+            potential = self.expression(table["potential"], "system.potential")
+            if potential is not None:
+                self.check_potential(potential)
+        torque = (_ZERO,) * 3
+        if "torque" in table:
+            torque = self.triple(table["torque"], "system.torque", lambda e, f: None)
+        if inertia is None or potential is None or torque is None:
+            return None
+        return System(inertia, potential, torque)
+
+    def triple(self, value: Any, field: str, check) -> tuple[Expression, ...] | None:
+        """An array of exactly three expressions, each passed to ``check(expr, field)``."""
+        if not isinstance(value, list):
+            self.problem(field, f"expected an array of 3 strings, found {_found(value)}")
+            return None
+        if len(value) != 3:
+            self.problem(field, f"expected 3 entries, found {len(value)}")
+        items = []
+        for i, text in enumerate(value):
+            expr = self.expression(text, f"{field}[{i}]")
+            if expr is not None:
+                check(expr, f"{field}[{i}]")
+            items.append(expr)
+        if len(items) != 3 or None in items:
+            return None
+        return tuple(items)
+
+    def check_moment(self, moment: Expression, field: str) -> None:
+        """A moment of inertia is a nonzero constant."""
+        var = _first_of(moment.expr, (*STATE, s))
+        if var is not None:
+            self.problem(
+                field, f"a moment of inertia must be constant; it depends on {var}", moment.text
+            )
+        elif moment.expr == 0:
+            self.problem(field, "a moment of inertia is zero", moment.text)
+
+    def check_potential(self, potential: Expression) -> None:
+        """The potential U(gamma) depends on gamma1..gamma3 and parameters only."""
+        var = _first_of(potential.expr, (*MOMENTUM, s))
+        if var is not None:
+            self.problem(
+                "system.potential",
+                f"the potential may depend on gamma only, not on {var}",
+                potential.text,
+            )
+
+    # ------------------------------------------------------------- the claims
+
+    def claims(self, data: dict) -> tuple[Claim, ...] | None:
+        """[[claims]]: up to MAX_CLAIMS tables with distinct labels."""
+        value = data.get("claims", [])
+        if not isinstance(value, list):
+            self.problem(
+                "claims", f"expected an array of tables ([[claims]]), found {_found(value)}"
+            )
+            return None
+        if len(value) > MAX_CLAIMS:
+            self.problem("claims", f"too many claims ({len(value)}; at most {MAX_CLAIMS})")
+        claims, labels = [], set()
+        for i, item in enumerate(value[:MAX_CLAIMS]):
+            claim = self.claim(item, f"claims[{i}]", labels)
+            claims.append(claim)
+        return tuple(claims)
+
+    def claim(self, item: Any, field: str, labels: set[str]) -> Claim | None:
+        """One claim: label, kind, expression, on, locator."""
+        if not isinstance(item, dict):
+            self.problem(field, f"expected a table, found {_found(item)}")
+            return None
+        self.check_keys(item, _CLAIM_KEYS, field)
+        label = self.string(item, "label", f"{field}.label", required=True, nonempty=True)
+        if label is not None:
+            if label in labels:
+                self.problem(f"{field}.label", f"duplicate label {label!r}")
+            labels.add(label)
+        kind = self.claim_kind(item, f"{field}.kind")
+        expression = None
+        if "expression" not in item:
+            self.problem(f"{field}.expression", "required field is missing")
+        else:
+            expression = self.expression(item["expression"], f"{field}.expression")
+        on = self.level_set(item, f"{field}.on")
+        locator = self.string(item, "locator", f"{field}.locator")
+        if None in (label, kind, expression, on):
+            return None
+        return Claim(label, kind, expression, on, locator or "")
+
+    def claim_kind(self, item: dict, field: str) -> ClaimKind | None:
+        """'integral' or 'casimir'."""
+        kind = self.string(item, "kind", field, required=True)
+        if kind is None:
+            return None
+        try:
+            return ClaimKind(kind)
+        except ValueError:
+            self.problem(field, f"unknown claim kind {kind!r} (expected 'integral' or 'casimir')")
+            return None
+
+    def level_set(self, item: dict, field: str) -> tuple[Equation, ...] | None:
+        """``on``: an array of equations ``lhs = rhs`` (default: none)."""
+        value = item.get("on", [])
+        if not isinstance(value, list):
+            self.problem(field, f"expected an array of equations, found {_found(value)}")
+            return None
+        equations = [self.equation(text, f"{field}[{i}]") for i, text in enumerate(value)]
+        return None if None in equations else tuple(equations)

@@ -1,0 +1,217 @@
+"""Repairs of failed claims, each re-checked by the same checks before it is reported.
+
+* A corrected Casimir for the case's own torque (where Pi_mu is Poisson): the
+  Casimir of the torque's family (``families``), independent of C1.
+* A corrected torque for a claimed Casimir I(gamma, s): by the Casimir condition
+  equation (3.4), I is a Casimir of Pi_mu' for mu' = grad_gamma I / d_s I + lambda gamma;
+  lambda is chosen so that as many components of mu as possible stay unchanged.
+* Parameter conditions (``conditions``) under which a refuted claim, or a failing
+  Jacobi identity, holds.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import replace
+
+import sympy as sp
+
+from . import mechanics as mech
+from .checks import Mechanics, casimir, jacobi
+from .conditions import equations_text, parameter_conditions
+from .expressions import to_text
+from .families import Family, recognise
+from .mechanics import AXIS, MOMENTUM
+from .model import (
+    CheckResult,
+    Claim,
+    ClaimKind,
+    Conditions,
+    Correction,
+    Expression,
+    FamilyRecord,
+    Verdict,
+)
+from .zero import decide
+
+
+def corrected_casimir(m: Mechanics, family: Family, claim: str | None = None) -> Correction | None:
+    """The family's Casimir C(gamma, s), if Pi_mu is Poisson and C re-checks as a Casimir
+    that is independent of C1 (grad_M C is not identically zero)."""
+    if family.casimir is None:
+        return None
+    expr = tidy(_prettier(family.casimir))
+    probe = Claim("corrected Casimir", ClaimKind.CASIMIR, Expression(to_text(expr), expr))
+    check = casimir(m, probe)
+    independent = decide({f"d/d{v}": mech.total_diff(expr, v) for v in MOMENTUM}, m.domain)
+    if check.verdict is not Verdict.VERIFIED or independent.verdict is not Verdict.REFUTED:
+        return None
+    return Correction(
+        kind="casimir",
+        claim=claim,
+        expression=to_text(expr),
+        method=f"{family.name}: {family.method}",
+        checks={"casimir": str(check.verdict)},
+    )
+
+
+def _prettier(expr: sp.Expr) -> sp.Expr:
+    """A simpler Casimir with the same level sets: exp(C) when C is a sum of logarithms."""
+    if expr.has(sp.log):
+        candidate = sp.simplify(sp.exp(expr))
+        if not candidate.has(sp.log, sp.exp):
+            return candidate
+    return expr
+
+
+def corrected_torque(m: Mechanics, claim: Claim) -> Correction | None:
+    """mu' under which the claimed I is a Casimir, changing as few components as it can.
+
+    Needs I = I(gamma, s) with d_s I != 0. The result is reported only if Pi_mu'
+    satisfies the Jacobi identity and I re-checks as a Casimir of Pi_mu'.
+    """
+    i = claim.expression.expr
+    grad_m = [mech.total_diff(i, v) for v in MOMENTUM]
+    # I depends on M through s only: grad_M I = (d_s I) gamma
+    ds_i = sp.cancel(mech.dot(grad_m, AXIS) / mech.dot(AXIS, AXIS))
+    through_s = mech.cross(AXIS, grad_m)
+    if (
+        decide(
+            {"gamma x grad_M I": through_s[0], "1": through_s[1], "2": through_s[2]}, m.domain
+        ).verdict
+        is not Verdict.VERIFIED
+    ):
+        return None
+    if decide({"d_s I": ds_i}, m.domain).verdict is not Verdict.REFUTED:
+        return None  # d_s I = 0: no torque makes I a Casimir independent of C1
+    grad_g = [mech.total_diff(i, g) - ds_i * mv for g, mv in zip(AXIS, MOMENTUM, strict=True)]
+    w = [sp.cancel(g / ds_i) for g in grad_g]  # grad_gamma I / d_s I, at fixed s
+    lam, kept = _best_lambda(m, w)
+    torque = tuple(
+        m.case.system.torque[k] if k in kept else _expression(tidy(w[k] + lam * AXIS[k]))
+        for k in range(3)
+    )
+    changed = tuple(k for k in range(3) if k not in kept)
+    repaired = Mechanics(replace(m.case, system=replace(m.case.system, torque=torque)))
+    poisson = jacobi(repaired)
+    holds = casimir(repaired, claim)
+    if poisson.verdict is not Verdict.VERIFIED or holds.verdict is not Verdict.VERIFIED:
+        return None
+    return Correction(
+        kind="torque",
+        claim=claim.label,
+        torque=tuple(e.text for e in torque),
+        changed=changed,
+        method="mu' = grad_gamma I / d_s I + lambda gamma",
+        checks={"jacobi": str(poisson.verdict), "casimir": str(holds.verdict)},
+    )
+
+
+def _expression(expr: sp.Expr) -> Expression:
+    return Expression(to_text(expr), expr)
+
+
+def _best_lambda(m: Mechanics, w: list[sp.Expr]) -> tuple[sp.Expr, set[int]]:
+    """lambda making the most components of mu' equal to those of mu, and which ones."""
+    candidates = []
+    for k in range(3):
+        if AXIS[k] == 0:
+            continue
+        lam = sp.cancel((m.mu[k] - w[k]) / AXIS[k])
+        agree = {
+            j
+            for j in range(3)
+            if decide({"d": m.mu[j] - w[j] - lam * AXIS[j]}, m.domain).verdict is Verdict.VERIFIED
+        }
+        candidates.append((len(agree), -sp.count_ops(lam), lam, agree))
+    _, _, lam, agree = max(candidates, key=lambda c: (c[0], c[1]))
+    return lam, agree
+
+
+#: Expressions larger than this (sympy operations) are reported as computed.
+TIDY_LIMIT = 2000
+
+
+def tidy(expr: sp.Expr) -> sp.Expr:
+    """A readable form of a derived expression (s kept as s), if shorter than the input.
+
+    Terms are grouped by their radicals and functions, each group is combined and
+    factored, and common factors are pulled out: the forms in which papers write
+    such expressions (e.g. the paper's mu3' = -C gamma3 (3n + ... - N(gamma3**2 + 1)/rho**3)).
+    """
+    if sp.count_ops(expr) > TIDY_LIMIT:
+        return expr
+    combined = sp.factor(sp.cancel(sp.expand(expr)))  # one fraction: like radicals merge
+    groups: dict[frozenset, list[sp.Expr]] = {}
+    for term in sp.Add.make_args(sp.expand(combined)):
+        groups.setdefault(_irrational_parts(term), []).append(term)
+    parts = [sp.factor(sp.cancel(sp.Add(*terms))) for terms in groups.values()]
+    return min([expr, combined, sp.factor_terms(sp.Add(*parts))], key=sp.count_ops)
+
+
+def _irrational_parts(term: sp.Expr) -> frozenset:
+    return frozenset(
+        a
+        for a in sp.preorder_traversal(term)
+        if isinstance(a, sp.Function) or a.is_Pow and a.exp.is_Rational and not a.exp.is_Integer
+    )
+
+
+def holds_when(residuals, m: Mechanics, target: str) -> Conditions:
+    """The parameter conditions under which ``residuals`` vanish, as case-file equations."""
+    found = parameter_conditions(residuals, m.domain, m.inertia)
+    branches = tuple(tuple(equations_text(b, to_text)) for b in found.branches)
+    return Conditions(target, branches, found.reason)
+
+
+def family_record(family: Family) -> FamilyRecord:
+    """The family as text, for storage and output."""
+
+    def text(expr: sp.Expr | None) -> str | None:
+        return None if expr is None else to_text(expr)
+
+    return FamilyRecord(
+        family.name,
+        phi=text(family.phi),
+        psi=text(family.psi),
+        a=text(family.a),
+        casimir=text(family.casimir),
+        method=family.method,
+        reason=family.reason,
+    )
+
+
+def repairs(
+    m: Mechanics, results: Sequence[CheckResult]
+) -> tuple[FamilyRecord, tuple[Correction, ...], tuple[Conditions, ...]]:
+    """The family of the torque, the repairs of every refuted claim and the conditions
+    under which failed identities hold, for an audited case."""
+    verdict = {(r.check, r.claim): r.verdict for r in results}
+    family = recognise(m.mu, m.domain)
+    corrections: list[Correction] = []
+    conditions: list[Conditions] = []
+    poisson = verdict.get(("jacobi", None))
+    if poisson is Verdict.REFUTED:
+        residuals = {str(k): v for k, v in mech.jacobiator(m.pi).items()}
+        conditions.append(holds_when(residuals, m, "jacobi"))
+    own = corrected_casimir(m, family) if poisson is Verdict.VERIFIED else None
+    if own is not None and not m.case.claims:
+        corrections.append(own)
+    for claim in m.case.claims:
+        if verdict.get((str(claim.kind), claim.label)) is not Verdict.REFUTED:
+            continue
+        if own is not None:
+            corrections.append(replace(own, claim=claim.label))
+        if verdict.get(("casimir", claim.label)) is Verdict.REFUTED:
+            torque = corrected_torque(m, claim)
+            if torque is not None:
+                corrections.append(torque)
+        if claim.on:
+            conditions.append(Conditions(claim.label, reason="not sought on level sets"))
+            continue
+        if claim.kind is ClaimKind.INTEGRAL:
+            residuals = {"dI/dt": mech.time_derivative(claim.expression.expr, m.field)}
+        else:
+            residuals = m.casimir_residual(claim.expression.expr)
+        conditions.append(holds_when(residuals, m, claim.label))
+    return family_record(family), tuple(corrections), tuple(conditions)
