@@ -378,7 +378,8 @@ class _Builder:
             for arg in sp.Add.make_args(term)
         }
         growth = sum(2 * _digits(sp.Integer(q)) for q in denominators if q != 1)
-        return sp.Add(*terms), self.bounded(size + len(str(len(terms))) + growth)
+        size = self.bounded(size + len(str(len(terms))) + growth)
+        return sp.Add(*terms), size
 
     def product(self, node: ast.BinOp, depth: int) -> tuple[sp.Expr, int]:
         """a * b / c ..., as one sympy Mul."""
@@ -391,8 +392,8 @@ class _Builder:
             size = max(size, factor_size)
         # Multiplying multiplies the coefficients, and the numbers under equal roots.
         self.check_root(sum(_root_digits(f) for f in factors))
-        growth = sum(_coeff_digits(f) for f in factors)
-        return sp.Mul(*factors), self.bounded(size + growth)
+        size = self.bounded(size + sum(_coeff_digits(f) for f in factors))
+        return sp.Mul(*factors), size
 
     def power(self, node: ast.BinOp, depth: int) -> tuple[sp.Expr, int]:
         """base ** exponent, with the exponent and the numbers made bounded first."""

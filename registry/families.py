@@ -44,7 +44,7 @@ class Family:
 
     name: str
     phi: sp.Expr | None = None
-    psi: sp.Expr | None = None
+    psi: sp.Expr | None = None  # the multiple of gamma: psi, or b = a psi in the a(s) family
     a: sp.Expr | None = None
     axis: int | None = None
     casimir: sp.Expr | None = None
@@ -79,9 +79,10 @@ def recognise(mu: Sequence[sp.Expr], domain: Domain) -> Family:
     antiderivative = _antiderivative(1 / a)
     if antiderivative is None:
         return Family(shape, a=a, phi=phi, reason=f"no closed form for int ds/({a})")
+    # the multiple of gamma: psi for a = 1, b(gamma, s) = psi a in the a(s) family
     psi = sp.factor(
         sp.cancel(
-            mech.dot([n - sp.diff(phi, g) for n, g in zip(nu, AXIS, strict=True)], AXIS)
+            mech.dot([m - a * sp.diff(phi, g) for m, g in zip(mu, AXIS, strict=True)], AXIS)
             / mech.dot(AXIS, AXIS)
         )
     )

@@ -25,6 +25,12 @@ EXPECTED = {
     "a-s-family": (V, {"C": (V, V)}),
     "axis-torque": (V, {"C": (V, V)}),
     "borisov-mamaev-1997": (V, {"C": (V, V)}),
+    # the paper's general statements, for arbitrary functions
+    "bcc-family-psi-grad-phi": (V, {"C": (V, V)}),
+    "bcc-family-a-s": (V, {"C": (V, V)}),
+    "bcc-family-axis": (V, {"C": (V, V)}),
+    # classical: the cubic integral holds on s = 0 only, and is no Casimir
+    "goryachev-chaplygin-1900": (V, {"K": (V, R)}),
 }
 
 
