@@ -19,8 +19,14 @@ from .errors import RegistryError
 from .report import verdict_table
 
 
+def _report(err: Exception) -> None:
+    """Print an error as lines starting ``Error:``, one per problem."""
+    for line in str(err).splitlines() or [type(err).__name__]:
+        click.echo(f"Error: {line}", err=True)
+
+
 def _user_errors(fn):
-    """Turn a RegistryError into ``Error: ...`` and exit status 1 (unless --debug)."""
+    """Turn a RegistryError into ``Error: ...`` lines and exit status 1 (unless --debug)."""
 
     @wraps(fn)
     def wrapper(*args, **kwargs):
@@ -30,7 +36,8 @@ def _user_errors(fn):
         except RegistryError as err:
             if ctx.obj and ctx.obj.get("debug"):
                 raise
-            raise click.ClickException(str(err)) from None
+            _report(err)
+            ctx.exit(1)
 
     return wrapper
 
@@ -77,7 +84,7 @@ def add(paths: tuple[str, ...]) -> None:
         if r.status != "refused":
             click.echo(f"{r.status:12} {r.case} (version {r.version})  {r.path}")
     for r in refused:
-        click.echo(f"Error: {r.error}", err=True)
+        _report(r.error)
     if refused:
         sys.exit(1)
 

@@ -19,9 +19,10 @@ from __future__ import annotations
 
 import ast
 import difflib
+import keyword
 import math
 import re
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from types import MappingProxyType
 
@@ -32,8 +33,9 @@ from sympy.printing.str import StrPrinter
 from .errors import ExpressionError
 from .mechanics import AXIS, MOMENTUM, STATE, s, total_diff
 
-# Limits on one expression. Each is checked before sympy sees anything, so a
-# hostile text is refused in well under a second whatever its content.
+# Limits on one expression. Each is checked before the work it bounds is done
+# (on the raw text, on the syntax tree, or before each sympy step), so a hostile
+# text is refused in well under a second whatever its content.
 
 #: Longest expression text, in characters.
 MAX_LENGTH = 20_000
@@ -53,17 +55,17 @@ MAX_DENOMINATOR = 100
 MAX_RESULT_DIGITS = 4_000
 #: Most digits of a number whose root is taken (sympy factors it, which takes time).
 MAX_ROOT_DIGITS = 300
-#: Deepest nesting of ``diff`` calls (each one may multiply the size of an expression).
-MAX_DIFF_NESTING = 4
-#: Largest expression (in sympy tree nodes) that ``diff`` will differentiate.
-MAX_DIFF_NODES = 5_000
+#: Most work that the ``diff`` calls of one expression may do together: the sum,
+#: over the expressions differentiated, of their tree nodes plus the squared
+#: length of each product in them (the product rule makes k terms of k factors).
+MAX_DIFF_WORK = 10_000
 
 #: The state variables and ``s``, by name.
 VARIABLES: Mapping[str, sp.Symbol] = MappingProxyType({str(v): v for v in (*STATE, s)})
 #: Named constants.
 CONSTANTS: Mapping[str, sp.Expr] = MappingProxyType({"pi": sp.pi, "E": sp.E})
 #: The elementary functions of the language, one argument each.
-FUNCTIONS: Mapping[str, sp.FunctionClass] = MappingProxyType(
+FUNCTIONS: Mapping[str, Callable[[sp.Expr], sp.Expr]] = MappingProxyType(
     {
         "sqrt": sp.sqrt,
         "exp": sp.exp,
@@ -165,6 +167,9 @@ def _check_text(text: str) -> str:
         raise ExpressionError(f"non-ASCII character {char!r} (U+{ord(char):04X})", text)
     if "#" in text:
         raise ExpressionError("comments ('#') are not allowed", text)
+    if _count_parts(text) > MAX_NODES:
+        # Long chains a + b + ... can exhaust the Python parser's recursion limit.
+        raise ExpressionError(f"expression too large (more than {MAX_NODES} parts)", text)
     if _bracket_depth(text) > MAX_DEPTH:
         raise ExpressionError(f"expression nested too deeply (more than {MAX_DEPTH} levels)", text)
     for token in re.findall(r"[\w.]+", text):
@@ -172,6 +177,11 @@ def _check_text(text: str) -> str:
             raise ExpressionError(f"number literal too long (more than {MAX_DIGITS} digits)", text)
     # Line breaks (from multi-line TOML strings) are plain spaces here; the length is kept.
     return text.replace("\r", " ").replace("\n", " ").strip()
+
+
+def _count_parts(text: str) -> int:
+    """About how many names, numbers and operators ``text`` has (never many more than its nodes)."""
+    return len(re.findall(r"[\w.]+|\*\*|[-+*/]", text))
 
 
 def _bracket_depth(text: str) -> int:
@@ -259,7 +269,7 @@ class _Builder:
         self.flat = flat
         self.text = text
         self.ns = ns
-        self.diff_nesting = 0
+        self.diff_work = 0
 
     def fail(self, message: str) -> ExpressionError:
         return ExpressionError(message, self.text)
@@ -289,6 +299,8 @@ class _Builder:
             raise self.fail("booleans are not allowed")
         if value is None:
             raise self.fail("None is not allowed")
+        if value is Ellipsis:
+            raise self.fail("'...' is not allowed")
         if isinstance(value, str | bytes):
             raise self.fail("strings are not allowed")
         if isinstance(value, complex):
@@ -506,15 +518,10 @@ class _Builder:
         var = args[1]
         if not (isinstance(var, ast.Name) and var.id in VARIABLES):
             raise self.fail(f"the second argument of diff must be one of {_VARIABLE_LIST}")
-        if self.diff_nesting >= MAX_DIFF_NESTING:
-            raise self.fail(f"diff nested too deeply (more than {MAX_DIFF_NESTING} levels)")
-        self.diff_nesting += 1
-        try:
-            expr, size = self.build(args[0], depth + 1)
-        finally:
-            self.diff_nesting -= 1
-        if _tree_size(expr, MAX_DIFF_NODES) > MAX_DIFF_NODES:
-            raise self.fail(f"expression too large to differentiate (over {MAX_DIFF_NODES} nodes)")
+        expr, size = self.build(args[0], depth + 1)
+        self.diff_work += _diff_work(expr, MAX_DIFF_WORK - self.diff_work)
+        if self.diff_work > MAX_DIFF_WORK:
+            raise self.fail("expression too large to differentiate")
         symbol = VARIABLES[var.id]
         if symbol != s:
             return total_diff(expr, symbol), size + 10
@@ -525,14 +532,14 @@ class _Builder:
         return sp.diff(expr, s), size + 10
 
 
-def _tree_size(expr: sp.Expr, limit: int) -> int:
-    """The number of nodes of ``expr`` (repeated subtrees counted again), up to limit + 1."""
-    count = 0
-    for _ in sp.preorder_traversal(expr):
-        count += 1
-        if count > limit:
+def _diff_work(expr: sp.Expr, limit: int) -> int:
+    """The cost of differentiating ``expr`` (see MAX_DIFF_WORK), counted up to past ``limit``."""
+    work = 0
+    for node in sp.preorder_traversal(expr):
+        work += len(node.args) ** 2 if node.is_Mul else 1
+        if work > limit:
             break
-    return count
+    return work
 
 
 def _coeff_digits(expr: sp.Expr) -> int:
@@ -571,6 +578,11 @@ def _suggestion(name: str, candidates: list[str]) -> str:
     """'did you mean ...?' for the closest candidate, or '' when none is close."""
     close = difflib.get_close_matches(name, candidates, n=1)
     return f"did you mean {close[0]!r}?" if close else ""
+
+
+def _is_name(name: str) -> bool:
+    """Whether ``name`` can name a variable or parameter in an expression."""
+    return name.isascii() and name.isidentifier() and not keyword.iskeyword(name)
 
 
 def _show(name: str, limit: int = 40) -> str:
@@ -657,13 +669,14 @@ def _partial_text(inner: str, args: tuple[sp.Symbol, ...], var: sp.Symbol) -> st
     return f"(diff({inner}, {var}) - {_DS_DV[var]}*{along_s})"
 
 
-_PRINTABLE_FUNCTIONS = (*(f for f in FUNCTIONS.values() if isinstance(f, sp.FunctionClass)),)
+_PRINTABLE_FUNCTIONS = tuple(f for f in FUNCTIONS.values() if isinstance(f, sp.FunctionClass))
 
 
 def _check_printable(expr: sp.Basic) -> None:
     """Raise ValueError unless the node ``expr`` (not its arguments) is in the language."""
     if isinstance(expr, sp.Symbol):
-        if type(expr) is not sp.Symbol or not (expr.name.isascii() and expr.name.isidentifier()):
+        name = expr.name
+        if type(expr) is not sp.Symbol or not _is_name(name) or name in CONSTANTS:
             raise _unsupported(expr)
         return
     if expr.is_Rational or expr in (sp.pi, sp.E):

@@ -237,12 +237,17 @@ class CorrectionRow(Base):
 
 
 def _latest_verdicts_select() -> Select:
-    """For each (case id, claim label or NULL, check): the result of the newest run.
+    """For each (case id, claim label or NULL, check) of the newest version of each case:
+    the result of the newest run. Claims of older versions stay in ``check_results``.
 
     PARTITION BY groups NULL labels together (as GROUP BY does) on SQLite and
     PostgreSQL, so case-level checks form one partition per (case, check).
     """
     r, c, cl = ResultRow.__table__, CaseRow.__table__, ClaimRow.__table__
+    newer = CaseRow.__table__.alias("newer")
+    newest_version = (
+        select(func.max(newer.c.version)).where(newer.c.case_id == c.c.case_id).scalar_subquery()
+    )
     rank = (
         func.row_number()
         .over(
@@ -269,6 +274,7 @@ def _latest_verdicts_select() -> Select:
             rank,
         )
         .select_from(r.join(c, r.c.case_pk == c.c.id).outerjoin(cl, r.c.claim_id == cl.c.id))
+        .where(c.c.version == newest_version)
         .subquery("ranked")
     )
     return select(*(col for col in ranked.c if col.name != "rn")).where(ranked.c.rn == 1)

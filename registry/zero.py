@@ -415,22 +415,93 @@ class _Atoms:
 
 
 def prove_zero(expr: sp.Expr, on: Sequence[sp.Expr] = ()) -> str | None:
-    """Prove ``expr`` == 0 (on the level set ``on``); return the method, or None."""
+    """Prove ``expr`` == 0 (on the level set ``on``); return the method, or None.
+
+    The rewritten residual becomes an element of the field Q(x1, ..., xn) of
+    rational functions in the state variables, parameters and atom symbols
+    (sparse polynomial arithmetic, far cheaper than manipulating expression
+    trees); its numerator is then reduced modulo rho**q - base for every radical.
+    """
     atoms = _Atoms()
-    numer = _numerator(atoms.rewrite(expr))
-    if numer == 0:
+    numer, ring = _numerator_poly(atoms.rewrite(expr), atoms)
+    if not numer:
         return "rational normal form"
-    relations = atoms.relations()
+    relations = [ring(rho) ** q - ring.from_expr(base) for rho, q, base in atoms.relations()]
     if not on:
-        for rho, q, base in relations:
-            numer = _reduce_radical(numer, rho, q, base)
-        return "algebraic normal form" if numer == 0 else None
+        if relations and not numer.rem(relations):
+            return "algebraic normal form"
+        return None
     eqs = [_numerator(atoms.rewrite(e)) for e in on]
     eqs += [rho**q - base for rho, q, base in atoms.relations()]
-    gens = sorted(set().union(*(e.free_symbols for e in [numer, *eqs])), key=str)
-    basis = sp.groebner(eqs, *gens, order="grevlex")
-    _, remainder = basis.reduce(numer)
+    numer_expr = numer.as_expr()
+    gens = sorted(set().union(*(e.free_symbols for e in [numer_expr, *eqs])), key=str)
+    basis = sp.groebner(eqs, *gens, order="grevlex", domain=sp.QQ)
+    _, remainder = basis.reduce(numer_expr)
     return "level-set reduction" if remainder == 0 else None
+
+
+def _numerator_poly(rewritten: sp.Expr, atoms: _Atoms):
+    """The numerator of the rewritten expression as a sparse polynomial over QQ, with
+    the radical symbols first in a lex order (so rho**q leads its relation)."""
+    expr = rewritten.xreplace({s: S_VALUE, **_CONSTANTS})
+    radicals = list(reversed(atoms.radicals.values()))  # outer radicals before inner ones
+    bases = set().union(*(b.free_symbols for b, _ in atoms.radicals))
+    others = sorted((expr.free_symbols | bases) - set(radicals), key=str)
+    ring = sp.polys.rings.PolyRing([*radicals, *others] or [sp.Dummy("x")], sp.QQ, sp.lex)
+    numer, _ = _fraction(expr, ring, {})
+    return numer, ring
+
+
+def _fraction(expr: sp.Expr, ring, cache: dict):
+    """expr as numerator and denominator, the denominator kept as a product of factors
+    {polynomial: exponent} so that no polynomial gcd is ever needed (gcds of many-variable
+    polynomials are what makes ``together`` and rational-function fields slow)."""
+    hit = cache.get(expr)
+    if hit is not None:
+        return hit
+    if expr.is_Rational:
+        value = (ring(expr), {})
+    elif expr.is_Symbol:
+        value = (ring(expr), {})
+    elif expr.is_Add:
+        parts = [_fraction(a, ring, cache) for a in expr.args]
+        common: dict = {}
+        for _, den in parts:
+            for f, e in den.items():
+                common[f] = max(common.get(f, 0), e)
+        total = ring.zero
+        for num, den in parts:
+            for f, e in common.items():
+                if e > den.get(f, 0):
+                    num = num * f ** (e - den.get(f, 0))
+            total += num
+        value = (total, common)
+    elif expr.is_Mul:
+        num, den = ring.one, {}
+        for a in expr.args:
+            n, d = _fraction(a, ring, cache)
+            num = num * n
+            for f, e in d.items():
+                den[f] = den.get(f, 0) + e
+        value = (num, den)
+    elif expr.is_Pow and expr.exp.is_Integer:
+        n, d = _fraction(expr.base, ring, cache)
+        k = int(expr.exp)
+        if k >= 0:
+            value = (n**k, {f: e * k for f, e in d.items()})
+        else:
+            num = ring.one
+            for f, e in d.items():
+                num = num * f ** (-e * k)
+            value = (num, {n: -k})
+    else:
+        raise ValueError(f"not a rational function: {expr}")
+    cache[expr] = value
+    return value
+
+
+#: pi and E as indeterminates: an identity in them holds for their values too.
+_CONSTANTS = {sp.pi: sp.Dummy("pi"), sp.E: sp.Dummy("E")}
 
 
 def _numerator(rewritten: sp.Expr) -> sp.Expr:

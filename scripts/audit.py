@@ -25,7 +25,8 @@ def main(argv: list[str] | None = None) -> int:
     with registry.open(args.db) as reg:
         refused = [r for r in reg.add(args.cases) if r.status == "refused"]
         for r in refused:
-            print(f"Error: {r.error}", file=sys.stderr)
+            for line in str(r.error).splitlines():
+                print(f"Error: {line}", file=sys.stderr)
         report = reg.audit()
         document = report.document()
         print(json.dumps(document, indent=2) if args.json else verdict_table(document))

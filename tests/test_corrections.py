@@ -29,7 +29,9 @@ def random_point(case, rng):
     """A random real point (50 digits) away from the singular sets, parameters included."""
     point = {}
     for sym in case.parameters.values():
-        point[sym] = sp.Float(rng.uniform(0.5, 2.0) * (1 if sym.is_positive else rng.choice([-1, 1])), 50)
+        point[sym] = sp.Float(
+            rng.uniform(0.5, 2.0) * (1 if sym.is_positive else rng.choice([-1, 1])), 50
+        )
     for v in mech.STATE:
         point[v] = sp.Float(rng.uniform(0.3, 1.3) * rng.choice([-1, 1]), 50)
     point[mech.s] = sum(point[m] * point[g] for m, g in zip(mech.MOMENTUM, mech.AXIS))
@@ -162,7 +164,9 @@ def test_mutated_claims_get_valid_repairs_or_none(case_id):
     from registry.expressions import to_text
     from registry.model import Expression
 
-    mutated = replace(case, claims=(replace(claim, expression=Expression(to_text(mutated_expr), mutated_expr)),))
+    mutated = replace(
+        case, claims=(replace(claim, expression=Expression(to_text(mutated_expr), mutated_expr)),)
+    )
     audit = audit_case(mutated)
     assert audit.result("casimir", claim.label).verdict is Verdict.REFUTED
     for fix in audit.corrections:
@@ -183,7 +187,9 @@ def test_a_claim_no_torque_can_repair_says_so():
     from registry.model import Expression
 
     expr = mech.M1**2  # depends on M other than through s: no torque makes it a Casimir
-    audit = audit_case(replace(case, claims=(replace(claim, expression=Expression("M1**2", expr)),)))
+    audit = audit_case(
+        replace(case, claims=(replace(claim, expression=Expression("M1**2", expr)),))
+    )
     assert not [f for f in audit.corrections if f.kind == "torque"]
 
 

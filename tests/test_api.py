@@ -1,0 +1,366 @@
+"""The Python API: ``registry.open`` and the ``Registry`` it returns (README, "From a notebook").
+
+One database with two seed cases is audited once per module (fixture ``audited``);
+tests that need their own history (versions, failing cases) use a fresh database.
+"""
+
+from __future__ import annotations
+
+import doctest
+import json
+import tomllib
+from pathlib import Path
+from types import SimpleNamespace
+
+import pandas as pd
+import pytest
+
+import registry
+import registry.api
+from registry import AddResult, AuditReport, CaseFormatError, Registry
+
+ROOT = Path(registry.__file__).resolve().parent.parent
+CASES = ROOT / "data" / "cases"
+YEHIA_B = "yehia-2003-kovalevskaya-b"
+ZHUKOVSKY = "zhukovsky-gyrostat"
+VERDICT_COLUMNS = {"case", "claim", "check", "verdict", "method", "run"}
+
+UNDECLARED = """\
+id = "bad-undeclared-name"
+title = "A claim that uses a name nobody declared"
+
+[source]
+citation = "Nobody, Nowhere (2024)"
+
+[parameters]
+C = "positive"
+
+[system]
+inertia = ["C", "C", "2*C"]
+
+[[claims]]
+label = "I1"
+kind = "integral"
+expression = "M1 + bogus*gamma1"
+"""
+
+
+def case_file(case_id: str) -> Path:
+    return CASES / f"{case_id}.toml"
+
+
+def toml(case_id: str) -> dict:
+    return tomllib.loads(case_file(case_id).read_text(encoding="utf-8"))
+
+
+def verdict_of(frame: pd.DataFrame, case: str, claim: str | None, check: str) -> list[str]:
+    """The verdicts in ``frame`` for one (case, claim or None for case checks, check)."""
+    rows = frame[(frame["case"] == case) & (frame["check"] == check)]
+    rows = rows[rows["claim"].isna()] if claim is None else rows[rows["claim"] == claim]
+    return rows["verdict"].tolist()
+
+
+@pytest.fixture(scope="module")
+def audited(tmp_path_factory):
+    path = tmp_path_factory.mktemp("api") / "r.sqlite"
+    reg = registry.open(path)
+    added = reg.add(case_file(YEHIA_B), case_file(ZHUKOVSKY))
+    report = reg.audit()
+    yield SimpleNamespace(path=path, reg=reg, added=added, report=report)
+    reg.close()
+
+
+# --------------------------------------------------------------------------- open
+
+
+def test_open_creates_the_file(tmp_path):
+    path = tmp_path / "r.sqlite"
+    assert not path.exists()
+    with registry.open(path) as reg:
+        assert isinstance(reg, Registry)
+        assert path.exists()
+        assert reg.cases().empty
+        assert reg.runs().empty
+    nested = tmp_path / "a" / "b" / "r.sqlite"
+    registry.open(str(nested)).close()
+    assert nested.exists()
+
+
+def test_open_in_memory(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    with registry.open(":memory:") as reg:
+        assert [r.status for r in reg.add(case_file(ZHUKOVSKY))] == ["added"]
+        report = reg.audit()
+        frame = reg.verdicts()
+        assert verdict_of(frame, ZHUKOVSKY, "area", "casimir") == ["verified"]
+        assert set(frame["run"]) == {report.run}
+    assert list(tmp_path.iterdir()) == []  # nothing written to disk
+    with registry.open(":memory:") as fresh:  # each in-memory registry is its own
+        assert fresh.cases().empty
+
+
+def test_open_sqlalchemy_url(tmp_path):
+    path = tmp_path / "url.sqlite"
+    with registry.open(f"sqlite:///{path}") as reg:
+        (result,) = reg.add(case_file(ZHUKOVSKY))
+        assert (result.status, result.case, result.version) == ("added", ZHUKOVSKY, 1)
+        report = reg.audit()
+    assert path.exists()
+    with registry.open(path) as same:  # the URL named this very file
+        assert list(same.cases()["case"]) == [ZHUKOVSKY]
+        assert verdict_of(same.verdicts(), ZHUKOVSKY, "area", "integral") == ["verified"]
+        assert list(same.runs()["run"]) == [report.run]
+
+
+# ---------------------------------------------------------------------------- add
+
+
+def test_add_returns_results(audited):
+    assert all(isinstance(r, AddResult) for r in audited.added)
+    assert [(r.status, r.case, r.version, r.error) for r in audited.added] == [
+        ("added", YEHIA_B, 1, None),
+        ("added", ZHUKOVSKY, 1, None),
+    ]
+    assert [Path(r.path).name for r in audited.added] == [
+        f"{YEHIA_B}.toml",
+        f"{ZHUKOVSKY}.toml",
+    ]
+    again = audited.reg.add(case_file(ZHUKOVSKY))
+    assert [(r.status, r.case, r.version) for r in again] == [("unchanged", ZHUKOVSKY, 1)]
+
+
+def test_add_refused_file(tmp_path):
+    bad = tmp_path / "bad.toml"
+    bad.write_text(UNDECLARED, encoding="utf-8")
+    with registry.open(tmp_path / "r.sqlite") as reg:
+        results = reg.add(bad, case_file(ZHUKOVSKY))
+        assert [r.status for r in results] == ["refused", "added"]
+        refused = results[0]
+        assert refused.case is None and refused.version is None
+        assert isinstance(refused.error, CaseFormatError)
+        (problem,) = refused.error.problems
+        assert problem.field == "claims[0].expression"
+        assert problem.text == "M1 + bogus*gamma1"
+        assert str(bad) in str(refused.error)
+        assert list(reg.cases()["case"]) == [ZHUKOVSKY]
+
+
+def test_add_folder(tmp_path):
+    folder = tmp_path / "cases"
+    folder.mkdir()
+    for case_id in (YEHIA_B, ZHUKOVSKY):
+        (folder / f"{case_id}.toml").write_text(
+            case_file(case_id).read_text(encoding="utf-8"), encoding="utf-8"
+        )
+    with registry.open(tmp_path / "r.sqlite") as reg:
+        results = reg.add(folder)
+        assert sorted((r.status, r.case) for r in results) == [
+            ("added", YEHIA_B),
+            ("added", ZHUKOVSKY),
+        ]
+
+
+# -------------------------------------------------------------------------- audit
+
+
+def test_audit_report(audited):
+    report = audited.report
+    assert isinstance(report, AuditReport)
+    assert report.run == 1
+    document = report.document()
+    json.dumps(document)  # the document is plain JSON
+    assert document["run"] == report.run
+    assert [entry["case"] for entry in document["cases"]] == sorted([YEHIA_B, ZHUKOVSKY])
+    (i2,) = [
+        claim
+        for entry in document["cases"]
+        if entry["case"] == YEHIA_B
+        for claim in entry["claims"]
+    ]
+    assert (i2["label"], i2["integral"], i2["casimir"]) == ("I2", "refuted", "refuted")
+
+
+def test_verdicts_frame(audited):
+    frame = audited.reg.verdicts()
+    assert isinstance(frame, pd.DataFrame)
+    assert VERDICT_COLUMNS <= set(frame.columns)
+    assert verdict_of(frame, YEHIA_B, "I2", "integral") == ["refuted"]
+    assert verdict_of(frame, YEHIA_B, "I2", "casimir") == ["refuted"]
+    assert verdict_of(frame, ZHUKOVSKY, "area", "integral") == ["verified"]
+    assert verdict_of(frame, ZHUKOVSKY, "area", "casimir") == ["verified"]
+    for case in (YEHIA_B, ZHUKOVSKY):
+        for check in ("jacobi", "energy", "c1"):
+            assert verdict_of(frame, case, None, check) == ["verified"]
+    assert set(frame["run"]) == {audited.report.run}
+    assert (frame["method"].str.len() > 0).all()
+
+    of_run = audited.reg.verdicts(run=audited.report.run)
+    assert VERDICT_COLUMNS <= set(of_run.columns)
+    assert verdict_of(of_run, YEHIA_B, "I2", "casimir") == ["refuted"]
+    assert len(of_run) == len(frame)
+
+
+def test_verdicts_of_an_unknown_run(audited):
+    with pytest.raises(registry.UnknownRunError):
+        audited.reg.verdicts(run=999)
+
+
+def test_cases_frame(audited):
+    frame = audited.reg.cases()
+    assert isinstance(frame, pd.DataFrame)
+    assert list(frame["case"]) == sorted([YEHIA_B, ZHUKOVSKY])
+    rows = frame.set_index("case")
+    for case_id in (YEHIA_B, ZHUKOVSKY):
+        data = toml(case_id)
+        assert rows.loc[case_id, "title"] == data["title"]
+        assert rows.loc[case_id, "citation"] == data["source"]["citation"]
+        assert rows.loc[case_id, "version"] == 1
+        assert rows.loc[case_id, "n_claims"] == len(data["claims"])
+
+
+def test_claims_frame(audited):
+    frame = audited.reg.claims()
+    assert isinstance(frame, pd.DataFrame)
+    got = sorted(
+        zip(frame["case"], frame["label"], frame["kind"], frame["expression"], strict=True)
+    )
+    expected = sorted(
+        (case_id, c["label"], c["kind"], c["expression"])
+        for case_id in (YEHIA_B, ZHUKOVSKY)
+        for c in toml(case_id)["claims"]
+    )
+    assert got == expected
+    merged = audited.reg.cases().merge(frame, on="case")  # the README's join
+    assert len(merged) == len(expected)
+
+
+def test_runs_frame(audited):
+    frame = audited.reg.runs()
+    assert isinstance(frame, pd.DataFrame)
+    (row,) = frame.to_dict("records")
+    assert row["run"] == audited.report.run
+    assert row["status"] == "complete"
+    assert row["finished_at"] >= row["started_at"]
+    assert row["n_cases"] == 2
+    assert row["n_error"] == 0
+    assert row["n_refuted"] == len(audited.reg.verdicts().query("verdict == 'refuted'"))
+
+
+def test_corrections_frame(audited):
+    frame = audited.reg.corrections()
+    assert isinstance(frame, pd.DataFrame)
+    assert set(frame["run"]) == {audited.report.run}
+    i2 = frame[(frame["case"] == YEHIA_B) & (frame["claim"] == "I2")]
+    repairs = i2[i2["kind"].isin(["casimir", "torque"])]
+    assert sorted(repairs["kind"]) == ["casimir", "torque"]
+    assert set(repairs["verdict"]) == {"verified"}
+    (casimir,) = repairs[repairs["kind"] == "casimir"]["expression"]
+    document = audited.report.document()
+    (claim,) = [c for e in document["cases"] if e["case"] == YEHIA_B for c in e["claims"]]
+    assert casimir in [c.get("expression") for c in claim["corrections"]]
+    conditions = i2[i2["kind"] == "conditions"]
+    assert [p["branches"] for p in conditions["payload"]] == [[["N = 0"]]]
+    assert set(frame[frame["case"] == ZHUKOVSKY]["kind"]) >= {"family"}
+    assert audited.reg.corrections(run=audited.report.run).equals(frame)
+
+
+def test_export_case(audited):
+    text = audited.reg.export_case(YEHIA_B, "I2")
+    case = registry.parse_case_text(text, "exported.toml")
+    assert case.id == f"{YEHIA_B}-corrected-torque"
+    assert [c.expression.text for c in case.claims] == [toml(YEHIA_B)["claims"][0]["expression"]]
+
+
+# ------------------------------------------------------------------------ history
+
+
+def test_history_of_a_changed_case(tmp_path):
+    path = tmp_path / "zhukovsky.toml"
+    original = case_file(ZHUKOVSKY).read_text(encoding="utf-8")
+    path.write_text(original, encoding="utf-8")
+    with registry.open(tmp_path / "r.sqlite") as reg:
+        assert [(r.status, r.version) for r in reg.add(path)] == [("added", 1)]
+        first = reg.audit()
+
+        changed = original.replace('"(M1 + k1)*gamma1', '"(M1 + 2*k1)*gamma1')
+        assert changed != original
+        path.write_text(changed, encoding="utf-8")
+        assert [(r.status, r.version) for r in reg.add(path)] == [("new version", 2)]
+        assert [r.status for r in reg.add(path)] == ["unchanged"]
+        second = reg.audit()
+
+        runs = reg.runs()
+        assert list(runs["run"]) == [first.run, second.run] == [1, 2]
+        assert set(runs["status"]) == {"complete"}
+
+        old = reg.verdicts(run=1)
+        assert set(old["version"]) == {1}
+        assert verdict_of(old, ZHUKOVSKY, "area", "integral") == ["verified"]
+        assert verdict_of(old, ZHUKOVSKY, "area", "casimir") == ["verified"]
+
+        new = reg.verdicts(run=2)
+        assert set(new["version"]) == {2}
+        assert verdict_of(new, ZHUKOVSKY, "area", "casimir") == ["refuted"]
+
+        latest = reg.verdicts()
+        assert set(latest["run"]) == {2} and set(latest["version"]) == {2}
+        assert verdict_of(latest, ZHUKOVSKY, "area", "casimir") == ["refuted"]
+
+        assert list(reg.cases()["version"]) == [2]
+        assert list(reg.claims()["expression"]) == [
+            "(M1 + 2*k1)*gamma1 + (M2 + k2)*gamma2 + (M3 + k3)*gamma3"
+        ]
+
+
+# ------------------------------------------------------------------ broken cases
+
+
+def test_audit_goes_on_when_a_stored_case_cannot_be_parsed(tmp_path, monkeypatch):
+    real_parse = registry.api.parse_case_text
+
+    def parse(text, *args, **kwargs):
+        if tomllib.loads(text)["id"] == YEHIA_B:
+            raise ValueError("simulated: stored text no longer parses")
+        return real_parse(text, *args, **kwargs)
+
+    with registry.open(tmp_path / "r.sqlite") as reg:
+        reg.add(case_file(YEHIA_B), case_file(ZHUKOVSKY))
+        monkeypatch.setattr(registry.api, "parse_case_text", parse)
+        report = reg.audit()
+        monkeypatch.undo()
+
+        entries = {e["case"]: e for e in report.document()["cases"]}
+        assert set(entries) == {YEHIA_B, ZHUKOVSKY}
+        assert "simulated" in entries[YEHIA_B]["error"]
+        assert set(entries[YEHIA_B]["checks"].values()) == {"error"}
+        assert "error" not in entries[ZHUKOVSKY]
+        (area,) = entries[ZHUKOVSKY]["claims"]
+        assert area["verdict"] == "verified"
+
+        stored = reg.verdicts(run=report.run)
+        broken = stored[stored["case"] == YEHIA_B]
+        assert broken["verdict"].tolist() == ["error"]
+        assert "simulated" in broken["reason"].iloc[0]
+        assert verdict_of(stored, ZHUKOVSKY, "area", "casimir") == ["verified"]
+
+        (run,) = reg.runs().to_dict("records")
+        assert run["status"] == "complete"
+        assert run["n_cases"] == 2
+        assert run["n_error"] == 1
+
+
+# ------------------------------------------------------------------------ doctest
+
+
+def test_module_doctest(monkeypatch):
+    monkeypatch.chdir(ROOT)  # the example adds data/cases/... by a relative path
+    finder = doctest.DocTestFinder()
+    runner = doctest.DocTestRunner(optionflags=doctest.ELLIPSIS)
+    out: list[str] = []
+    tests = [t for t in finder.find(registry.api) if t.examples]
+    assert tests, "registry/api.py has no doctest"
+    for test in tests:
+        runner.run(test, out=out.append)
+    failed, attempted = runner.summarize(verbose=False)
+    assert failed == 0, "".join(out)
+    assert attempted >= 5

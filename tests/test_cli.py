@@ -1,0 +1,527 @@
+"""The ``registry`` command line (CASE_FORMAT.md, "Command line" and "Audit output for scripts").
+
+Most tests drive ``registry.cli.main`` through click's CliRunner; a few start real
+processes (``python -m registry`` and the ``registry`` console script). One database
+with three seed cases is audited twice per module (fixture ``audited``) and shared.
+"""
+
+from __future__ import annotations
+
+import json
+import re
+import shutil
+import subprocess
+import sys
+import tomllib
+from pathlib import Path
+from types import SimpleNamespace
+
+import pytest
+from click.testing import CliRunner
+
+import registry
+from registry.cli import main
+
+ROOT = Path(registry.__file__).resolve().parent.parent
+CASES = ROOT / "data" / "cases"
+YEHIA_B = "yehia-2003-kovalevskaya-b"
+ZHUKOVSKY = "zhukovsky-gyrostat"
+AFFINE = "affine-nonsymmetric"
+SEED = (YEHIA_B, ZHUKOVSKY, AFFINE)
+COMMANDS = ("add", "audit", "cases", "verdicts", "runs", "corrections", "export-case")
+VERDICTS = {"verified", "refuted", "inconclusive"}
+
+#: One line of ``registry add`` for a stored file: status, case id, version, path.
+ADD_LINE = re.compile(r"^(added|unchanged|new version)\s+(\S+) \(version (\d+)\)\s+(.+)$")
+
+UNDECLARED = """\
+id = "bad-undeclared-name"
+title = "A claim that uses a name nobody declared"
+
+[source]
+citation = "Nobody, Nowhere (2024)"
+
+[parameters]
+C = "positive"
+
+[system]
+inertia = ["C", "C", "2*C"]
+
+[[claims]]
+label = "I1"
+kind = "integral"
+expression = "M1 + bogus*gamma1"
+"""
+
+ZERO_INERTIA = """\
+id = "bad-zero-inertia"
+title = "A body with a vanishing moment of inertia"
+
+[source]
+citation = "Nobody, Nowhere (2024)"
+
+[parameters]
+C = "positive"
+
+[system]
+inertia = ["C", "0", "2*C"]
+
+[[claims]]
+label = "I1"
+kind = "casimir"
+expression = "gamma1**2 + gamma2**2 + gamma3**2"
+"""
+
+
+def case_file(case_id: str) -> Path:
+    return CASES / f"{case_id}.toml"
+
+
+def invoke(db: Path | str | None, *args: str, **kwargs) -> object:
+    """Run ``registry [--db DB] ARGS`` in-process; never lets an exception escape."""
+    prefix = [] if db is None else ["--db", str(db)]
+    return CliRunner().invoke(main, [*prefix, *args], **kwargs)
+
+
+def error_lines(result) -> list[str]:
+    return result.stderr.strip().splitlines()
+
+
+def add_lines(result) -> list[tuple[str, str, int, str]]:
+    """The stored-file lines of ``registry add`` as (status, case, version, path)."""
+    parsed = []
+    for line in result.stdout.strip().splitlines():
+        match = ADD_LINE.match(line)
+        assert match, f"unexpected line from add: {line!r}"
+        status, case, version, path = match.groups()
+        parsed.append((status, case, int(version), path.strip()))
+    return parsed
+
+
+def by_case(document: dict) -> dict[str, dict]:
+    return {entry["case"]: entry for entry in document["cases"]}
+
+
+def claim_of(document: dict, case_id: str, label: str) -> dict:
+    (claim,) = [c for c in by_case(document)[case_id]["claims"] if c["label"] == label]
+    return claim
+
+
+@pytest.fixture(scope="module")
+def audited(tmp_path_factory) -> SimpleNamespace:
+    """A database with three seed cases, audited twice (JSON, then table).
+
+    The outputs of ``runs`` and ``verdicts`` are taken right after the two audits,
+    so later tests may audit this database again without changing them.
+    """
+    db = tmp_path_factory.mktemp("cli") / "r.sqlite"
+    added = invoke(db, "add", *(str(case_file(c)) for c in SEED))
+    as_json = invoke(db, "audit", "--json")
+    table = invoke(db, "audit")
+    runs = invoke(db, "runs")
+    verdicts = invoke(db, "verdicts")
+    return SimpleNamespace(
+        db=db, added=added, json=as_json, table=table, runs=runs, verdicts=verdicts
+    )
+
+
+@pytest.fixture(scope="module")
+def document(audited) -> dict:
+    assert audited.added.exit_code == 0, audited.added.output
+    assert audited.json.exit_code == 0, audited.json.output
+    return json.loads(audited.json.stdout)
+
+
+# ----------------------------------------------------------------------------- help
+
+
+def test_all_commands_are_registered():
+    assert set(COMMANDS) <= set(main.commands)
+
+
+@pytest.mark.parametrize("command", sorted(main.commands))
+def test_every_command_documents_itself(command):
+    result = invoke(None, command, "--help")
+    assert result.exit_code == 0, result.output
+    assert "Example:" in result.stdout
+    usage = result.stdout.splitlines()[0]
+    assert usage.startswith("Usage:") and f" {command} " in f"{usage} "
+
+
+def test_main_help_lists_commands():
+    result = invoke(None, "--help")
+    assert result.exit_code == 0, result.output
+    assert "Example:" in result.stdout
+    for command in COMMANDS:
+        assert command in result.stdout
+
+
+def _registry_script() -> str:
+    script = Path(sys.executable).with_name("registry")
+    if script.exists():
+        return str(script)
+    found = shutil.which("registry")
+    if found is None:
+        pytest.fail("the 'registry' console script is not installed next to the interpreter")
+    return found
+
+
+@pytest.mark.parametrize("how", ["python -m registry", "console script"])
+def test_help_in_a_real_process(how, tmp_path):
+    command = (
+        [sys.executable, "-m", "registry"] if how == "python -m registry" else [_registry_script()]
+    )
+    done = subprocess.run(
+        [*command, "--help"], capture_output=True, text=True, timeout=120, cwd=tmp_path
+    )
+    assert done.returncode == 0, done.stderr
+    assert "Example:" in done.stdout
+    for name in COMMANDS:
+        assert name in done.stdout
+    assert not (tmp_path / "data").exists()  # --help opens no database
+
+
+def test_user_error_in_a_real_process(tmp_path):
+    db = tmp_path / "r.sqlite"
+    done = subprocess.run(
+        [_registry_script(), "--db", str(db), "audit", "--case", "no-such-case"],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert done.returncode == 1
+    lines = done.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("Error:"), done.stderr
+    assert "no-such-case" in lines[0]
+    assert "Traceback" not in done.stderr + done.stdout
+
+
+# ------------------------------------------------------------------------------ add
+
+
+def test_add_catalog_then_unchanged(tmp_path, monkeypatch):
+    monkeypatch.chdir(ROOT)
+    db = tmp_path / "r.sqlite"
+    files = sorted(str(p.relative_to(ROOT)) for p in CASES.glob("*.toml"))
+    assert len(files) >= 3
+
+    first = invoke(db, "add", "data/cases")
+    assert first.exit_code == 0, first.output
+    lines = add_lines(first)
+    assert sorted(path for *_, path in lines) == files
+    assert {status for status, *_ in lines} == {"added"}
+    assert {version for _, _, version, _ in lines} == {1}
+    ids = {case for _, case, _, _ in lines}
+    assert len(ids) == len(files)
+    assert first.stderr == ""
+
+    again = invoke(db, "add", "data/cases")
+    assert again.exit_code == 0, again.output
+    relines = add_lines(again)
+    assert sorted(path for *_, path in relines) == files
+    assert {status for status, *_ in relines} == {"unchanged"}
+    assert {case for _, case, _, _ in relines} == ids
+
+    with registry.open(db) as reg:
+        cases = reg.cases()
+    assert set(cases["case"]) == ids
+    assert set(cases["version"]) == {1}
+
+
+def test_add_refuses_bad_files_and_keeps_good_ones(tmp_path):
+    undeclared = tmp_path / "undeclared.toml"
+    undeclared.write_text(UNDECLARED, encoding="utf-8")
+    zero = tmp_path / "zero.toml"
+    zero.write_text(ZERO_INERTIA, encoding="utf-8")
+    db = tmp_path / "r.sqlite"
+
+    result = invoke(db, "add", str(undeclared), str(case_file(ZHUKOVSKY)), str(zero))
+    assert result.exit_code == 1
+    assert "Traceback" not in result.output
+
+    stored = add_lines(result)
+    assert [(s, c, v) for s, c, v, _ in stored] == [("added", ZHUKOVSKY, 1)]
+
+    errors = error_lines(result)
+    assert len(errors) == 2, result.stderr
+    assert all(line.startswith("Error:") for line in errors)
+    (about_name,) = [line for line in errors if str(undeclared) in line]
+    assert "claims[0].expression" in about_name
+    assert "bogus" in about_name
+    assert "'M1 + bogus*gamma1'" in about_name
+    (about_zero,) = [line for line in errors if str(zero) in line]
+    assert "system.inertia[1]" in about_zero
+    assert "'0'" in about_zero
+
+    listed = invoke(db, "cases")
+    assert listed.exit_code == 0, listed.output
+    assert ZHUKOVSKY in listed.stdout
+    assert "bad-undeclared-name" not in listed.stdout
+    assert "bad-zero-inertia" not in listed.stdout
+    with registry.open(db) as reg:
+        assert list(reg.cases()["case"]) == [ZHUKOVSKY]
+        assert set(reg.claims()["case"]) == {ZHUKOVSKY}
+
+
+def test_add_prints_one_error_line_per_problem(tmp_path):
+    both = tmp_path / "both.toml"
+    both.write_text(ZERO_INERTIA.replace('"gamma1**2', '"bogus + gamma1**2'), encoding="utf-8")
+    result = invoke(tmp_path / "r.sqlite", "add", str(both))
+    assert result.exit_code == 1
+    errors = error_lines(result)
+    assert len(errors) == 2, result.stderr
+    assert all(line.startswith("Error:") for line in errors), result.stderr
+
+
+# ---------------------------------------------------------------------------- audit
+
+
+def test_add_of_the_audited_cases(audited):
+    assert audited.added.exit_code == 0, audited.added.output
+    assert sorted((s, c, v) for s, c, v, _ in add_lines(audited.added)) == sorted(
+        ("added", c, 1) for c in SEED
+    )
+
+
+def test_audit_json_has_the_contract_shape(document):
+    assert set(document) >= {"run", "cases"}
+    assert isinstance(document["run"], int) and not isinstance(document["run"], bool)
+    assert isinstance(document["cases"], list)
+    assert sorted(entry["case"] for entry in document["cases"]) == sorted(SEED)
+    for entry in document["cases"]:
+        assert set(entry["checks"]) >= {"jacobi", "energy", "c1"}
+        assert {entry["checks"][k] for k in ("jacobi", "energy", "c1")} <= VERDICTS
+        assert isinstance(entry["claims"], list) and entry["claims"]
+        for claim in entry["claims"]:
+            assert set(claim) >= {"label", "kind", "integral", "casimir", "verdict"}
+            assert claim["kind"] in {"integral", "casimir"}
+            assert {claim["integral"], claim["casimir"], claim["verdict"]} <= VERDICTS
+            # A claim's overall verdict is that of the property its kind names.
+            assert claim["verdict"] == claim[claim["kind"]]
+
+
+def test_audit_json_verdicts(document):
+    cases = by_case(document)
+    i2 = claim_of(document, YEHIA_B, "I2")
+    assert (i2["kind"], i2["integral"], i2["casimir"], i2["verdict"]) == (
+        "casimir",
+        "refuted",
+        "refuted",
+        "refuted",
+    )
+    area = claim_of(document, ZHUKOVSKY, "area")
+    assert (area["integral"], area["casimir"], area["verdict"]) == ("verified",) * 3
+    assert cases[AFFINE]["checks"]["jacobi"] == "refuted"
+    assert cases[YEHIA_B]["checks"]["jacobi"] == "verified"
+    zhukovsky = cases[ZHUKOVSKY]["checks"]
+    assert [zhukovsky[k] for k in ("jacobi", "energy", "c1")] == ["verified"] * 3
+
+
+def test_audit_json_repairs(document):
+    i2 = claim_of(document, YEHIA_B, "I2")
+    corrections = i2["corrections"]
+    assert sorted(c["kind"] for c in corrections) == ["casimir", "torque"]
+    (casimir,) = [c for c in corrections if c["kind"] == "casimir"]
+    (torque,) = [c for c in corrections if c["kind"] == "torque"]
+    assert isinstance(casimir["expression"], str) and casimir["expression"].strip()
+    assert isinstance(torque["torque"], list) and len(torque["torque"]) == 3
+    assert all(isinstance(mu, str) and mu.strip() for mu in torque["torque"])
+    assert i2["holds_when"] == ["N = 0"]
+
+    affine = by_case(document)[AFFINE]
+    assert affine["conditions"]["jacobi"] == ["T12 = T21", "T13 = T31", "T23 = T32"]
+    assert "conditions" not in by_case(document)[ZHUKOVSKY]
+    assert "corrections" not in claim_of(document, ZHUKOVSKY, "area")
+
+
+def test_audit_json_expressions_paste_back_into_a_case_file(document):
+    """Corrections are written in the input language: they parse as case-file fields."""
+    i2 = claim_of(document, YEHIA_B, "I2")
+    (casimir,) = [c for c in i2["corrections"] if c["kind"] == "casimir"]
+    (torque,) = [c for c in i2["corrections"] if c["kind"] == "torque"]
+    text = case_file(YEHIA_B).read_text(encoding="utf-8")
+    data = tomllib.loads(text)
+    original = data["claims"][0]["expression"]
+    assert original != casimir["expression"]
+
+    import tomli_w
+
+    data["claims"][0]["expression"] = casimir["expression"]
+    data["system"]["torque"] = torque["torque"]
+    case = registry.parse_case_text(tomli_w.dumps(data), "pasted.toml")
+    assert [e.text for e in case.system.torque] == torque["torque"]
+    assert case.claims[0].expression.text == casimir["expression"]
+
+
+def test_audit_table(audited, document):
+    assert audited.table.exit_code == 0, audited.table.output
+    lines = audited.table.stdout.splitlines()
+    header = lines[0].split()
+    for word in ("case", "claim", "integral", "casimir", "verdict"):
+        assert word in header
+    for case_id, entry in by_case(document).items():
+        rows = [line.split() for line in lines[2:] if line.split()[:1] == [case_id]]
+        assert len(rows) == len(entry["claims"])
+        for row, claim in zip(rows, entry["claims"], strict=True):
+            assert claim["label"] in row
+            assert row[-4:] == [
+                claim["kind"],
+                claim["integral"],
+                claim["casimir"],
+                claim["verdict"],
+            ]
+    assert re.search(
+        r"^run 2: 3 cases, 3 claims \(2 refuted, 1 verified\)$", audited.table.stdout, re.M
+    )
+
+
+def test_each_audit_is_stored_as_a_run(audited, document):
+    assert document["run"] == 1
+    assert audited.runs.exit_code == 0, audited.runs.output
+    lines = audited.runs.stdout.strip().splitlines()
+    header = lines[0].split()
+    assert header[0] == "run" and "status" in header
+    rows = [line.split() for line in lines[1:]]
+    assert [int(row[0]) for row in rows] == [1, 2]
+    assert all("complete" in row for row in rows)
+
+
+def test_verdicts_lists_case_claim_check_verdict(audited):
+    assert audited.verdicts.exit_code == 0, audited.verdicts.output
+    lines = audited.verdicts.stdout.strip().splitlines()
+    assert lines[0].split() == ["case", "claim", "check", "verdict", "method", "run"]
+    rows = {}
+    for line in lines[1:]:
+        case, claim, check, verdict, *_method, run = line.split()
+        rows[case, claim, check] = (verdict, int(run))
+    assert rows[YEHIA_B, "I2", "integral"] == ("refuted", 2)
+    assert rows[YEHIA_B, "I2", "casimir"] == ("refuted", 2)
+    assert rows[ZHUKOVSKY, "area", "casimir"] == ("verified", 2)
+    jacobi = [v for (case, _, check), v in rows.items() if case == AFFINE and check == "jacobi"]
+    assert jacobi == [("refuted", 2)]
+
+
+def test_audit_unknown_case_is_a_one_line_error(audited, document):
+    with registry.open(audited.db) as reg:
+        runs_before = len(reg.runs())
+    result = invoke(audited.db, "audit", "--case", "no-such-case")
+    assert result.exit_code == 1
+    assert isinstance(result.exception, SystemExit)
+    errors = error_lines(result)
+    assert len(errors) == 1 and errors[0].startswith("Error:"), result.stderr
+    assert "no-such-case" in errors[0]
+    assert "Traceback" not in result.output
+    assert result.stdout == ""
+
+    mixed = invoke(audited.db, "audit", "--case", ZHUKOVSKY, "--case", "no-such-case", "--json")
+    assert mixed.exit_code == 1
+    assert error_lines(mixed)[0].startswith("Error:")
+    with registry.open(audited.db) as reg:
+        assert len(reg.runs()) == runs_before
+
+
+def test_audit_case_restricts_the_run(audited, document):
+    result = invoke(audited.db, "audit", "--case", ZHUKOVSKY, "--json")
+    assert result.exit_code == 0, result.output
+    restricted = json.loads(result.stdout)
+    assert [entry["case"] for entry in restricted["cases"]] == [ZHUKOVSKY]
+    assert restricted["run"] > document["run"]
+    with registry.open(audited.db) as reg:
+        stored = reg.verdicts(run=restricted["run"])
+        (run_row,) = reg.runs().query(f"run == {restricted['run']}").to_dict("records")
+    assert set(stored["case"]) == {ZHUKOVSKY}
+    assert run_row["status"] == "complete"
+
+
+# ------------------------------------------------------------------------- database
+
+
+def test_db_from_environment(audited, document, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)  # the default data/registry.sqlite would land here
+    monkeypatch.setenv("REGISTRY_DB", str(audited.db))
+    result = invoke(None, "cases")
+    assert result.exit_code == 0, result.output
+    for case_id in SEED:
+        assert case_id in result.stdout
+
+    other = tmp_path / "other.sqlite"
+    empty = invoke(None, "cases", env={"REGISTRY_DB": str(other)})
+    assert empty.exit_code == 0, empty.output
+    assert other.exists()
+    assert empty.stdout.strip() == "(none)"
+
+    explicit = invoke(audited.db, "cases", env={"REGISTRY_DB": str(other)})
+    assert explicit.exit_code == 0, explicit.output
+    assert all(case_id in explicit.stdout for case_id in SEED)
+    assert not (tmp_path / "data").exists()
+
+
+def test_db_accepts_a_sqlalchemy_url(tmp_path):
+    path = tmp_path / "url.sqlite"
+    result = invoke(f"sqlite:///{path}", "add", str(case_file(ZHUKOVSKY)))
+    assert result.exit_code == 0, result.output
+    assert [(s, c) for s, c, _, _ in add_lines(result)] == [("added", ZHUKOVSKY)]
+    assert path.exists()
+    listed = invoke(path, "cases")
+    assert ZHUKOVSKY in listed.stdout
+
+
+# --------------------------------------------------------------------------- export
+
+
+def test_export_case_round_trip(audited, document, tmp_path):
+    out = tmp_path / "out.toml"
+    result = invoke(audited.db, "export-case", YEHIA_B, "--claim", "I2", "-o", str(out))
+    assert result.exit_code == 0, result.output
+    data = tomllib.loads(out.read_text(encoding="utf-8"))
+    original = tomllib.loads(case_file(YEHIA_B).read_text(encoding="utf-8"))
+    assert data["id"] != YEHIA_B
+    assert data["claims"][0]["expression"] == original["claims"][0]["expression"]
+    (torque,) = [
+        c for c in claim_of(document, YEHIA_B, "I2")["corrections"] if c["kind"] == "torque"
+    ]
+    assert data["system"]["torque"] == torque["torque"]
+    assert data["system"]["torque"] != original["system"]["torque"]
+
+    db = tmp_path / "exported.sqlite"
+    added = invoke(db, "add", str(out))
+    assert added.exit_code == 0, added.output
+    assert [(s, c) for s, c, _, _ in add_lines(added)] == [("added", data["id"])]
+    checked = invoke(db, "audit", "--json")
+    assert checked.exit_code == 0, checked.output
+    redone = json.loads(checked.stdout)
+    i2 = claim_of(redone, data["id"], "I2")
+    assert i2["casimir"] == "verified"
+    assert i2["verdict"] == "verified"
+    assert by_case(redone)[data["id"]]["checks"]["jacobi"] == "verified"
+
+
+def test_export_case_to_stdout(audited, document):
+    result = invoke(audited.db, "export-case", YEHIA_B, "--claim", "I2", "--kind", "casimir")
+    assert result.exit_code == 0, result.output
+    data = tomllib.loads(result.stdout)
+    (casimir,) = [
+        c for c in claim_of(document, YEHIA_B, "I2")["corrections"] if c["kind"] == "casimir"
+    ]
+    assert [c["expression"] for c in data["claims"]] == [casimir["expression"]]
+
+
+def test_export_case_before_any_audit(tmp_path):
+    db = tmp_path / "r.sqlite"
+    assert invoke(db, "add", str(case_file(ZHUKOVSKY))).exit_code == 0
+    out = tmp_path / "out.toml"
+    result = invoke(db, "export-case", ZHUKOVSKY, "-o", str(out))
+    assert result.exit_code == 1
+    errors = error_lines(result)
+    assert len(errors) == 1 and errors[0].startswith("Error:"), result.stderr
+    assert ZHUKOVSKY in errors[0]
+    assert "Traceback" not in result.output
+    assert not out.exists()
+
+
+def test_export_unknown_case(tmp_path):
+    result = invoke(tmp_path / "r.sqlite", "export-case", "no-such-case")
+    assert result.exit_code == 1
+    errors = error_lines(result)
+    assert len(errors) == 1 and errors[0].startswith("Error:")
+    assert "no-such-case" in errors[0]
