@@ -11,7 +11,6 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from enum import StrEnum
-from types import MappingProxyType
 
 import sympy as sp
 
@@ -105,8 +104,23 @@ class System:
         return tuple(e.expr for e in self.torque)  # type: ignore[return-value]
 
 
+class FrozenDict(dict):
+    """A read-only dict that pickles (results travel between worker processes)."""
+
+    def _readonly(self, *args, **kwargs):
+        raise TypeError("this mapping is read-only")
+
+    __setitem__ = __delitem__ = clear = pop = popitem = setdefault = update = _readonly  # type: ignore[assignment]
+
+    def __reduce__(self):
+        return (FrozenDict, (dict(self),))
+
+    def __hash__(self) -> int:  # type: ignore[override]
+        return hash(tuple(sorted(self.items(), key=repr)))
+
+
 def _frozen(mapping: Mapping | None) -> Mapping:
-    return MappingProxyType(dict(mapping or {}))
+    return FrozenDict(mapping or {})
 
 
 @dataclass(frozen=True)

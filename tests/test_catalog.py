@@ -11,7 +11,7 @@ CASES = Path(__file__).resolve().parents[1] / "data" / "cases"
 
 #: The reference paper's statements (Sec. 4), and classical results: case id ->
 #: (jacobi, {claim label: (integral, casimir)}). energy, c1 and hamiltonian hold everywhere.
-V, R, I = Verdict.VERIFIED, Verdict.REFUTED, Verdict.INCONCLUSIVE
+V, R = Verdict.VERIFIED, Verdict.REFUTED
 EXPECTED = {
     "zhukovsky-gyrostat": (V, {"area": (V, V)}),
     "grioli-1957-charged-body": (V, {"area": (V, V)}),

@@ -34,7 +34,7 @@ def random_point(case, rng):
         )
     for v in mech.STATE:
         point[v] = sp.Float(rng.uniform(0.3, 1.3) * rng.choice([-1, 1]), 50)
-    point[mech.s] = sum(point[m] * point[g] for m, g in zip(mech.MOMENTUM, mech.AXIS))
+    point[mech.s] = sum(point[m] * point[g] for m, g in zip(mech.MOMENTUM, mech.AXIS, strict=True))
     return point
 
 

@@ -4,7 +4,7 @@ import pytest
 import sympy as sp
 
 from registry import mechanics as mech
-from registry.mechanics import AXIS, MOMENTUM, S_VALUE, gamma1, gamma2, gamma3, s
+from registry.mechanics import AXIS, MOMENTUM, S_VALUE, gamma2, gamma3, s
 
 A, B, C = sp.symbols("A B C", positive=True)
 INERTIA = (A, B, C)
@@ -33,7 +33,7 @@ def test_vector_field_is_hamiltonian_for_any_torque():
     mu = (MOMENTUM[0] * gamma2, s**2, sp.Function("f")(*MOMENTUM, *AXIS))
     field = mech.vector_field(INERTIA, U, mu)
     generated = mech.hamiltonian_vector_field(mech.poisson_tensor(mu), mech.hamiltonian(INERTIA, U))
-    assert all(zero(a - b) for a, b in zip(field, generated))
+    assert all(zero(a - b) for a, b in zip(field, generated, strict=True))
 
 
 def test_h_and_c1_are_conserved_and_c2_is_not():
@@ -91,7 +91,7 @@ def test_casimir_condition_equation_matches_the_system():
     system = mech.casimir_system(mu, c)
     assert all(zero(x) for x in system[3:])  # gamma x grad_M C = 0 for C(gamma, s)
     condition = mech.casimir_condition(mu, c)
-    for x, y in zip(system[:3], condition):
+    for x, y in zip(system[:3], condition, strict=True):
         assert zero(x + y) or zero(x - y)
 
 

@@ -110,5 +110,7 @@ def test_changing_the_inertia_of_a_kovalevskaya_case_is_noticed():
     c = case.parameters["C"]
     inertia[0] = Expression("3*C", 3 * c)
     inertia[1] = Expression("3*C", 3 * c)
-    changed = replace(case, system=System(tuple(inertia), case.system.potential, case.system.torque))
+    changed = replace(
+        case, system=System(tuple(inertia), case.system.potential, case.system.torque)
+    )
     assert audit_case(changed).result("integral", "K").verdict is Verdict.REFUTED
