@@ -11,32 +11,55 @@
 
 from __future__ import annotations
 
+import hashlib
 import os
 from collections.abc import Callable, Iterable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import asdict, dataclass, field
+from functools import cache
 from importlib import metadata
 from pathlib import Path
 
 import pandas as pd
 
-from .audit import audit_case, failed_case
+from .audit import DEFAULT_BUDGET, audit_case, failed_case
+from .budget import Budget
 from .casefile import load_case, parse_case_text
 from .errors import CaseFormatError, RegistryError
 from .export import corrected_case_text
-from .model import Case, CaseAudit
+from .model import Case, CaseAudit, Verdict
 from .report import audit_document
 from .storage import Store
+from .workers import audit_in_workers, default_jobs
 
 #: Where the registry lives when neither --db nor REGISTRY_DB says otherwise.
 DEFAULT_DB = Path("data") / "registry.sqlite"
 
 
+@cache
 def code_version() -> str:
-    """The installed version of this package, recorded with every audit run."""
+    """This package's version and a digest of its sources, recorded with every run.
+
+    Stored results are reused only by the same code version, so any change to the
+    code (even without a version bump) makes the next audit recompute.
+    """
     try:
-        return metadata.version("rigid-body-registry")
+        release = metadata.version("rigid-body-registry")
     except metadata.PackageNotFoundError:
-        return "0+unknown"
+        release = "0"
+    digest = hashlib.sha256()
+    for source in sorted(Path(__file__).parent.glob("*.py")):
+        digest.update(source.name.encode() + b"\0" + source.read_bytes())
+    return f"{release}+{digest.hexdigest()[:12]}"
+
+
+def _reusable(found: tuple[int, CaseAudit] | None) -> CaseAudit | None:
+    """A stored audit worth reusing: complete, with no crashed or killed check."""
+    if found is None:
+        return None
+    _, audit = found
+    if any(r.verdict is Verdict.ERROR or r.check in ("audit", "load") for r in audit.results):
+        return None
+    return audit
 
 
 def default_target() -> str:
@@ -114,38 +137,78 @@ class Registry:
         self,
         case_ids: Sequence[str] | None = None,
         *,
+        fresh: bool = False,
+        jobs: int | None = None,
+        budget: Budget | None = None,
         progress: Callable[[str], None] | None = None,
     ) -> AuditReport:
         """Audit the latest version of every case (or the named ones) and store the run.
 
-        Each case's results are committed as it finishes; a case that fails to
-        load or crashes is recorded as ``error`` and the others go on.
+        Results of a case version already audited by this code version are reused
+        (recorded as reused) unless ``fresh``. The others are audited in ``jobs``
+        worker processes (default: one per core; 0 audits in this process), each
+        check under ``budget``. Each case's results are committed as it finishes;
+        a case that fails to load or crashes is recorded as ``error``, one that
+        overruns its budget as ``inconclusive``, and the others go on.
         """
+        budget = budget or DEFAULT_BUDGET
+        jobs = default_jobs() if jobs is None else jobs
         stored = self.store.case_versions(list(case_ids) if case_ids else None)
-        options = {"cases": list(case_ids) if case_ids else None}
-        run = self.store.start_run(options, code_version())
-        audits, cases, versions = [], {}, {}
+        version = code_version()
+        options = {
+            "cases": list(case_ids) if case_ids else None,
+            "fresh": fresh,
+            "jobs": jobs,
+            "budget": asdict(budget),
+        }
+        run = self.store.start_run(options, version)
+        audits: dict[int, CaseAudit] = {}
+        cases: dict[str, Case] = {}
+        todo: list[tuple[int, Case]] = []
         status = "failed"
         try:
-            for row in stored:
-                if progress is not None:
-                    progress(row.case_id)
+            for i, row in enumerate(stored):
                 try:
                     case = parse_case_text(row.text, row.path or row.case_id)
-                    audit = audit_case(case)
-                    cases[case.id] = case
                 except Exception as exc:  # a broken case must not stop the run
-                    audit = failed_case(row.case_id, row.content_hash, exc)
-                self.store.record_case(run, row.pk, audit)
-                audits.append(audit)
-                versions[row.case_id] = row.version
+                    audits[i] = failed_case(row.case_id, row.content_hash, exc)
+                    self.store.record_case(run, row.pk, audits[i])
+                    continue
+                cases[case.id] = case
+                prior = None if fresh else _reusable(self.store.stored_audit(row.pk, version))
+                if prior is not None:
+                    audits[i] = prior
+                    self.store.record_case(run, row.pk, prior, reused=True)
+                else:
+                    todo.append((i, case))
+            for k, audit in self._compute([c for _, c in todo], jobs, budget, progress):
+                i = todo[k][0]
+                audits[i] = audit
+                self.store.record_case(run, stored[i].pk, audit)
             status = "complete"
         except KeyboardInterrupt:
             status = "interrupted"
             raise
         finally:
             self.store.finish_run(run, status)
-        return AuditReport(run, tuple(audits), cases, versions)
+        ordered = tuple(audits[i] for i in sorted(audits))
+        versions = {row.case_id: row.version for row in stored}
+        return AuditReport(run, ordered, cases, versions)
+
+    @staticmethod
+    def _compute(cases, jobs, budget, progress):
+        """(index, audit) for each case, in workers or (jobs == 0) in this process."""
+
+        def started(case: Case) -> None:
+            if progress is not None:
+                progress(case.id)
+
+        if jobs == 0:
+            for k, case in enumerate(cases):
+                started(case)
+                yield k, audit_case(case, budget=budget)
+        else:
+            yield from audit_in_workers(cases, jobs, budget, started)
 
     # --- queries ----------------------------------------------------------
 

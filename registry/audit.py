@@ -11,21 +11,31 @@ import time
 from collections.abc import Iterable
 from dataclasses import replace
 
+from .budget import Budget, BudgetExceeded, time_limit
 from .checks import CHECKS, CheckSpec, Mechanics
 from .corrections import repairs
 from .model import Case, CaseAudit, CheckResult, Claim, ClaimKind, FamilyRecord, Verdict
+
+#: Budgets used when none is given: a few seconds per check.
+DEFAULT_BUDGET = Budget()
 
 #: The case-level checks whose verdicts appear under ``checks`` in the JSON output.
 CASE_CHECKS = tuple(name for name, spec in CHECKS.items() if not spec.per_claim)
 
 
 def audit_case(
-    case: Case, checks: Iterable[str] | None = None, *, repair: bool | None = None
+    case: Case,
+    checks: Iterable[str] | None = None,
+    *,
+    repair: bool | None = None,
+    budget: Budget | None = DEFAULT_BUDGET,
 ) -> CaseAudit:
     """Run the named checks (default: all) on ``case``; a crash becomes an ``error`` result.
 
     With ``repair`` (the default when every check runs) the torque's family, the
     repairs of refuted claims and the conditions for failed identities are derived.
+    Each check runs under ``budget.check`` seconds and the repairs under
+    ``budget.repairs``; one that runs out is ``inconclusive: time budget exceeded``.
     """
     wanted = set(CHECKS) if checks is None else set(checks)
     unknown = wanted - set(CHECKS)
@@ -36,31 +46,57 @@ def audit_case(
     for spec in CHECKS.values():
         if spec.name not in wanted:
             continue
+        seconds = budget.check if budget else None
         if not spec.per_claim:
-            results.append(_run(spec, mech))
+            results.append(_run(spec, mech, seconds=seconds))
             continue
         for claim in case.claims:
             if spec.applies(claim):
-                results.append(_run(spec, mech, claim))
+                results.append(_run(spec, mech, claim, seconds=seconds))
     audit = CaseAudit(case.id, case.content_hash, tuple(results))
     if repair if repair is not None else checks is None:
-        audit = _with_repairs(audit, mech)
+        audit = _with_repairs(audit, mech, budget.repairs if budget else None)
     return audit
 
 
-def _with_repairs(audit: CaseAudit, mech: Mechanics) -> CaseAudit:
+def count_checks(case: Case) -> int:
+    """How many checks an audit of ``case`` runs (for the worker's deadline)."""
+    return sum(
+        sum(spec.applies(c) for c in case.claims) if spec.per_claim else 1
+        for spec in CHECKS.values()
+    )
+
+
+def _with_repairs(audit: CaseAudit, mech: Mechanics, seconds: float | None) -> CaseAudit:
     try:
-        family, corrections, conditions = repairs(mech, audit.results)
+        with time_limit(seconds):
+            family, corrections, conditions = repairs(mech, audit.results)
+    except BudgetExceeded:
+        family = FamilyRecord("none", reason=f"repairs: time budget exceeded ({seconds:g} s)")
+        corrections, conditions = (), ()
     except Exception as exc:  # a failed repair must not lose the verdicts
         family = FamilyRecord("none", reason=f"repair failed: {type(exc).__name__}: {exc}")
         corrections, conditions = (), ()
     return replace(audit, family=family, corrections=corrections, conditions=conditions)
 
 
-def _run(spec: CheckSpec, mech: Mechanics, claim: Claim | None = None) -> CheckResult:
+def _run(
+    spec: CheckSpec, mech: Mechanics, claim: Claim | None = None, *, seconds: float | None
+) -> CheckResult:
     started = time.perf_counter()
+    label = None if claim is None else claim.label
     try:
-        return spec.run(mech) if claim is None else spec.run(mech, claim)
+        with time_limit(seconds):
+            return spec.run(mech) if claim is None else spec.run(mech, claim)
+    except BudgetExceeded:
+        return CheckResult(
+            check=spec.name,
+            verdict=Verdict.INCONCLUSIVE,
+            method="time budget",
+            claim=label,
+            reason=f"time budget exceeded ({seconds:g} s)",
+            seconds=time.perf_counter() - started,
+        )
     except Exception as exc:  # one failing check must not stop the audit
         return CheckResult(
             check=spec.name,

@@ -51,6 +51,15 @@ class Mechanics:
     def hamiltonian(self) -> sp.Expr:
         return mech.hamiltonian(self.inertia, self.potential)
 
+    @cached_property
+    def jacobiator(self) -> dict[str, sp.Expr]:
+        """The 20 components of the Jacobi identity for Pi_mu, by index triple."""
+        names = [str(v) for v in mech.STATE]
+        return {
+            f"J[{names[i]},{names[j]},{names[k]}]": value
+            for (i, j, k), value in mech.jacobiator(self.pi).items()
+        }
+
     def casimir_residual(self, expr: sp.Expr) -> dict[str, sp.Expr]:
         """Pi_mu nabla f, by component (row of Pi_mu)."""
         values = self.pi * sp.Matrix(mech.gradient(expr))
@@ -152,11 +161,7 @@ def _decide(m: Mechanics, name: str, residuals, claim: str | None = None, on=())
 def jacobi(m: Mechanics) -> CheckResult:
     """Pi_mu satisfies the Jacobi identity, i.e. it is a Poisson tensor (all 20 components)."""
     started = time.perf_counter()
-    names = [str(v) for v in mech.STATE]
-    residuals = {
-        f"J[{names[i]},{names[j]},{names[k]}]": value
-        for (i, j, k), value in mech.jacobiator(m.pi).items()
-    }
+    residuals = m.jacobiator
     return _result("jacobi", _decide(m, "jacobi", residuals), residuals, started)
 
 

@@ -9,12 +9,14 @@ from __future__ import annotations
 
 import json
 import sys
+from dataclasses import replace
 from functools import wraps
 
 import click
 import pandas as pd
 
 from .api import Registry, default_target, open_registry
+from .audit import DEFAULT_BUDGET
 from .errors import RegistryError
 from .report import verdict_table
 
@@ -92,9 +94,32 @@ def add(paths: tuple[str, ...]) -> None:
 @main.command()
 @click.option("--case", "case_ids", multiple=True, metavar="ID", help="Audit only this case.")
 @click.option("--json", "as_json", is_flag=True, help="Print the JSON document of CASE_FORMAT.md.")
+@click.option("--fresh", is_flag=True, help="Recompute instead of reusing stored results.")
+@click.option(
+    "--jobs",
+    type=click.IntRange(min=0),
+    default=None,
+    help="Worker processes (default: one per core; 0: in this process).",
+)
+@click.option(
+    "--budget",
+    "check_budget",
+    type=click.FloatRange(min=0, min_open=True),
+    default=None,
+    help=f"Seconds allowed to each check (default {DEFAULT_BUDGET.check:g}).",
+)
 @_user_errors
-def audit(case_ids: tuple[str, ...], as_json: bool) -> None:
+def audit(
+    case_ids: tuple[str, ...],
+    as_json: bool,
+    fresh: bool,
+    jobs: int | None,
+    check_budget: float | None,
+) -> None:
     """Re-check every claim of every case (or the named ones) and store the run.
+
+    Unchanged cases reuse the results stored by the same code version; --fresh
+    recomputes them. A check that runs out of time is inconclusive.
 
     Example: registry audit --case yehia-2003-kovalevskaya-b --json
     """
@@ -105,7 +130,8 @@ def audit(case_ids: tuple[str, ...], as_json: bool) -> None:
         def progress(case_id: str) -> None:
             click.echo(f"auditing {case_id} ...", err=True)
 
-    report = reg.audit(case_ids or None, progress=progress)
+    budget = replace(DEFAULT_BUDGET, check=check_budget) if check_budget else DEFAULT_BUDGET
+    report = reg.audit(case_ids or None, fresh=fresh, jobs=jobs, budget=budget, progress=progress)
     document = report.document()
     if as_json:
         click.echo(json.dumps(document, indent=2, ensure_ascii=False))

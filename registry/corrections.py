@@ -112,20 +112,19 @@ def _expression(expr: sp.Expr) -> Expression:
 
 
 def _best_lambda(m: Mechanics, w: list[sp.Expr]) -> tuple[sp.Expr, set[int]]:
-    """lambda making the most components of mu' equal to those of mu, and which ones."""
-    candidates = []
-    for k in range(3):
-        if AXIS[k] == 0:
-            continue
-        lam = sp.cancel((m.mu[k] - w[k]) / AXIS[k])
-        agree = {
-            j
-            for j in range(3)
-            if decide({"d": m.mu[j] - w[j] - lam * AXIS[j]}, m.domain).verdict is Verdict.VERIFIED
-        }
-        candidates.append((len(agree), -sp.count_ops(lam), lam, agree))
-    _, _, lam, agree = max(candidates, key=lambda c: (c[0], c[1]))
-    return lam, agree
+    """lambda making the most components of mu' equal to those of mu, and which ones.
+
+    Component k stays unchanged for lambda_k = (mu_k - w_k)/gamma_k; components whose
+    lambda_k agree identically can stay unchanged together.
+    """
+    lams = [sp.cancel((m.mu[k] - w[k]) / AXIS[k]) for k in range(3)]
+    agree = {k: {k} for k in range(3)}
+    for i, j in ((0, 1), (0, 2), (1, 2)):
+        if decide({"d": lams[i] - lams[j]}, m.domain).verdict is Verdict.VERIFIED:
+            agree[i].add(j)
+            agree[j].add(i)
+    best = max(range(3), key=lambda k: (len(agree[k]), -sp.count_ops(lams[k])))
+    return lams[best], agree[best]
 
 
 #: Expressions larger than this (sympy operations) are reported as computed.
@@ -192,14 +191,16 @@ def repairs(
     conditions: list[Conditions] = []
     poisson = verdict.get(("jacobi", None))
     if poisson is Verdict.REFUTED:
-        residuals = {str(k): v for k, v in mech.jacobiator(m.pi).items()}
-        conditions.append(holds_when(residuals, m, "jacobi"))
-    own = corrected_casimir(m, family) if poisson is Verdict.VERIFIED else None
+        conditions.append(holds_when(m.jacobiator, m, "jacobi"))
+    refuted = [
+        c for c in m.case.claims if verdict.get((str(c.kind), c.label)) is Verdict.REFUTED
+    ]
+    own = None
+    if poisson is Verdict.VERIFIED and (refuted or not m.case.claims):
+        own = corrected_casimir(m, family)  # needed only where it is reported
     if own is not None and not m.case.claims:
         corrections.append(own)
-    for claim in m.case.claims:
-        if verdict.get((str(claim.kind), claim.label)) is not Verdict.REFUTED:
-            continue
+    for claim in refuted:
         if own is not None:
             corrections.append(replace(own, claim=claim.label))
         if verdict.get(("casimir", claim.label)) is Verdict.REFUTED:

@@ -80,11 +80,9 @@ def recognise(mu: Sequence[sp.Expr], domain: Domain) -> Family:
     if antiderivative is None:
         return Family(shape, a=a, phi=phi, reason=f"no closed form for int ds/({a})")
     # the multiple of gamma: psi for a = 1, b(gamma, s) = psi a in the a(s) family
-    psi = sp.factor(
-        sp.cancel(
-            mech.dot([m - a * sp.diff(phi, g) for m, g in zip(mu, AXIS, strict=True)], AXIS)
-            / mech.dot(AXIS, AXIS)
-        )
+    psi = sp.cancel(
+        mech.dot([m - a * sp.diff(phi, g) for m, g in zip(mu, AXIS, strict=True)], AXIS)
+        / mech.dot(AXIS, AXIS)
     )
     if shape == "general":
         shape = "psi-gamma-grad-phi" if a == 1 else "a(s)-grad-phi"

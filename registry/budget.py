@@ -1,0 +1,60 @@
+"""Time budgets: no check may run unbounded.
+
+Inside a process, a check runs under ``time_limit``, an interval timer whose
+signal interrupts sympy's Python code; the check then becomes
+``inconclusive: time budget exceeded``. Code stuck in C (a huge integer
+product in gmpy, say) cannot be interrupted that way: the audit's worker
+processes (``workers``) are killed from outside when their case overruns.
+"""
+
+from __future__ import annotations
+
+import signal
+import threading
+from collections.abc import Iterator
+from contextlib import contextmanager
+from dataclasses import dataclass
+
+
+class BudgetExceeded(BaseException):
+    """Raised inside a check whose time is up.
+
+    A BaseException, so that sympy's own ``except Exception`` clauses cannot swallow it.
+    """
+
+
+@dataclass(frozen=True)
+class Budget:
+    """Seconds allowed to one check, to the repairs of one case, and the margin a
+    worker gets before it is killed."""
+
+    check: float = 5.0
+    repairs: float = 20.0
+    margin: float = 10.0
+
+    def case_deadline(self, n_checks: int) -> float:
+        """Seconds after which a worker auditing a case with ``n_checks`` checks is killed."""
+        return self.check * n_checks + self.repairs + self.margin
+
+
+def _interrupt(signum, frame):
+    raise BudgetExceeded
+
+
+@contextmanager
+def time_limit(seconds: float | None) -> Iterator[None]:
+    """Raise BudgetExceeded in this thread after ``seconds`` (no limit if None or 0).
+
+    Timers are per process and only the main thread receives the signal; elsewhere
+    (a notebook's worker thread) the block runs without a limit.
+    """
+    if not seconds or threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.signal(signal.SIGALRM, _interrupt)
+    signal.setitimer(signal.ITIMER_REAL, seconds)
+    try:
+        yield
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, previous)

@@ -1,0 +1,121 @@
+"""Bounded time: checks that run out of time are inconclusive, stuck workers are killed,
+and unchanged cases are reused from storage with the same verdicts."""
+
+import signal
+import time
+from dataclasses import replace
+from pathlib import Path
+
+import pytest
+import sympy as sp
+
+import registry
+from registry import Verdict, audit_case, load_case
+from registry.budget import Budget, BudgetExceeded, time_limit
+from registry.checks import CHECKS
+from registry.model import Expression
+from registry.workers import audit_in_workers
+
+CASES = Path(__file__).resolve().parents[1] / "data" / "cases"
+
+
+def test_time_limit_interrupts_python_code():
+    started = time.perf_counter()
+    with pytest.raises(BudgetExceeded):
+        with time_limit(0.3):
+            while True:
+                pass
+    assert time.perf_counter() - started < 1.5
+
+
+def test_time_limit_is_lifted_afterwards():
+    with time_limit(0.2):
+        pass
+    time.sleep(0.3)  # no stray alarm
+
+
+def test_an_expression_crafted_to_take_forever_ends_inconclusive_within_its_budget():
+    case = load_case(CASES / "zhukovsky-gyrostat.toml")
+    g1, g2, g3 = sp.symbols("gamma1 gamma2 gamma3", real=True)
+    k1 = case.parameters["k1"]
+    linear = g1 + g2 + g3 + k1 + 1
+    # identically zero, so no probe refutes it, but a proof must expand two powers
+    # of five-variable polynomials into ~10**5 terms each
+    zero = linear**40 - sp.expand(linear**2) ** 20
+    expr = case.claims[0].expression.expr + zero
+    claim = replace(case.claims[0], expression=Expression("crafted", expr))
+    started = time.perf_counter()
+    audit = audit_case(replace(case, claims=(claim,)), budget=Budget(check=1.0, repairs=1.0))
+    elapsed = time.perf_counter() - started
+    for check in ("integral", "casimir"):
+        result = audit.result(check, claim.label)
+        assert result.verdict is Verdict.INCONCLUSIVE
+        assert result.reason == "time budget exceeded (1 s)"
+    assert elapsed < 6  # two claim checks of 1 s, the repairs' 1 s, and the cheap checks
+
+
+def _stuck_in_c(m, *args):
+    """Simulates code the timer cannot interrupt: the alarm signal is blocked."""
+    signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGALRM})
+    time.sleep(120)
+
+
+def test_a_worker_stuck_where_the_timer_cannot_reach_is_killed_and_replaced(monkeypatch):
+    stuck = replace(CHECKS["energy"], run=_stuck_in_c)
+    monkeypatch.setitem(CHECKS, "energy", stuck)
+    cases = [
+        load_case(CASES / "zhukovsky-gyrostat.toml"),
+        load_case(CASES / "borisov-mamaev-1997.toml"),
+    ]
+    budget = Budget(check=0.5, repairs=0.5, margin=0.5)
+    started = time.perf_counter()
+    results = dict(audit_in_workers(cases, 1, budget))
+    assert time.perf_counter() - started < 30
+    for index, case in enumerate(cases):
+        audit = results[index]
+        assert audit.case == case.id
+        (only,) = audit.results
+        assert only.verdict is Verdict.INCONCLUSIVE
+        assert "worker killed" in only.reason
+
+
+def test_workers_give_the_same_verdicts_as_in_process():
+    cases = [
+        load_case(CASES / f"{n}.toml")
+        for n in ("zhukovsky-gyrostat", "affine-nonsymmetric", "borisov-mamaev-1997")
+    ]
+    parallel = dict(audit_in_workers(cases, 2, Budget()))
+    for index, case in enumerate(cases):
+        here = audit_case(case)
+        there = parallel[index]
+        assert [(r.check, r.claim, r.verdict) for r in there.results] == [
+            (r.check, r.claim, r.verdict) for r in here.results
+        ]
+        assert there.corrections == here.corrections
+
+
+def test_unchanged_cases_are_reused_and_fresh_recomputes(tmp_path):
+    reg = registry.open(tmp_path / "r.sqlite")
+    reg.add(CASES / "yehia-2003-kovalevskaya-b.toml", CASES / "zhukovsky-gyrostat.toml")
+    first = reg.audit(jobs=0)
+    second = reg.audit(jobs=0)
+    third = reg.audit(jobs=0, fresh=True)
+    runs = reg.runs().set_index("run")
+    assert runs.loc[first.run, "n_reused"] == 0
+    assert runs.loc[second.run, "n_reused"] == runs.loc[second.run, "n_results"] > 0
+    assert runs.loc[third.run, "n_reused"] == 0
+    assert first.document()["cases"] == second.document()["cases"]
+    assert _without_timings(third.document()["cases"]) == _without_timings(
+        first.document()["cases"]
+    )
+
+
+def _without_timings(cases):
+    """Timings differ between fresh runs; everything else must be identical."""
+    for case in cases:
+        for detail in case["details"].values():
+            detail.pop("seconds", None)
+        for claim in case["claims"]:
+            for detail in claim["details"].values():
+                detail.pop("seconds", None)
+    return cases
