@@ -1,0 +1,237 @@
+"""Benchmark of the audit, with ratios measured side by side in the same run.
+
+1. The seed catalog (data/cases), audited fresh: all checks and repairs, in
+   worker processes; then the same checks (no repairs) against a naive
+   baseline that applies plain ``sympy.simplify`` to every residual.
+2. A generated stress catalog (seeded): random polynomial and rational torques
+   mu = psi gamma + grad phi with a true claim (C = s + phi) and a false one.
+   Ours against the baseline on a sample, and the time per case as the catalog
+   grows, with peak memory.
+
+Usage: python scripts/bench_audit.py [--sizes 10 100 1000] [--baseline-sample 20]
+Nothing here is asserted by the tests: machines are shared and noisy.
+"""
+
+from __future__ import annotations
+
+import argparse
+import random
+import resource
+import time
+from pathlib import Path
+
+import sympy as sp
+
+import registry
+from registry import mechanics as mech
+from registry.audit import audit_case
+from registry.budget import Budget
+from registry.checks import Mechanics
+from registry.expressions import to_text
+from registry.model import Verdict
+from registry.workers import audit_in_workers, default_jobs
+
+ROOT = Path(__file__).resolve().parents[1]
+CHECKS = ["jacobi", "energy", "c1", "hamiltonian", "integral", "casimir"]
+
+
+# --- the naive baseline: the same residuals, plain simplify --------------------
+
+
+def naive_residuals(case) -> dict[tuple[str, str | None], list[sp.Expr]]:
+    m = Mechanics(case)
+    out = {
+        ("jacobi", None): list(m.jacobiator.values()),
+        ("energy", None): [mech.time_derivative(m.hamiltonian, m.field)],
+        ("c1", None): list(m.casimir_residual(mech.C1).values()),
+        ("hamiltonian", None): [
+            x - y
+            for x, y in zip(
+                m.field, mech.hamiltonian_vector_field(m.pi, m.hamiltonian), strict=True
+            )
+        ],
+    }
+    for claim in case.claims:
+        if claim.on:
+            continue
+        i = claim.expression.expr
+        out[("integral", claim.label)] = [mech.time_derivative(i, m.field)]
+        out[("casimir", claim.label)] = list(m.casimir_residual(i).values())
+    return out
+
+
+def naive_verdict(residuals: list[sp.Expr], rng: random.Random) -> str:
+    """verified if simplify gives 0 for every component; refuted if one is visibly
+    nonzero at a random floating-point point; otherwise undecided."""
+    simplified = [sp.simplify(r.subs(mech.s, mech.S_VALUE)) for r in residuals]
+    if all(r == 0 for r in simplified):
+        return "verified"
+    for r in simplified:
+        point = {x: rng.uniform(0.3, 1.3) for x in r.free_symbols}
+        try:
+            value = complex(r.evalf(subs=point))
+        except (TypeError, ValueError):
+            continue
+        if abs(value) > 1e-8:
+            return "refuted"
+    return "undecided"
+
+
+def naive_audit(cases) -> tuple[float, dict]:
+    rng = random.Random(0)
+    started = time.perf_counter()
+    verdicts = {}
+    for case in cases:
+        for key, residuals in naive_residuals(case).items():
+            verdicts[(case.id, *key)] = naive_verdict(residuals, rng)
+    return time.perf_counter() - started, verdicts
+
+
+def our_audit(cases, jobs: int = 0) -> tuple[float, dict]:
+    started = time.perf_counter()
+    if jobs:
+        audits = [a for _, a in audit_in_workers(cases, jobs, Budget())]
+    else:
+        audits = [audit_case(c, checks=CHECKS, repair=False) for c in cases]
+    elapsed = time.perf_counter() - started
+    verdicts = {(a.case, r.check, r.claim): str(r.verdict) for a in audits for r in a.results}
+    return elapsed, verdicts
+
+
+def disagreements(ours: dict, naive: dict) -> list:
+    """Keys where the baseline decides (verified/refuted) and we say the opposite."""
+    out = []
+    for key, theirs in naive.items():
+        mine = ours.get(key)
+        if theirs in ("verified", "refuted") and mine in ("verified", "refuted") and mine != theirs:
+            out.append((key, mine, theirs))
+    return out
+
+
+# --- the stress catalog ----------------------------------------------------------
+
+
+def _poly(rng: random.Random, degree: int, params: list[sp.Symbol]) -> sp.Expr:
+    g = mech.AXIS
+    terms = []
+    for _ in range(rng.randint(2, 5)):
+        mono = sp.Mul(*(rng.choice(g) for _ in range(rng.randint(1, degree))))
+        coeff = sp.Rational(rng.randint(-5, 5) or 1, rng.randint(1, 3))
+        terms.append(coeff * mono * (rng.choice(params) if rng.random() < 0.4 else 1))
+    return sp.Add(*terms)
+
+
+def stress_case_text(index: int, rng: random.Random) -> str:
+    p, q = sp.symbols("p q", real=True)
+    g1, g2, g3 = mech.AXIS
+    phi = _poly(rng, 3, [p, q])
+    psi = _poly(rng, 1, [p, q])
+    if index % 2:  # a rational torque
+        phi += p / (1 + g3**2)
+        psi += q / (1 + g1**2)
+    mu = [sp.expand(psi * g + sp.diff(phi, g)) for g in mech.AXIS]
+    potential = _poly(rng, 2, [p, q])
+    wrong = phi + sp.Rational(rng.randint(1, 4), rng.randint(1, 3)) * rng.choice(
+        [g1 * g2, g2 * g3**2, g1**3]
+    )
+    torque = ", ".join(f'"{to_text(m)}"' for m in mu)
+    return f'''id = "stress-{index:04d}"
+title = "Generated stress case {index}"
+[source]
+citation = "generated by scripts/bench_audit.py"
+[parameters]
+A = "positive"
+B = "positive"
+C = "positive"
+p = "real"
+q = "real"
+[system]
+inertia = ["A", "B", "C"]
+potential = "{to_text(potential)}"
+torque = [{torque}]
+[[claims]]
+label = "true"
+kind = "casimir"
+expression = "s + {to_text(phi)}"
+[[claims]]
+label = "false"
+kind = "{rng.choice(["casimir", "integral"])}"
+expression = "s + {to_text(wrong)}"
+'''
+
+
+def stress_catalog(n: int, seed: int = 2026) -> list:
+    rng = random.Random(seed)
+    return [registry.parse_case_text(stress_case_text(i, rng), f"stress-{i}") for i in range(n)]
+
+
+def peak_memory_mb() -> tuple[float, float]:
+    own = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+    children = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024
+    return own, children
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--sizes", type=int, nargs="*", default=[10, 100, 1000])
+    parser.add_argument("--baseline-sample", type=int, default=20)
+    parser.add_argument("--jobs", type=int, default=default_jobs())
+    args = parser.parse_args()
+
+    seed = [registry.load_case(p) for p in sorted((ROOT / "data" / "cases").glob("*.toml"))]
+    print(f"== seed catalog: {len(seed)} cases, {args.jobs} workers")
+    started = time.perf_counter()
+    full = dict(audit_in_workers(seed, args.jobs, Budget()))
+    wall = time.perf_counter() - started
+    print(f"fresh audit, all checks and repairs: {wall:.2f} s wall (target < 3 s)")
+    refuted = sum(r.verdict is Verdict.REFUTED for a in full.values() for r in a.results)
+    print(f"  {sum(len(a.results) for a in full.values())} results, {refuted} refuted")
+
+    ours_t, ours = our_audit(seed)
+    naive_t, naive = naive_audit(seed)
+    bad = disagreements(ours, naive)
+    print(
+        f"identical checks, one process: ours {ours_t:.2f} s, naive simplify {naive_t:.2f} s, "
+        f"ratio {naive_t / ours_t:.1f}x (target >= 5x)"
+    )
+    undecided = sum(v == "undecided" for v in naive.values())
+    print(
+        f"  disagreements where the baseline decides: {len(bad)} (target 0); "
+        f"baseline undecided on {undecided} of {len(naive)}"
+    )
+    for key, mine, theirs in bad:
+        print(f"    {key}: ours {mine}, baseline {theirs}")
+
+    print("== stress catalog (seeded)")
+    sample = stress_catalog(args.baseline_sample)
+    ours_t, ours = our_audit(sample)
+    naive_t, naive = naive_audit(sample)
+    bad = disagreements(ours, naive)
+    expected_ok = all(
+        ours[(c.id, "casimir", "true")] == "verified"
+        and ours[(c.id, str(c.claim("false").kind), "false")] == "refuted"
+        for c in sample
+    )
+    print(
+        f"{len(sample)} cases, identical checks: ours {ours_t:.2f} s, naive {naive_t:.2f} s, "
+        f"ratio {naive_t / ours_t:.1f}x; disagreements {len(bad)}; "
+        f"true claims verified and false ones refuted: {expected_ok}"
+    )
+    for n in args.sizes:
+        cases = stress_catalog(n)
+        started = time.perf_counter()
+        audits = dict(audit_in_workers(cases, args.jobs, Budget()))
+        wall = time.perf_counter() - started
+        inconclusive = sum(
+            r.verdict is Verdict.INCONCLUSIVE for a in audits.values() for r in a.results
+        )
+        own, children = peak_memory_mb()
+        print(
+            f"  {n:5d} cases: {wall:7.2f} s wall, {1000 * wall / n:6.1f} ms per case, "
+            f"{inconclusive} inconclusive, peak memory {own:.0f} MB (parent), "
+            f"{children:.0f} MB (largest worker)"
+        )
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,105 @@
+"""Benchmark against the closest peer, the PyPI package ``poissongeometry``.
+
+Same inputs, same run: for each case of the seed catalog without arbitrary
+functions, Pi_mu is handed to ``PoissonGeometry(6).is_poisson_bivector`` and
+each claim to ``is_casimir``; ours are the ``jacobi`` and ``casimir`` checks.
+Prints both times, their ratio, and any disagreement of the verdicts.
+
+Install the peer first: python -m pip install -e '.[peer]'
+Usage: python scripts/bench_peer.py [--cap SECONDS]
+
+The peer simplifies every Jacobiator component; where one call exceeds the cap
+(default 120 s) it is stopped and counted at the cap, so the ratio printed is
+then a lower bound.
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+from pathlib import Path
+
+import sympy as sp
+
+import registry
+from registry import mechanics as mech
+from registry.audit import audit_case
+from registry.budget import BudgetExceeded, time_limit
+
+try:
+    from poisson.poisson import PoissonGeometry
+except ImportError:  # the peer is an optional extra
+    raise SystemExit(
+        "poissongeometry is not installed: python -m pip install -e '.[peer]'"
+    ) from None
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def peer_inputs(case):
+    """Pi_mu as poissongeometry's bivector dict, and the claims, in its variables x1..x6."""
+    names = {v: sp.Symbol(f"x{i + 1}") for i, v in enumerate(mech.STATE)}
+    # parameters renamed: the peer sympifies strings, where names such as N or E are taken
+    names.update({p: sp.Symbol(f"c{i}") for i, p in enumerate(case.parameters.values())})
+
+    def text(expr):
+        return str(sp.sympify(expr).subs(mech.s, mech.S_VALUE).xreplace(names))
+
+    pi = mech.poisson_tensor(case.system.torque_exprs)
+    bivector = {(i + 1, j + 1): text(pi[i, j]) for i in range(6) for j in range(i + 1, 6)}
+    claims = {c.label: text(c.expression.expr) for c in case.claims if not c.on}
+    return bivector, claims
+
+
+def capped(call, cap: float):
+    """The peer's answer, or 'timeout' when it takes longer than ``cap`` seconds."""
+    try:
+        with time_limit(cap):
+            return call()
+    except BudgetExceeded:
+        return "timeout"
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--cap", type=float, default=120.0)
+    cap = parser.parse_args().cap
+    cases = [
+        c
+        for c in (registry.load_case(p) for p in sorted((ROOT / "data" / "cases").glob("*.toml")))
+        if not c.functions
+    ]
+    peer = PoissonGeometry(6)
+    ours_total = theirs_total = 0.0
+    disagreements = []
+    print(f"{'case':36} {'ours':>8} {'peer':>8}  verdicts (ours / peer)", flush=True)
+    for case in cases:
+        bivector, claims = peer_inputs(case)
+        started = time.perf_counter()
+        audit = audit_case(case, checks=["jacobi", "casimir"], repair=False)
+        ours = time.perf_counter() - started
+        started = time.perf_counter()
+        theirs = {"jacobi": capped(lambda b=bivector: peer.is_poisson_bivector(b), cap)}
+        for label, function in claims.items():
+            theirs[label] = capped(lambda b=bivector, f=function: peer.is_casimir(b, f), cap)
+        peer_time = time.perf_counter() - started
+        ours_total += ours
+        theirs_total += peer_time
+        mine = {"jacobi": audit.result("jacobi").verdict.value}
+        mine.update({lbl: audit.result("casimir", lbl).verdict.value for lbl in claims})
+        for key, value in theirs.items():
+            if value != "timeout" and (value is True) != (mine[key] == "verified"):
+                disagreements.append((case.id, key, mine[key], value))
+        shown = ", ".join(f"{k}: {mine[k]} / {theirs[k]}" for k in theirs)
+        print(f"{case.id:36} {ours:8.3f} {peer_time:8.3f}  {shown}", flush=True)
+    print(
+        f"total: ours {ours_total:.2f} s, poissongeometry {theirs_total:.2f} s, "
+        f"ratio {theirs_total / ours_total:.1f}x (target >= 20x)"
+    )
+    print(f"disagreements: {len(disagreements)}")
+    for d in disagreements:
+        print("  ", d)
+
+
+if __name__ == "__main__":
+    main()
