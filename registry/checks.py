@@ -16,6 +16,7 @@ from functools import cached_property
 
 import sympy as sp
 
+from . import fast
 from . import mechanics as mech
 from .model import Case, CheckResult, Claim, Verdict
 from .zero import Domain, ZeroTest, decide
@@ -136,7 +137,7 @@ def readable(expr: sp.Expr) -> sp.Expr:
 
     Factoring is skipped for very large residuals, which are shown as computed.
     """
-    expanded = sp.expand(expr.subs(mech.s, mech.S_VALUE))
+    expanded = fast.expand(expr.subs(mech.s, mech.S_VALUE))
     if sp.count_ops(expanded) > FACTOR_LIMIT:
         return expr
     return sp.factor(sp.together(expanded))

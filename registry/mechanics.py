@@ -21,6 +21,8 @@ from itertools import combinations
 
 import sympy as sp
 
+from . import fast
+
 M1, M2, M3 = sp.symbols("M1 M2 M3", real=True)
 gamma1, gamma2, gamma3 = sp.symbols("gamma1 gamma2 gamma3", real=True)
 s = sp.Symbol("s", real=True)
@@ -39,9 +41,9 @@ def total_diff(expr: sp.Expr, var: sp.Symbol) -> sp.Expr:
     if var not in STATE:
         raise ValueError(f"{var} is not a state variable")
     expr = sp.sympify(expr)
-    d = sp.diff(expr, var)
+    d = fast.diff(expr, var)
     if expr.has(s):
-        d += sp.diff(S_VALUE, var) * sp.diff(expr, s)
+        d += sp.diff(S_VALUE, var) * fast.diff(expr, s)
     return d
 
 

@@ -10,6 +10,7 @@ The decision is made in stages, cheapest first, and the stage is recorded:
    terms and arbitrary functions become new symbols, the result is a rational
    function whose numerator is reduced modulo the radical relations (and the
    level-set equations, by a Groebner basis). A zero remainder is a proof.
+   As a last resort, a small residual is handed to ``sympy.simplify``.
 3. Otherwise the residual vanished at every probe but no proof was found:
    ``inconclusive``, never ``verified``.
 """
@@ -81,7 +82,7 @@ def decide(
         return probe
     methods = set()
     for label, expr in live.items():
-        method = prove_zero(expr, domain.on)
+        method = prove_zero(expr, domain.on) or _simplified_to_zero(expr, domain.on)
         if method is None:
             return ZeroTest(
                 Verdict.INCONCLUSIVE,
@@ -93,7 +94,19 @@ def decide(
     return ZeroTest(Verdict.VERIFIED, max(methods, key=_METHOD_ORDER.index))
 
 
-_METHOD_ORDER = ["rational normal form", "algebraic normal form", "level-set reduction"]
+_METHOD_ORDER = ["rational normal form", "algebraic normal form", "level-set reduction", "simplify"]
+
+#: Residuals larger than this (sympy operations) are not handed to ``simplify``.
+SIMPLIFY_LIMIT = 400
+
+
+def _simplified_to_zero(expr: sp.Expr, on: Sequence[sp.Expr]) -> str | None:
+    """The last resort, for identities outside the normal forms' classes (such as
+    sin**2 + cos**2 = 1): sympy's ``simplify``, on small residuals only and, like
+    every stage, under the check's time budget."""
+    if on or sp.count_ops(expr) > SIMPLIFY_LIMIT:
+        return None
+    return "simplify" if sp.simplify(expr.subs(s, S_VALUE)) == 0 else None
 
 
 # --- stage 1: exact probes ---------------------------------------------------

@@ -2,6 +2,7 @@
 
 import sympy as sp
 
+from registry import zero
 from registry.certified import evaluate
 from registry.mechanics import AXIS, S_VALUE, gamma1, gamma2, gamma3, s
 from registry.model import Verdict
@@ -89,11 +90,18 @@ def test_transcendental_identities_with_branch_cuts_are_decided_correctly():
     assert result.verdict is Verdict.REFUTED and result.method == "interval probe"
 
 
-def test_true_identity_without_a_normal_form_is_inconclusive_not_verified():
+def test_identities_outside_the_normal_forms_fall_back_to_simplify():
+    r = sp.sin(gamma1) ** 2 + sp.cos(gamma1) ** 2 - 1
+    result = decide({"r": r}, DOMAIN)
+    assert result.verdict is Verdict.VERIFIED and result.method == "simplify"
+
+
+def test_a_residual_that_only_probes_say_is_zero_is_inconclusive(monkeypatch):
+    monkeypatch.setattr(zero, "SIMPLIFY_LIMIT", 0)  # no last resort
     r = sp.sin(gamma1) ** 2 + sp.cos(gamma1) ** 2 - 1
     result = decide({"r": r}, DOMAIN)
     assert result.verdict is Verdict.INCONCLUSIVE
-    assert "no symbolic proof" in result.reason
+    assert result.reason == "vanishes at 4 random points; no symbolic proof"
 
 
 def test_families_are_refuted_with_concrete_functions():
