@@ -192,9 +192,7 @@ def repairs(
     poisson = verdict.get(("jacobi", None))
     if poisson is Verdict.REFUTED:
         conditions.append(holds_when(m.jacobiator, m, "jacobi"))
-    refuted = [
-        c for c in m.case.claims if verdict.get((str(c.kind), c.label)) is Verdict.REFUTED
-    ]
+    refuted = [c for c in m.case.claims if verdict.get((str(c.kind), c.label)) is Verdict.REFUTED]
     own = None
     if poisson is Verdict.VERIFIED and (refuted or not m.case.claims):
         own = corrected_casimir(m, family)  # needed only where it is reported

@@ -226,13 +226,19 @@ def _groups(nu: Vector) -> list[Vector]:
     return [tuple(sp.Add(*terms) for terms in parts) for parts in keyed.values()]
 
 
-def _non_polynomial(term: sp.Expr) -> set[sp.Expr]:
-    found = set()
+def _non_polynomial(term: sp.Expr) -> set:
+    """What makes a term non-polynomial in gamma: radical bases, functions, and the
+    declared functions it involves (a gradient's components differentiate one phi
+    in different directions, so they are keyed by phi, not by the derivative)."""
+    found: set = set()
     for factor in sp.Mul.make_args(term):
         base, exp = factor.as_base_exp()
         if not base.free_symbols & set(AXIS) and not base.has(AppliedUndef):
             continue
-        if isinstance(factor, (sp.Function, sp.Derivative)) or not (exp.is_Integer and exp > 0):
+        declared = base.atoms(AppliedUndef)
+        if declared:
+            found.update(f.func for f in declared)
+        elif isinstance(factor, sp.Function) or not (exp.is_Integer and exp > 0):
             found.add(sp.expand(base) if exp.is_Rational else factor)
     return found
 

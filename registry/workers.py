@@ -35,15 +35,11 @@ def _context():
     return mp.get_context("fork" if "fork" in methods else "spawn")
 
 
-def warm_up() -> None:
-    """Do once, before forking, the slow first-time set-up of the sympy machinery the
-    audit uses (the integrator's lazy imports take ~0.4 s), so that every worker
-    inherits it instead of repeating it."""
-    z, r = sp.Symbol("z", real=True), sp.Symbol("r", positive=True)
-    sp.integrate(z**3 / (r**2 - z**2) ** sp.Rational(3, 2) + sp.cos(z) + 1 / z, z)
-    sp.solve([z**2 - r], [z], dict=True)
-    sp.groebner([z**2 - r], z, r, order="grevlex", domain=sp.QQ)
-    sp.factor(sp.cancel((z**2 - r**2) / (z - r)))
+def estimated_cost(case: Case) -> int:
+    """A rough size of the work a case needs: its expressions' operation counts, with
+    families of arbitrary functions weighted up. Used to start the largest cases first."""
+    exprs = [*case.system.torque, case.system.potential, *(c.expression for c in case.claims)]
+    return sum(sp.count_ops(e.expr) for e in exprs) + 100 * len(case.functions)
 
 
 def _serve(conn, budget: Budget) -> None:
@@ -118,9 +114,8 @@ def audit_in_workers(
     A worker that overruns its case's deadline is killed and replaced by a new one.
     """
     ctx = _context()
-    if ctx.get_start_method() == "fork" and len(cases) > 1:
-        warm_up()
-    pending = list(enumerate(cases))[::-1]
+    # largest first, so that no long case starts last while the other workers idle
+    pending = sorted(enumerate(cases), key=lambda item: estimated_cost(item[1]))
     workers = [_Worker(ctx, budget) for _ in range(min(max(1, jobs), len(cases)))]
     try:
         while True:

@@ -77,17 +77,23 @@ def decide(
     live = {k: e for k, e in residuals.items() if e != 0}
     if not live:
         return ZeroTest(Verdict.VERIFIED, "identically zero")
-    probe = _probe(live, domain, probes, random.Random(seed))
+    rng = random.Random(seed)
+    # one probe first: a false identity is almost always refuted there, and a true
+    # one goes straight to its proof; the other probes are spent only if that fails
+    probe = _probe(live, domain, 1, rng)
     if probe is not None:
         return probe
     methods = set()
     for label, expr in live.items():
         method = prove_zero(expr, domain.on) or _simplified_to_zero(expr, domain.on)
         if method is None:
+            more = _probe(live, domain, probes - 1, rng) if probes > 1 else None
+            if more is not None:
+                return more
             return ZeroTest(
                 Verdict.INCONCLUSIVE,
                 "exact probes",
-                reason=f"vanishes at {probes} random points; no symbolic proof",
+                reason=f"vanishes at {max(probes, 1)} random points; no symbolic proof",
                 component=label,
             )
         methods.add(method)
@@ -357,14 +363,25 @@ def _concrete_functions(functions, rng: random.Random) -> dict[str, sp.Lambda]:
 
 
 def _substitute_functions(expr: sp.Expr, funcs: Mapping[str, sp.Lambda]) -> sp.Expr:
-    """Replace each declared function by its concrete choice and evaluate derivatives."""
+    """Replace each declared function by its concrete choice and its derivatives by the
+    derivatives of that choice (one substitution; ``replace`` + ``doit`` where other
+    structures such as Subs appear)."""
     if not funcs or not expr.has(AppliedUndef):
         return expr
+    if expr.has(sp.Subs):
 
-    def concrete(e) -> bool:
-        return isinstance(e, AppliedUndef) and e.func.__name__ in funcs
+        def concrete(e) -> bool:
+            return isinstance(e, AppliedUndef) and e.func.__name__ in funcs
 
-    return expr.replace(concrete, lambda e: funcs[e.func.__name__](*e.args)).doit()
+        return expr.replace(concrete, lambda e: funcs[e.func.__name__](*e.args)).doit()
+    mapping: dict[sp.Expr, sp.Expr] = {}
+    for f in expr.atoms(AppliedUndef):
+        if f.func.__name__ in funcs:
+            mapping[f] = funcs[f.func.__name__](*f.args)
+    for d in expr.atoms(sp.Derivative):
+        if d.expr in mapping:
+            mapping[d] = sp.diff(mapping[d.expr], *d.variable_count)
+    return expr.xreplace(mapping)
 
 
 # --- stage 2: proof by normal form ------------------------------------------
