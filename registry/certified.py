@@ -46,9 +46,6 @@ class Value:
             return self.exact != 0
         return not (self.interval.a <= 0 <= self.interval.b)  # type: ignore[union-attr]
 
-    def possibly_zero(self) -> bool:
-        return not self.certainly_nonzero()
-
     def text(self) -> str:
         """The value for a witness: the exact rational, or the certified enclosure."""
         if self.exact is not None:

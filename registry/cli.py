@@ -220,6 +220,19 @@ def export_case(case_id: str, claim: str | None, kind: str, output: str | None) 
         click.echo(f"wrote {output}", err=True)
 
 
+@main.command("checks")
+def list_checks() -> None:
+    """List the checks the audit runs, each with the statement it tests.
+
+    Example: registry checks
+    """
+    from .checks import CHECKS
+
+    for spec in CHECKS.values():
+        scope = "per claim" if spec.per_claim else "per case"
+        click.echo(f"{spec.name:12} {scope:9} {spec.cost:9} {spec.statement}")
+
+
 @main.command()
 @_user_errors
 def runs() -> None:

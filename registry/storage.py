@@ -623,11 +623,7 @@ class Store:
         with self._read() as session:
             stmt = select(CaseRow)
             if latest_only:
-                newest = (
-                    select(CaseRow.case_id, func.max(CaseRow.version).label("version"))
-                    .group_by(CaseRow.case_id)
-                    .subquery()
-                )
+                newest = _newest_versions()
                 stmt = stmt.join(
                     newest,
                     (CaseRow.case_id == newest.c.case_id) & (CaseRow.version == newest.c.version),
@@ -774,11 +770,7 @@ class Store:
             .group_by(ClaimRow.case_pk)
             .subquery()
         )
-        newest = (
-            select(CaseRow.case_id, func.max(CaseRow.version).label("version"))
-            .group_by(CaseRow.case_id)
-            .subquery()
-        )
+        newest = _newest_versions()
         stmt = (
             select(
                 CaseRow.case_id.label("case"),
@@ -804,11 +796,7 @@ class Store:
     @_guarded
     def claims_frame(self) -> pd.DataFrame:
         """One row per claim of each newest case version, in file order."""
-        newest = (
-            select(CaseRow.case_id, func.max(CaseRow.version).label("version"))
-            .group_by(CaseRow.case_id)
-            .subquery()
-        )
+        newest = _newest_versions()
         stmt = (
             select(
                 CaseRow.case_id.label("case"),
@@ -929,6 +917,15 @@ class Store:
         with self._engine.connect() as conn:
             result = conn.execute(stmt)
             return _frame(result.all(), list(result.keys()))
+
+
+def _newest_versions():
+    """A subquery of (case_id, version) for the newest version of every case."""
+    return (
+        select(CaseRow.case_id, func.max(CaseRow.version).label("version"))
+        .group_by(CaseRow.case_id)
+        .subquery()
+    )
 
 
 def _stored(row: CaseRow) -> StoredCase:

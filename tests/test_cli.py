@@ -525,3 +525,13 @@ def test_export_unknown_case(tmp_path):
     errors = error_lines(result)
     assert len(errors) == 1 and errors[0].startswith("Error:")
     assert "no-such-case" in errors[0]
+
+
+def test_checks_lists_every_registered_check_with_its_statement():
+    from registry.checks import CHECKS
+
+    result = invoke(None, "checks")
+    assert result.exit_code == 0
+    lines = result.stdout.splitlines()
+    assert [line.split()[0] for line in lines] == list(CHECKS)
+    assert any("Jacobi identity" in line for line in lines)
