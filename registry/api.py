@@ -140,6 +140,7 @@ class Registry:
         fresh: bool = False,
         jobs: int | None = None,
         budget: Budget | None = None,
+        numeric: bool = False,
         progress: Callable[[str], None] | None = None,
     ) -> AuditReport:
         """Audit the latest version of every case (or the named ones) and store the run.
@@ -147,7 +148,9 @@ class Registry:
         Results of a case version already audited by this code version are reused
         (recorded as reused) unless ``fresh``. The others are audited in ``jobs``
         worker processes (default: one per core; 0 audits in this process), each
-        check under ``budget``. Each case's results are committed as it finishes;
+        check under ``budget``. With ``numeric``, each claim also gets numerical
+        evidence (drift of I against that of H along integrated trajectories).
+        Each case's results are committed as it finishes;
         a case that fails to load or crashes is recorded as ``error``, one that
         overruns its budget as ``inconclusive``, and the others go on.
         """
@@ -160,6 +163,7 @@ class Registry:
             "fresh": fresh,
             "jobs": jobs,
             "budget": asdict(budget),
+            "numeric": numeric,
         }
         run = self.store.start_run(options, version)
         audits: dict[int, CaseAudit] = {}
@@ -176,12 +180,15 @@ class Registry:
                     continue
                 cases[case.id] = case
                 prior = None if fresh else _reusable(self.store.stored_audit(row.pk, version))
+                if prior is not None and numeric and len(prior.evidence) < len(case.claims):
+                    prior = None  # stored without numerical evidence
                 if prior is not None:
                     audits[i] = prior
                     self.store.record_case(run, row.pk, prior, reused=True)
                 else:
                     todo.append((i, case))
-            for k, audit in self._compute([c for _, c in todo], jobs, budget, progress):
+            computed = self._compute([c for _, c in todo], jobs, budget, numeric, progress)
+            for k, audit in computed:
                 i = todo[k][0]
                 audits[i] = audit
                 self.store.record_case(run, stored[i].pk, audit)
@@ -196,7 +203,7 @@ class Registry:
         return AuditReport(run, ordered, cases, versions)
 
     @staticmethod
-    def _compute(cases, jobs, budget, progress):
+    def _compute(cases, jobs, budget, numeric, progress):
         """(index, audit) for each case, in workers or (jobs == 0) in this process."""
 
         def started(case: Case) -> None:
@@ -206,9 +213,9 @@ class Registry:
         if jobs == 0:
             for k, case in enumerate(cases):
                 started(case)
-                yield k, audit_case(case, budget=budget)
+                yield k, audit_case(case, budget=budget, numeric=numeric)
         else:
-            yield from audit_in_workers(cases, jobs, budget, started)
+            yield from audit_in_workers(cases, jobs, budget, started, numeric)
 
     # --- queries ----------------------------------------------------------
 

@@ -7,6 +7,7 @@ the run.
 
 from __future__ import annotations
 
+import math
 import time
 from collections.abc import Iterable
 from dataclasses import replace
@@ -14,7 +15,17 @@ from dataclasses import replace
 from .budget import Budget, BudgetExceeded, time_limit
 from .checks import CHECKS, CheckSpec, Mechanics
 from .corrections import repairs
-from .model import Case, CaseAudit, CheckResult, Claim, ClaimKind, FamilyRecord, Verdict
+from .model import (
+    Case,
+    CaseAudit,
+    CheckResult,
+    Claim,
+    ClaimKind,
+    Evidence,
+    FamilyRecord,
+    Verdict,
+)
+from .numeric import evidence as numeric_evidence
 
 #: Budgets used when none is given: a few seconds per check.
 DEFAULT_BUDGET = Budget()
@@ -29,6 +40,7 @@ def audit_case(
     *,
     repair: bool | None = None,
     budget: Budget | None = DEFAULT_BUDGET,
+    numeric: bool = False,
 ) -> CaseAudit:
     """Run the named checks (default: all) on ``case``; a crash becomes an ``error`` result.
 
@@ -36,6 +48,7 @@ def audit_case(
     repairs of refuted claims and the conditions for failed identities are derived.
     Each check runs under ``budget.check`` seconds and the repairs under
     ``budget.repairs``; one that runs out is ``inconclusive: time budget exceeded``.
+    With ``numeric``, every claim also gets numerical evidence (``numeric``).
     """
     wanted = set(CHECKS) if checks is None else set(checks)
     unknown = wanted - set(CHECKS)
@@ -56,7 +69,32 @@ def audit_case(
     audit = CaseAudit(case.id, case.content_hash, tuple(results))
     if repair if repair is not None else checks is None:
         audit = _with_repairs(audit, mech, budget.repairs if budget else None)
+    if numeric:
+        audit = _with_evidence(audit, mech, budget.repairs if budget else None)
     return audit
+
+
+def _with_evidence(audit: CaseAudit, mech: Mechanics, seconds: float | None) -> CaseAudit:
+    verdicts = {
+        c.label: r.verdict
+        for c in mech.case.claims
+        for r in audit.results
+        if r.claim == c.label and r.check == str(c.kind)
+    }
+    try:
+        with time_limit(seconds):
+            found = numeric_evidence(mech, verdicts)
+    except BudgetExceeded:
+        found = tuple(
+            Evidence(c.label, math.nan, math.nan, 0, note="time budget exceeded")
+            for c in mech.case.claims
+        )
+    except Exception as exc:  # evidence must not lose the verdicts
+        found = tuple(
+            Evidence(c.label, math.nan, math.nan, 0, note=f"{type(exc).__name__}: {exc}")
+            for c in mech.case.claims
+        )
+    return replace(audit, evidence=found)
 
 
 def count_checks(case: Case) -> int:

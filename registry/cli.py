@@ -18,7 +18,7 @@ import pandas as pd
 from .api import Registry, default_target, open_registry
 from .audit import DEFAULT_BUDGET
 from .errors import RegistryError
-from .report import verdict_table
+from .report import disagreements, verdict_table
 
 
 def _report(err: Exception) -> None:
@@ -108,6 +108,16 @@ def add(paths: tuple[str, ...]) -> None:
     default=None,
     help=f"Seconds allowed to each check (default {DEFAULT_BUDGET.check:g}).",
 )
+@click.option(
+    "--numeric",
+    is_flag=True,
+    help="Add numerical evidence: drift of each claim along trajectories.",
+)
+@click.option(
+    "--strict",
+    is_flag=True,
+    help="Implies --numeric; exit with status 1 when numbers contradict a symbolic verdict.",
+)
 @_user_errors
 def audit(
     case_ids: tuple[str, ...],
@@ -115,6 +125,8 @@ def audit(
     fresh: bool,
     jobs: int | None,
     check_budget: float | None,
+    numeric: bool,
+    strict: bool,
 ) -> None:
     """Re-check every claim of every case (or the named ones) and store the run.
 
@@ -131,12 +143,26 @@ def audit(
             click.echo(f"auditing {case_id} ...", err=True)
 
     budget = replace(DEFAULT_BUDGET, check=check_budget) if check_budget else DEFAULT_BUDGET
-    report = reg.audit(case_ids or None, fresh=fresh, jobs=jobs, budget=budget, progress=progress)
+    report = reg.audit(
+        case_ids or None,
+        fresh=fresh,
+        jobs=jobs,
+        budget=budget,
+        numeric=numeric or strict,
+        progress=progress,
+    )
     document = report.document()
     if as_json:
         click.echo(json.dumps(document, indent=2, ensure_ascii=False))
     else:
         click.echo(verdict_table(document))
+    contradicted = disagreements(document)
+    if strict and contradicted:
+        click.echo(
+            f"Error: numerical evidence contradicts the verdict of {', '.join(contradicted)}",
+            err=True,
+        )
+        sys.exit(1)
 
 
 def _print_frame(frame: pd.DataFrame) -> None:

@@ -275,6 +275,32 @@ class FamilyRecord:
 
 
 @dataclass(frozen=True)
+class Evidence:
+    """Numerical evidence for a claim: the largest relative drift of I along integrated
+    trajectories, that of H (the noise floor), how many runs, and whether the numbers
+    contradict the symbolic verdict."""
+
+    claim: str
+    drift: float
+    floor: float
+    runs: int
+    contradicts: bool = False
+    note: str = ""
+
+    def as_dict(self) -> dict:
+        def number(x: float) -> float | None:
+            return None if x != x else x  # NaN (no run) is not JSON
+
+        return {
+            "drift": number(self.drift),
+            "floor": number(self.floor),
+            "runs": self.runs,
+            "agrees": not self.contradicts,
+            **({"note": self.note} if self.note else {}),
+        }
+
+
+@dataclass(frozen=True)
 class CaseAudit:
     """All check results for one case version, with the repairs derived from them."""
 
@@ -284,6 +310,7 @@ class CaseAudit:
     family: FamilyRecord | None = None
     corrections: tuple[Correction, ...] = ()
     conditions: tuple[Conditions, ...] = ()
+    evidence: tuple[Evidence, ...] = ()
 
     def result(self, check: str, claim: str | None = None) -> CheckResult:
         """The result of ``check`` (on ``claim``); KeyError if it was not run."""

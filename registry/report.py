@@ -78,6 +78,9 @@ def case_document(audit: CaseAudit, case: Case | None, version: int | None = Non
                 per["invariant"] = kept
                 entry["invariant"] = str(kept.verdict)
         entry["details"] = {name: _detail(r) for name, r in per.items()}
+        numbers = [e for e in audit.evidence if e.claim == claim.label]
+        if numbers:
+            entry["numeric"] = numbers[0].as_dict()
         repairs = [c.as_dict() for c in audit.corrections if c.claim == claim.label]
         if repairs:
             entry["corrections"] = repairs
@@ -105,6 +108,16 @@ def audit_document(
         "run": run,
         "cases": [case_document(a, cases.get(a.case), versions.get(a.case)) for a in audits],
     }
+
+
+def disagreements(document: dict) -> list[str]:
+    """Claims whose numerical evidence contradicts their symbolic verdict."""
+    return [
+        f"{case['case']}/{claim['label']}"
+        for case in document["cases"]
+        for claim in case["claims"]
+        if claim.get("numeric") and not claim["numeric"]["agrees"]
+    ]
 
 
 def verdict_table(document: dict) -> str:
@@ -139,6 +152,14 @@ def verdict_table(document: dict) -> str:
                     claim["verdict"],
                 )
             )
+            numeric = claim.get("numeric")
+            if numeric and not numeric["agrees"]:
+                notes.insert(
+                    0,
+                    f"DISAGREEMENT {case['case']}/{claim['label']}: verdict "
+                    f"{claim['verdict']} but the drift of I is {numeric['drift']:.2e} "
+                    f"against {numeric['floor']:.2e} for H",
+                )
             for prop in ("integral", "casimir", "invariant"):
                 detail = claim["details"].get(prop)
                 if detail and detail["verdict"] in ("inconclusive", "error"):
@@ -158,6 +179,12 @@ def verdict_table(document: dict) -> str:
     run = f"run {document['run']}: " if document.get("run") is not None else ""
     lines.append("")
     lines.append(f"{run}{n_cases} cases, {sum(counts.values())} claims ({summary or 'none'})")
+    with_numbers = [c for case in document["cases"] for c in case["claims"] if c.get("numeric")]
+    if with_numbers:
+        agree = sum(c["numeric"]["agrees"] for c in with_numbers)
+        lines.append(
+            f"numeric evidence: {agree} of {len(with_numbers)} claims agree with their verdicts"
+        )
     lines.extend(f"  note: {n}" for n in notes)
     if repairs:
         lines += ["", "Repairs (each re-checked):", *repairs]

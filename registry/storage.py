@@ -57,6 +57,7 @@ from .model import (
     Claim,
     Conditions,
     Correction,
+    Evidence,
     FamilyRecord,
     Verdict,
     Witness,
@@ -231,6 +232,22 @@ class CorrectionRow(Base):
     method: Mapped[str] = mapped_column(Text, default="")
     verdict: Mapped[str] = mapped_column(Text, default="")
     payload: Mapped[dict[str, Any]] = mapped_column(JSON)
+
+
+class EvidenceRow(Base):
+    """Numerical evidence for one claim in one run: drift of I, of H, runs, agreement."""
+
+    __tablename__ = "evidence"
+
+    id: Mapped[int] = mapped_column(primary_key=True)
+    run_id: Mapped[int] = mapped_column(ForeignKey("audit_runs.id"), index=True)
+    case_pk: Mapped[int] = mapped_column(ForeignKey("cases.id"), index=True)
+    claim_id: Mapped[int] = mapped_column(ForeignKey("claims.id"))
+    drift: Mapped[float | None] = mapped_column(Float)
+    floor: Mapped[float | None] = mapped_column(Float)
+    runs: Mapped[int]
+    contradicts: Mapped[bool] = mapped_column(Boolean, default=False)
+    note: Mapped[str] = mapped_column(Text, default="")
 
 
 # --------------------------------------------------------------------------- views
@@ -699,6 +716,20 @@ class Store:
                         f"case {case.case_id!r} version {case.version} has no claim {label!r}"
                     )
             session.add_all(_correction_rows(run_id, case_pk, audit, claim_ids))
+            session.add_all(
+                EvidenceRow(
+                    run_id=run_id,
+                    case_pk=case_pk,
+                    claim_id=claim_ids[e.claim],
+                    drift=_finite(e.drift),
+                    floor=_finite(e.floor),
+                    runs=e.runs,
+                    contradicts=e.contradicts,
+                    note=e.note,
+                )
+                for e in audit.evidence
+                if e.claim in claim_ids
+            )
             for result in audit.results:
                 session.add(
                     ResultRow(
@@ -983,6 +1014,15 @@ def _correction_rows(
     return rows
 
 
+def _nan(x: float | None) -> float:
+    return float("nan") if x is None else x
+
+
+def _finite(x: float) -> float | None:
+    """NaN (no run) is stored as NULL."""
+    return None if x != x else float(x)
+
+
 def _derived(rows: Iterable[CorrectionRow]) -> dict:
     """CaseAudit fields rebuilt from correction rows."""
     family, corrections, conditions = None, [], []
@@ -1029,9 +1069,20 @@ def _audits(session: Session, where: Any) -> list[tuple[str, CaseAudit]]:
             .where(CorrectionRow.run_id == run_id, CorrectionRow.case_pk == case_pk)
             .order_by(CorrectionRow.id)
         )
-        audits.append(
-            (case_id, CaseAudit(case_id, content_hash, tuple(results), **_derived(derived)))
+        found = session.execute(
+            select(EvidenceRow, ClaimRow.label)
+            .join(ClaimRow, ClaimRow.id == EvidenceRow.claim_id)
+            .where(EvidenceRow.run_id == run_id, EvidenceRow.case_pk == case_pk)
+            .order_by(EvidenceRow.id)
+        ).all()
+        evidence = tuple(
+            Evidence(label, _nan(e.drift), _nan(e.floor), e.runs, e.contradicts, e.note)
+            for e, label in found
         )
+        audit = CaseAudit(
+            case_id, content_hash, tuple(results), **_derived(derived), evidence=evidence
+        )
+        audits.append((case_id, audit))
     return audits
 
 

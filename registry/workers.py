@@ -42,7 +42,7 @@ def estimated_cost(case: Case) -> int:
     return sum(sp.count_ops(e.expr) for e in exprs) + 100 * len(case.functions)
 
 
-def _serve(conn, budget: Budget) -> None:
+def _serve(conn, budget: Budget, numeric: bool) -> None:
     """A worker: audit each case received until told to stop (None)."""
     while True:
         try:
@@ -52,7 +52,7 @@ def _serve(conn, budget: Budget) -> None:
         if case is None:
             return
         try:
-            conn.send(audit_case(case, budget=budget))
+            conn.send(audit_case(case, budget=budget, numeric=numeric))
         except BaseException as exc:  # report, never hang the parent
             conn.send(exc)
 
@@ -60,9 +60,9 @@ def _serve(conn, budget: Budget) -> None:
 class _Worker:
     """A long-lived audit process (its sympy caches stay warm from case to case)."""
 
-    def __init__(self, ctx, budget: Budget):
+    def __init__(self, ctx, budget: Budget, numeric: bool):
         self.conn, child = ctx.Pipe()
-        self.proc = ctx.Process(target=_serve, args=(child, budget), daemon=True)
+        self.proc = ctx.Process(target=_serve, args=(child, budget, numeric), daemon=True)
         self.proc.start()
         child.close()
         self.task: tuple[int, float, float] | None = None  # (index, deadline, seconds)
@@ -108,6 +108,7 @@ def audit_in_workers(
     jobs: int,
     budget: Budget,
     started: Callable[[Case], None] | None = None,
+    numeric: bool = False,
 ) -> Iterator[tuple[int, CaseAudit]]:
     """Audit ``cases`` in up to ``jobs`` processes; yield (index, audit) as each finishes.
 
@@ -116,7 +117,7 @@ def audit_in_workers(
     ctx = _context()
     # largest first, so that no long case starts last while the other workers idle
     pending = sorted(enumerate(cases), key=lambda item: estimated_cost(item[1]))
-    workers = [_Worker(ctx, budget) for _ in range(min(max(1, jobs), len(cases)))]
+    workers = [_Worker(ctx, budget, numeric) for _ in range(min(max(1, jobs), len(cases)))]
     try:
         while True:
             for w in workers:
@@ -141,7 +142,7 @@ def audit_in_workers(
                     except EOFError:  # the worker died: report it and replace it
                         yield index, crashed(cases[index], f"worker died ({w.proc.exitcode})")
                         w.stop(kill=True)
-                        workers[i] = _Worker(ctx, budget)
+                        workers[i] = _Worker(ctx, budget, numeric)
                         continue
                     if isinstance(outcome, CaseAudit):
                         yield index, outcome
@@ -149,7 +150,7 @@ def audit_in_workers(
                         yield index, crashed(cases[index], f"{type(outcome).__name__}: {outcome}")
                 elif time.monotonic() >= deadline:  # stuck where the timer cannot reach
                     w.stop(kill=True)
-                    workers[i] = _Worker(ctx, budget)
+                    workers[i] = _Worker(ctx, budget, numeric)
                     yield index, killed(cases[index], seconds)
     finally:
         for w in workers:
