@@ -62,15 +62,22 @@ class Drift:
         return {"drift": self.drift, "floor": self.floor, "runs": self.runs, "note": self.note}
 
 
-def claim_drift(m: Mechanics, claim: Claim, seed: int = 0, runs: int = RUNS) -> Drift:
-    """Integrate from ``runs`` random points of the claim's level set; measure the drifts."""
-    rng = random.Random(seed)
+def _setup(m: Mechanics, claim: Claim, rng: random.Random):
+    """Where to start (the claim's level set, on |gamma| = 1 unless it fixes gamma), the
+    concrete functions of a family, and the vector field, H and I ready to evaluate."""
     funcs = _concrete_functions(m.case.functions, rng)
-    sphere = mech.C1 * 2 - 1
     on = tuple(eq.expr for eq in claim.on)
+    sphere = mech.C1 * 2 - 1
     domain = m.domain.restricted(on if any(e.has(*mech.AXIS) for e in on) else (*on, sphere))
     exprs = [*m.field, m.hamiltonian, claim.expression.expr]
     exprs = [_substitute_functions(e, funcs).subs(mech.s, mech.S_VALUE) for e in exprs]
+    return domain, funcs, exprs
+
+
+def claim_drift(m: Mechanics, claim: Claim, seed: int = 0, runs: int = RUNS) -> Drift:
+    """Integrate from ``runs`` random points of the claim's level set; measure the drifts."""
+    rng = random.Random(seed)
+    domain, funcs, exprs = _setup(m, claim, rng)
     drifts, floors, notes = [], [], []
     attempts = 0
     while len(drifts) < runs and attempts < 4 * runs:
@@ -90,8 +97,50 @@ def claim_drift(m: Mechanics, claim: Claim, seed: int = 0, runs: int = RUNS) -> 
     return Drift(claim.label, max(drifts), max(floors), len(drifts))
 
 
+@dataclass(frozen=True)
+class Trajectory:
+    """One integrated trajectory: times and the changes I(t) - I(0), H(t) - H(0)."""
+
+    claim: str
+    t: np.ndarray
+    di: np.ndarray
+    dh: np.ndarray
+    start: dict[str, float]
+
+
+def trajectory(m: Mechanics, claim: Claim, seed: int = 0, t_end: float = T_END) -> Trajectory:
+    """The first trajectory ``claim_drift`` would integrate (same seed, same start), in full.
+
+    Raises ValueError when no trajectory could be integrated.
+    """
+    rng = random.Random(seed)
+    domain, funcs, exprs = _setup(m, claim, rng)
+    for _ in range(4 * RUNS):
+        point = _sample_point(domain, rng, funcs)
+        if point is None:
+            continue
+        params = {p: point[p] for p in m.domain.parameters}
+        y0 = [float(point[v]) for v in mech.STATE]
+        run = _solve([e.xreplace(params) for e in exprs], y0, t_end)
+        if isinstance(run, str):
+            continue
+        t, hs, is_ = run
+        start = {str(k): float(v) for k, v in point.items()}
+        return Trajectory(claim.label, t, is_ - is_[0], hs - hs[0], start)
+    raise ValueError(f"no trajectory could be integrated for claim {claim.label!r}")
+
+
 def _integrate(exprs: list[sp.Expr], y0: list[float]) -> tuple[float, float] | str:
     """(drift of I, drift of H) along one trajectory, or why it failed."""
+    run = _solve(exprs, y0, T_END)
+    if isinstance(run, str):
+        return run
+    _, hs, is_ = run
+    return _relative(is_), _relative(hs)
+
+
+def _solve(exprs: list[sp.Expr], y0: list[float], t_end: float):
+    """(times, H, I) along the trajectory from y0, or why it failed."""
     field = sp.lambdify([mech.STATE], exprs[:6], modules="numpy")
     h = sp.lambdify([mech.STATE], exprs[6], modules="numpy")
     i = sp.lambdify([mech.STATE], exprs[7], modules="numpy")
@@ -100,12 +149,12 @@ def _integrate(exprs: list[sp.Expr], y0: list[float]) -> tuple[float, float] | s
         try:
             sol = solve_ivp(
                 lambda t, y: np.asarray(field(y), dtype=float),
-                (0.0, T_END),
+                (0.0, t_end),
                 y0,
                 method="DOP853",
                 rtol=RTOL,
                 atol=ATOL,
-                t_eval=np.linspace(0.0, T_END, 101),
+                t_eval=np.linspace(0.0, t_end, 201),
             )
         except (ValueError, ZeroDivisionError, OverflowError, TypeError) as exc:
             return f"integration failed: {exc}"
@@ -115,7 +164,7 @@ def _integrate(exprs: list[sp.Expr], y0: list[float]) -> tuple[float, float] | s
         is_ = np.array([i(y) for y in sol.y.T], dtype=float)
     if not (np.all(np.isfinite(hs)) and np.all(np.isfinite(is_))):
         return "the trajectory reached a singular set"
-    return _relative(is_), _relative(hs)
+    return sol.t, hs, is_
 
 
 def _relative(values: np.ndarray) -> float:
