@@ -10,6 +10,7 @@ motion symbolically, and query the verdicts with pandas::
     reg.verdicts()
 """
 
+from . import display  # noqa: F401 - installs the Jupyter reprs of cases and audits
 from .api import AddResult, AuditReport, Registry, open_registry
 from .audit import audit_case
 from .casefile import load_case, parse_case_text

@@ -135,22 +135,29 @@ def audit(
 
     Example: registry audit --case yehia-2003-kovalevskaya-b --json
     """
-    reg = _registry()
-    progress = None
-    if not as_json and sys.stderr.isatty():
+    from tqdm import tqdm
 
-        def progress(case_id: str) -> None:
-            click.echo(f"auditing {case_id} ...", err=True)
+    reg = _registry()
+    total = len(reg.store.case_versions(list(case_ids) or None))
+    quiet = as_json or not sys.stderr.isatty()
+    bar = tqdm(total=total, unit="case", file=sys.stderr, disable=quiet, leave=False)
+
+    def progress(case_id: str) -> None:
+        bar.set_postfix_str(case_id, refresh=False)
+        bar.update()
 
     budget = replace(DEFAULT_BUDGET, check=check_budget) if check_budget else DEFAULT_BUDGET
-    report = reg.audit(
-        case_ids or None,
-        fresh=fresh,
-        jobs=jobs,
-        budget=budget,
-        numeric=numeric or strict,
-        progress=progress,
-    )
+    try:
+        report = reg.audit(
+            case_ids or None,
+            fresh=fresh,
+            jobs=jobs,
+            budget=budget,
+            numeric=numeric or strict,
+            progress=progress,
+        )
+    finally:
+        bar.close()
     document = report.document()
     if as_json:
         click.echo(json.dumps(document, indent=2, ensure_ascii=False))
@@ -214,6 +221,46 @@ def corrections(run: int | None) -> None:
     _print_frame(frame.drop(columns=["payload"]) if "payload" in frame else frame)
 
 
+@main.command()
+@click.option(
+    "--format",
+    "fmt",
+    type=click.Choice(["csv", "json", "parquet"]),
+    default=None,
+    help="Write the tables cases, claims, verdicts, all_results, repairs and runs.",
+)
+@click.option("--bibtex", is_flag=True, help="Write the sources of the cases as BibTeX.")
+@click.option(
+    "-o",
+    "--output",
+    type=click.Path(),
+    default=None,
+    help="Folder for the tables (default ./export); file for --bibtex (default: standard output).",
+)
+@_user_errors
+def export(fmt: str | None, bibtex: bool, output: str | None) -> None:
+    """Publish the registry: its tables as data files, or its sources as BibTeX.
+
+    Example: registry export --format parquet -o export
+    """
+    from pathlib import Path
+
+    from . import sharing
+
+    if (fmt is None) == (not bibtex):
+        raise click.UsageError("give exactly one of --format and --bibtex")
+    if fmt is not None:
+        for path in sharing.export_tables(_registry(), Path(output or "export"), fmt):
+            click.echo(str(path))
+        return
+    text = sharing.bibtex(_registry())
+    if output is None:
+        click.echo(text, nl=False)
+    else:
+        Path(output).write_text(text, encoding="utf-8")
+        click.echo(output)
+
+
 @main.command("export-case")
 @click.argument("case_id")
 @click.option("--claim", default=None, metavar="LABEL", help="The claim whose repair to use.")
@@ -257,6 +304,61 @@ def list_checks() -> None:
     for spec in CHECKS.values():
         scope = "per claim" if spec.per_claim else "per case"
         click.echo(f"{spec.name:12} {scope:9} {spec.cost:9} {spec.statement}")
+
+
+@main.command()
+@click.option("--run", type=int, default=None, help="Report on this run (default: newest).")
+@click.option(
+    "--format",
+    "fmt",
+    type=click.Choice(["md", "html", "tex"]),
+    default="md",
+    show_default=True,
+    help="Markdown, one self-contained HTML file, or a LaTeX fragment to \\input.",
+)
+@click.option(
+    "-o",
+    "--output",
+    type=click.Path(dir_okay=False),
+    default=None,
+    help="Write to this file (default: report.<format> in the current directory).",
+)
+@click.option(
+    "--plots/--no-plots",
+    default=True,
+    help="Drift plots of refuted claims (PNG next to the file; embedded in HTML).",
+)
+@click.option(
+    "--diff",
+    type=(int, int),
+    default=None,
+    metavar="RUN_A RUN_B",
+    help="Instead of a report, list the verdicts that changed between two runs.",
+)
+@_user_errors
+def report(
+    run: int | None, fmt: str, output: str | None, plots: bool, diff: tuple[int, int] | None
+) -> None:
+    """Write a report of one audit run: systems, claims, verdicts, residuals, repairs.
+
+    Prints the path of the file written. With --diff, prints the verdicts that
+    changed between two runs instead ("no changes" when none).
+
+    Example: registry report --format html -o audit.html
+    """
+    from pathlib import Path
+
+    from .reports import build_report, diff_runs, diff_table
+
+    reg = _registry()
+    if diff is not None:
+        click.echo(diff_table(diff_runs(reg, *diff), *diff))
+        return
+    path = Path(output or f"report.{fmt}")
+    path.parent.mkdir(parents=True, exist_ok=True)
+    text = build_report(reg, run, fmt, out_dir=path.parent, plots=plots)
+    path.write_text(text, encoding="utf-8")
+    click.echo(str(path))
 
 
 @main.command()

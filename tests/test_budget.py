@@ -51,7 +51,8 @@ def test_an_expression_crafted_to_take_forever_ends_inconclusive_within_its_budg
         result = audit.result(check, claim.label)
         assert result.verdict is Verdict.INCONCLUSIVE
         assert result.reason == "time budget exceeded (1 s)"
-    assert elapsed < 6  # two claim checks of 1 s, the repairs' 1 s, and the cheap checks
+        assert result.seconds < 2.0  # stopped within its budget (and a little slack)
+    assert elapsed < 20  # two checks of 1 s, the repairs' 1 s, the cheap checks, a busy machine
 
 
 def _stuck_in_c(m, *args):
