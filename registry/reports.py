@@ -532,7 +532,7 @@ def build_report(
         raise RegistryError(f"unknown report format {fmt!r}; choose one of {', '.join(FORMATS)}")
     row = _run_row(reg, run)
     number = int(row["run"])
-    audits = [a for _, a in reg.store.run_results(number)]
+    audits = [a for _, a in sorted(reg.store.run_results(number), key=lambda item: item[0])]
     cases, versions = _run_cases(reg, audits)
     document = audit_document(number, audits, cases, versions)
     with tempfile.TemporaryDirectory() as scratch:
