@@ -17,7 +17,7 @@ import pandas as pd
 
 from .api import Registry, default_target, open_registry
 from .audit import DEFAULT_BUDGET
-from .errors import RegistryError
+from .errors import RegistryError, UnknownClaimError
 from .report import disagreements, verdict_table
 
 
@@ -291,6 +291,32 @@ def export_case(case_id: str, claim: str | None, kind: str, output: str | None) 
         with open(output, "w", encoding="utf-8") as f:
             f.write(text)
         click.echo(f"wrote {output}", err=True)
+
+
+@main.command()
+@click.argument("case_id")
+@click.argument("claim")
+@click.option(
+    "-o",
+    "--output",
+    type=click.Path(dir_okay=False),
+    default=None,
+    help="PNG file to write (default: drift-CASE-CLAIM.png).",
+)
+@click.option("--seed", type=int, default=0, show_default=True, help="Seed of the start point.")
+@_user_errors
+def plot(case_id: str, claim: str, output: str | None, seed: int) -> None:
+    """Plot I(t) - I(0) and H(t) - H(0) of a claim along one integrated trajectory.
+
+    Example: registry plot yehia-2003-kovalevskaya-b I2 -o I2.png
+    """
+    from .plots import drift_plot
+
+    case = _registry().case(case_id)
+    if claim not in {c.label for c in case.claims}:
+        raise UnknownClaimError(case_id, claim, [c.label for c in case.claims])
+    path = drift_plot(case, claim, output or f"drift-{case_id}-{claim}.png", seed=seed)
+    click.echo(str(path))
 
 
 @main.command("checks")

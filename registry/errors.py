@@ -75,6 +75,19 @@ class UnknownCaseError(RegistryError, LookupError):
         return self.args[0]
 
 
+class UnknownClaimError(RegistryError, LookupError):
+    """A claim label that a case does not have."""
+
+    def __init__(self, case_id: str, label: str, known: list[str]):
+        self.case_id, self.label, self.known = case_id, label, known
+        super().__init__(
+            f"case {case_id!r} has no claim {label!r} (its claims: {', '.join(known) or 'none'})"
+        )
+
+    def __str__(self) -> str:
+        return self.args[0]
+
+
 class UnknownRunError(RegistryError, LookupError):
     """An audit run number that the registry does not hold."""
 

@@ -69,3 +69,25 @@ def test_evidence_is_stored_and_reused(tmp_path):
         second = reg.audit(jobs=0, numeric=True)
         assert first.audits[0].evidence == second.audits[0].evidence
         assert reg.runs().set_index("run").loc[second.run, "n_reused"] > 0
+
+
+@pytest.mark.parametrize("path", sorted(CASES.glob("*.toml")), ids=lambda p: p.stem)
+def test_numbers_and_symbolic_verdicts_agree_on_every_seed_case(path):
+    audit = registry.audit_case(load_case(path), numeric=True)
+    assert audit.evidence
+    for e in audit.evidence:
+        assert e.runs >= 1, e
+        assert not e.contradicts, e
+
+
+def test_plot_command_writes_a_png_and_refuses_unknown_claims(tmp_path):
+    db = tmp_path / "r.sqlite"
+    with registry.open(db) as reg:
+        reg.add(CASES / "borisov-mamaev-1997.toml")
+    runner = CliRunner()
+    out = tmp_path / "c.png"
+    ok = runner.invoke(main, ["--db", str(db), "plot", "borisov-mamaev-1997", "C", "-o", str(out)])
+    assert ok.exit_code == 0 and out.read_bytes().startswith(b"\x89PNG")
+    bad = runner.invoke(main, ["--db", str(db), "plot", "borisov-mamaev-1997", "K"])
+    assert bad.exit_code == 1
+    assert "Error: case 'borisov-mamaev-1997' has no claim 'K'" in bad.stderr
