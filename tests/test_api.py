@@ -14,6 +14,7 @@ from types import SimpleNamespace
 
 import pandas as pd
 import pytest
+from samples import UNDECLARED, case_file
 
 import registry
 import registry.api
@@ -24,29 +25,6 @@ CASES = ROOT / "data" / "cases"
 YEHIA_B = "yehia-2003-kovalevskaya-b"
 ZHUKOVSKY = "zhukovsky-gyrostat"
 VERDICT_COLUMNS = {"case", "claim", "check", "verdict", "method", "run"}
-
-UNDECLARED = """\
-id = "bad-undeclared-name"
-title = "A claim that uses a name nobody declared"
-
-[source]
-citation = "Nobody, Nowhere (2024)"
-
-[parameters]
-C = "positive"
-
-[system]
-inertia = ["C", "C", "2*C"]
-
-[[claims]]
-label = "I1"
-kind = "integral"
-expression = "M1 + bogus*gamma1"
-"""
-
-
-def case_file(case_id: str) -> Path:
-    return CASES / f"{case_id}.toml"
 
 
 def toml(case_id: str) -> dict:

@@ -18,6 +18,7 @@ from types import SimpleNamespace
 
 import pytest
 from click.testing import CliRunner
+from samples import UNDECLARED, case_file
 
 import registry
 from registry.cli import main
@@ -34,24 +35,6 @@ VERDICTS = {"verified", "refuted", "inconclusive"}
 #: One line of ``registry add`` for a stored file: status, case id, version, path.
 ADD_LINE = re.compile(r"^(added|unchanged|new version)\s+(\S+) \(version (\d+)\)\s+(.+)$")
 
-UNDECLARED = """\
-id = "bad-undeclared-name"
-title = "A claim that uses a name nobody declared"
-
-[source]
-citation = "Nobody, Nowhere (2024)"
-
-[parameters]
-C = "positive"
-
-[system]
-inertia = ["C", "C", "2*C"]
-
-[[claims]]
-label = "I1"
-kind = "integral"
-expression = "M1 + bogus*gamma1"
-"""
 
 ZERO_INERTIA = """\
 id = "bad-zero-inertia"
@@ -71,10 +54,6 @@ label = "I1"
 kind = "casimir"
 expression = "gamma1**2 + gamma2**2 + gamma3**2"
 """
-
-
-def case_file(case_id: str) -> Path:
-    return CASES / f"{case_id}.toml"
 
 
 def invoke(db: Path | str | None, *args: str, **kwargs) -> object:

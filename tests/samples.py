@@ -1,0 +1,29 @@
+"""Shared test inputs: the seed catalog's location and small broken case files."""
+
+from pathlib import Path
+
+CASES = Path(__file__).resolve().parents[1] / "data" / "cases"
+
+UNDECLARED = """\
+id = "bad-undeclared-name"
+title = "A claim that uses a name nobody declared"
+
+[source]
+citation = "Nobody, Nowhere (2024)"
+
+[parameters]
+C = "positive"
+
+[system]
+inertia = ["C", "C", "2*C"]
+
+[[claims]]
+label = "I1"
+kind = "integral"
+expression = "M1 + bogus*gamma1"
+"""
+
+
+def case_file(case_id: str) -> Path:
+    """The seed catalog's file for ``case_id``."""
+    return CASES / f"{case_id}.toml"
