@@ -284,7 +284,30 @@ def _tan(v):
     return _iv.sin(_to_iv(v)) / c
 
 
+def _abs(v):
+    if isinstance(v, Fraction):
+        return abs(v)
+    lo, hi = _lo(v), _hi(v)
+    if lo >= 0:
+        return v
+    if hi <= 0:
+        return -v
+    return _iv.mpf([0, max(-lo, hi)])
+
+
+def _sign(v):
+    if isinstance(v, Fraction):
+        return Fraction((v > 0) - (v < 0))
+    if _lo(v) > 0:
+        return Fraction(1)
+    if _hi(v) < 0:
+        return Fraction(-1)
+    raise OutsideDomain("the sign of a value that may be zero")
+
+
 _FUNCTIONS = {
+    sp.Abs: _abs,
+    sp.sign: _sign,
     sp.exp: _exact_zero(lambda v: _iv.exp(_to_iv(v)), Fraction(1)),
     sp.log: _log,
     sp.sin: _exact_zero(lambda v: _iv.sin(_to_iv(v)), Fraction(0)),

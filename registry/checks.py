@@ -38,6 +38,7 @@ class Mechanics:
             parameters=tuple(self.case.parameters.values()),
             functions=dict(self.case.functions),
             nonzero=tuple(self.inertia),
+            defined=(self.potential, *self.mu),
         )
 
     @cached_property
@@ -153,9 +154,13 @@ def _text(expr: sp.Expr) -> str:
         return sp.sstr(expr)
 
 
-def _decide(m: Mechanics, name: str, residuals, claim: str | None = None, on=()) -> ZeroTest:
-    domain = m.domain.restricted(on) if on else m.domain
-    return decide(residuals, domain, seed=m.seed(name, claim))
+def _decide(m: Mechanics, name: str, residuals, claim: Claim | None = None) -> ZeroTest:
+    """The zero test on the case's domain, or on the claim's level set where the claim
+    itself must be defined."""
+    domain = m.domain
+    if claim is not None:
+        domain = domain.restricted([eq.expr for eq in claim.on]).requiring([claim.expression.expr])
+    return decide(residuals, domain, seed=m.seed(name, None if claim is None else claim.label))
 
 
 @check("jacobi", cost="expensive")
@@ -199,9 +204,8 @@ def invariant(m: Mechanics, claim: Claim) -> CheckResult:
 
     def compute() -> CheckResult:
         started = time.perf_counter()
-        on = [eq.expr for eq in claim.on]
         residuals = {f"d/dt({eq.text})": mech.time_derivative(eq.expr, m.field) for eq in claim.on}
-        test = _decide(m, "invariant", residuals, claim.label, on)
+        test = _decide(m, "invariant", residuals, claim)
         return _result("invariant", test, residuals, started, claim.label)
 
     return m.once(("invariant", claim.label), compute)
@@ -211,11 +215,10 @@ def invariant(m: Mechanics, claim: Claim) -> CheckResult:
 def integral(m: Mechanics, claim: Claim) -> CheckResult:
     """The claimed expression I is conserved: dI/dt = 0 along (2.2) (on its level set)."""
     started = time.perf_counter()
-    on = [eq.expr for eq in claim.on]
     residuals = {"dI/dt": mech.time_derivative(claim.expression.expr, m.field)}
-    test = _decide(m, "integral", residuals, claim.label, on)
+    test = _decide(m, "integral", residuals, claim)
     reason = None
-    if test.verdict is Verdict.VERIFIED and on:
+    if test.verdict is Verdict.VERIFIED and claim.on:
         kept = invariant(m, claim)
         if kept.verdict is not Verdict.VERIFIED:
             why = (
@@ -232,7 +235,6 @@ def integral(m: Mechanics, claim: Claim) -> CheckResult:
 def casimir(m: Mechanics, claim: Claim) -> CheckResult:
     """The claimed expression I is a Casimir of Pi_mu: Pi_mu grad I = 0 (on its level set)."""
     started = time.perf_counter()
-    on = [eq.expr for eq in claim.on]
     residuals = m.casimir_residual(claim.expression.expr)
-    test = _decide(m, "casimir", residuals, claim.label, on)
+    test = _decide(m, "casimir", residuals, claim)
     return _result("casimir", test, residuals, started, claim.label)

@@ -45,7 +45,7 @@ def parameter_conditions(
     if equations is None:
         return ConditionSearch(reason="the residual is not polynomial in its normal form")
     if any(eq.is_number for eq in equations):
-        return ConditionSearch(reason="no parameter values make the residual vanish")
+        return ConditionSearch(reason="no parameter values found that make the residual vanish")
     unknowns = [p for p in params if any(eq.has(p) for eq in equations)]
     try:
         solutions = sp.solve(sorted(equations, key=sp.default_sort_key), unknowns, dict=True)
@@ -55,7 +55,9 @@ def parameter_conditions(
     kept = [b for b in kept if _holds(residuals, domain, b)]
     kept.sort(key=lambda b: (len(b), sp.default_sort_key(tuple(b.items()))))
     if not kept:
-        return ConditionSearch(reason="no admissible parameter values make the residual vanish")
+        return ConditionSearch(
+            reason="no admissible parameter values found that make the residual vanish"
+        )
     return ConditionSearch(tuple(kept))
 
 

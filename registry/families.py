@@ -76,7 +76,7 @@ def recognise(mu: Sequence[sp.Expr], domain: Domain) -> Family:
     if found is None:
         return Family(shape, a=a, reason="no potential found for the tangential part of mu")
     phi, method = found
-    antiderivative = _antiderivative(1 / a)
+    antiderivative = _antiderivative(1 / a, domain)
     if antiderivative is None:
         return Family(shape, a=a, phi=phi, reason=f"no closed form for int ds/({a})")
     # the multiple of gamma: psi for a = 1, b(gamma, s) = psi a in the a(s) family
@@ -86,13 +86,19 @@ def recognise(mu: Sequence[sp.Expr], domain: Domain) -> Family:
     )
     if shape == "general":
         shape = "psi-gamma-grad-phi" if a == 1 else "a(s)-grad-phi"
+    casimir = antiderivative + phi
+    condition = mech.casimir_system(mu, casimir)
+    if decide({f"[{i}]": c for i, c in enumerate(condition)}, domain).verdict is not (
+        Verdict.VERIFIED
+    ):
+        return Family(shape, phi=phi, psi=psi, a=a, reason="the candidate Casimir did not re-check")
     return Family(
         shape,
         phi=phi,
         psi=psi,
         a=a,
         axis=_single_axis(mu),
-        casimir=antiderivative + phi,
+        casimir=casimir,
         method=method,
     )
 
@@ -125,12 +131,29 @@ def _single_axis(mu: Vector) -> int | None:
     return nonzero[0] if len(nonzero) == 1 else None
 
 
-def _antiderivative(f: sp.Expr) -> sp.Expr | None:
-    """int f ds in closed form, or None."""
+def _antiderivative(f: sp.Expr, domain: Domain) -> sp.Expr | None:
+    """int f ds in closed form, checked by differentiating it back, or None.
+
+    sympy can return a wrong antiderivative for symbols with assumptions (0 for
+    int ds/(s**2 + k) with real s, k), so a candidate counts only if d/ds of it is f;
+    failing that, the integral is retried with symbols free of assumptions.
+    """
     f = sp.cancel(f)
     if not f.has(s):
         return f * s
-    return _closed_form(sp.integrate(f, s))
+    plain = {x: sp.Symbol(x.name) for x in f.free_symbols if isinstance(x, sp.Symbol)}
+    back = {v: k for k, v in plain.items()}
+    for attempt in (
+        lambda: sp.integrate(f, s),
+        lambda: sp.integrate(f.xreplace(plain), plain[s]).xreplace(back),
+    ):
+        candidate = _closed_form(attempt())
+        if candidate is None:
+            continue
+        check = decide({"d/ds - f": sp.diff(candidate, s) - f}, domain)
+        if check.verdict is Verdict.VERIFIED:
+            return candidate
+    return None
 
 
 def _closed_form(result: sp.Expr) -> sp.Expr | None:

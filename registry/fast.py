@@ -23,7 +23,7 @@ ENABLED = se is not None
 
 
 def _usable(expr: sp.Expr) -> bool:
-    return ENABLED and not expr.has(AppliedUndef, sp.Derivative, sp.Subs)
+    return ENABLED and not expr.has(AppliedUndef, sp.Derivative, sp.Subs, sp.Abs, sp.sign)
 
 
 def _back(result, expr: sp.Expr) -> sp.Expr:

@@ -20,7 +20,7 @@ from __future__ import annotations
 import itertools
 import random
 from collections.abc import Iterator, Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from fractions import Fraction
 
 import sympy as sp
@@ -40,7 +40,9 @@ MAX_ATTEMPTS = 40
 class Domain:
     """Where residuals live: parameters (symbols carry assumptions), arbitrary
     functions of a family, expressions that must not vanish (moments of inertia)
-    and the level set ``on`` (expressions that vanish there)."""
+    the level set ``on`` (expressions that vanish there), and expressions that must be
+    defined at a sample point (the case's potential, torque and claim: a witness where
+    I itself is undefined would prove nothing)."""
 
     parameters: tuple[sp.Symbol, ...] = ()
     functions: Mapping[str, tuple[sp.FunctionClass, tuple[sp.Symbol, ...]]] = field(
@@ -48,10 +50,15 @@ class Domain:
     )
     nonzero: tuple[sp.Expr, ...] = ()
     on: tuple[sp.Expr, ...] = ()
+    defined: tuple[sp.Expr, ...] = ()
 
     def restricted(self, on: Sequence[sp.Expr]) -> Domain:
         """The same domain restricted to the level set where ``on`` vanish."""
-        return Domain(self.parameters, self.functions, self.nonzero, tuple(on))
+        return replace(self, on=tuple(on))
+
+    def requiring(self, exprs: Sequence[sp.Expr]) -> Domain:
+        """The same domain where ``exprs`` must also be defined (a claim, the potential)."""
+        return replace(self, defined=(*self.defined, *exprs))
 
 
 @dataclass(frozen=True)
@@ -253,12 +260,13 @@ def _sample_point(domain: Domain, rng: random.Random, funcs, bases=()) -> dict |
         if not _place_on_set(point, domain.on, rng, funcs):
             return None
         point[s] = sp.expand(S_VALUE.xreplace(point))
-    for expr in domain.nonzero:
-        try:
-            if not evaluate(expr, point).certainly_nonzero():
-                return None
-        except OutsideDomain:
+    try:
+        if not all(evaluate(e, point).certainly_nonzero() for e in domain.nonzero):
             return None
+        for expr in domain.defined:
+            evaluate(_substitute_functions(expr, funcs), point)
+    except OutsideDomain:
+        return None
     return point
 
 
@@ -305,7 +313,10 @@ def _pin(eq: sp.Expr, point: dict, pinned: set, rng: random.Random) -> bool:
         expr = numer.xreplace(fixed)
         if not expr.is_polynomial(v):
             continue
-        roots = [r for r in sp.Poly(expr, v).all_roots() if r.is_real]
+        poly = sp.Poly(expr, v)
+        if poly.degree() > 2:  # roots would be CRootOf, which the evaluator cannot certify
+            continue
+        roots = [r for r in poly.all_roots() if r.is_real]
         if roots:
             point[v] = rng.choice(roots)
             pinned.add(v)
@@ -456,13 +467,16 @@ def prove_zero(expr: sp.Expr, on: Sequence[sp.Expr] = ()) -> str | None:
     numer, ring = _numerator_poly(atoms.rewrite(expr), atoms)
     if not numer:
         return "rational normal form"
-    relations = [ring(rho) ** q - ring.from_expr(base) for rho, q, base in atoms.relations()]
+    relations = [
+        ring(rho) ** q - ring.from_expr(base.xreplace(_CONSTANTS))
+        for rho, q, base in atoms.relations()
+    ]
     if not on:
         if relations and not numer.rem(relations):
             return "algebraic normal form"
         return None
-    eqs = [_numerator(atoms.rewrite(e)) for e in on]
-    eqs += [rho**q - base for rho, q, base in atoms.relations()]
+    eqs = [_numerator(atoms.rewrite(e)).xreplace(_CONSTANTS) for e in on]
+    eqs += [rho**q - base.xreplace(_CONSTANTS) for rho, q, base in atoms.relations()]
     numer_expr = numer.as_expr()
     gens = sorted(set().union(*(e.free_symbols for e in [numer_expr, *eqs])), key=str)
     basis = sp.groebner(eqs, *gens, order="grevlex", domain=sp.QQ)
@@ -475,7 +489,7 @@ def _numerator_poly(rewritten: sp.Expr, atoms: _Atoms):
     the radical symbols first in a lex order (so rho**q leads its relation)."""
     expr = rewritten.xreplace({s: S_VALUE, **_CONSTANTS})
     radicals = list(reversed(atoms.radicals.values()))  # outer radicals before inner ones
-    bases = set().union(*(b.free_symbols for b, _ in atoms.radicals))
+    bases = set().union(*(b.xreplace(_CONSTANTS).free_symbols for b, _ in atoms.radicals))
     others = sorted((expr.free_symbols | bases) - set(radicals), key=str)
     ring = sp.polys.rings.PolyRing([*radicals, *others] or [sp.Dummy("x")], sp.QQ, sp.lex)
     numer, _ = _fraction(expr, ring, {})
