@@ -3,6 +3,11 @@
 from pathlib import Path
 
 CASES = Path(__file__).resolve().parents[1] / "data" / "cases"
+YEHIA_B = "yehia-2003-kovalevskaya-b"
+ZHUKOVSKY = "zhukovsky-gyrostat"
+AFFINE = "affine-nonsymmetric"
+#: Three seed cases that between them refute, verify and break Jacobi.
+SEED = (YEHIA_B, ZHUKOVSKY, AFFINE)
 
 UNDECLARED = """\
 id = "bad-undeclared-name"

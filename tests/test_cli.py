@@ -18,17 +18,12 @@ from types import SimpleNamespace
 
 import pytest
 from click.testing import CliRunner
-from samples import UNDECLARED, case_file
+from samples import AFFINE, CASES, SEED, UNDECLARED, YEHIA_B, ZHUKOVSKY, case_file
 
 import registry
 from registry.cli import main
 
 ROOT = Path(registry.__file__).resolve().parent.parent
-CASES = ROOT / "data" / "cases"
-YEHIA_B = "yehia-2003-kovalevskaya-b"
-ZHUKOVSKY = "zhukovsky-gyrostat"
-AFFINE = "affine-nonsymmetric"
-SEED = (YEHIA_B, ZHUKOVSKY, AFFINE)
 COMMANDS = ("add", "audit", "cases", "verdicts", "runs", "corrections", "export-case")
 VERDICTS = {"verified", "refuted", "inconclusive"}
 

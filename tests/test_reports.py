@@ -15,6 +15,7 @@ from pathlib import Path
 import pytest
 import sympy as sp
 from click.testing import CliRunner
+from samples import CASES, SEED, YEHIA_B, ZHUKOVSKY
 
 import registry
 from registry.cli import main
@@ -24,11 +25,6 @@ from registry.plots import drift_plot
 from registry.reports import _Tex, build_report, diff_runs
 
 ROOT = Path(registry.__file__).resolve().parent.parent
-CASES = ROOT / "data" / "cases"
-YEHIA_B = "yehia-2003-kovalevskaya-b"
-ZHUKOVSKY = "zhukovsky-gyrostat"
-AFFINE = "affine-nonsymmetric"
-SEED = (YEHIA_B, ZHUKOVSKY, AFFINE)
 PNG = b"\x89PNG"
 
 
