@@ -24,7 +24,6 @@ from registry.expressions import Namespace, parse_expression
 from registry.plots import drift_plot
 from registry.reports import _Tex, build_report, diff_runs
 
-ROOT = Path(registry.__file__).resolve().parent.parent
 PNG = b"\x89PNG"
 
 
