@@ -18,8 +18,7 @@ from dataclasses import asdict, dataclass, field
 from functools import cache
 from importlib import metadata
 from pathlib import Path
-
-import pandas as pd
+from typing import TYPE_CHECKING
 
 from .audit import DEFAULT_BUDGET, audit_case, failed_case
 from .budget import Budget
@@ -30,6 +29,9 @@ from .model import Case, CaseAudit, Verdict
 from .report import audit_document
 from .storage import Store
 from .workers import audit_in_workers, default_jobs
+
+if TYPE_CHECKING:
+    import pandas as pd
 
 #: Where the registry lives when neither --db nor REGISTRY_DB says otherwise.
 DEFAULT_DB = Path("data") / "registry.sqlite"

@@ -13,7 +13,6 @@ from dataclasses import replace
 from functools import wraps
 
 import click
-import pandas as pd
 
 from .api import Registry, default_target, open_registry
 from .audit import DEFAULT_BUDGET
@@ -172,7 +171,9 @@ def audit(
         sys.exit(1)
 
 
-def _print_frame(frame: pd.DataFrame) -> None:
+def _print_frame(frame) -> None:
+    import pandas as pd  # only the listing commands need pandas
+
     with pd.option_context(
         "display.max_rows",
         None,

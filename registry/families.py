@@ -17,13 +17,17 @@ the zero test before it is used.
 
 from __future__ import annotations
 
+import functools
 import itertools
 from collections.abc import Sequence
 from dataclasses import dataclass
 
 import sympy as sp
 from sympy.core.function import AppliedUndef
+from sympy.polys.domains import QQ
+from sympy.polys.matrices import DomainMatrix
 
+from . import fast
 from . import mechanics as mech
 from .mechanics import AXIS, MOMENTUM, s
 from .model import Verdict
@@ -80,7 +84,7 @@ def recognise(mu: Sequence[sp.Expr], domain: Domain) -> Family:
     if antiderivative is None:
         return Family(shape, a=a, phi=phi, reason=f"no closed form for int ds/({a})")
     # the multiple of gamma: psi for a = 1, b(gamma, s) = psi a in the a(s) family
-    psi = sp.cancel(
+    psi = _combined(
         mech.dot([m - a * sp.diff(phi, g) for m, g in zip(mu, AXIS, strict=True)], AXIS)
         / mech.dot(AXIS, AXIS)
     )
@@ -101,6 +105,22 @@ def recognise(mu: Sequence[sp.Expr], domain: Domain) -> Family:
         casimir=casimir,
         method=method,
     )
+
+
+def _combined(expr: sp.Expr) -> sp.Expr:
+    """One fraction, factored: expanding first (symengine) makes sympy's cancellation
+    several times cheaper than cancelling the unexpanded form."""
+    return sp.factor(sp.together(fast.expand(expr)))
+
+
+def _integral(f: sp.Expr, x: sp.Symbol) -> sp.Expr | None:
+    """int f dx in closed form or None: sympy's heuristic integrator first (often several
+    times faster), then the full algorithm. Callers check the result."""
+    for risch in (False, None):
+        found = _closed_form(sp.integrate(f, x, risch=risch))
+        if found is not None:
+            return found
+    return None
 
 
 def _shape(mu: Vector) -> str:
@@ -285,26 +305,63 @@ def _is_potential(phi: sp.Expr, nu: Vector, domain: Domain) -> bool:
 
 
 def _polynomial_ansatz(nu: Vector, domain: Domain) -> sp.Expr | None:
-    """phi as a polynomial one degree above nu, coefficients from a linear system."""
+    """phi as a polynomial one degree above nu: gamma x grad phi = gamma x nu is a
+    linear system for phi's coefficients, with a rational matrix that depends only
+    on the degree (solved once, see ``_ansatz_system``)."""
     if not all(n.is_polynomial(*AXIS) for n in nu):
         return None
     degree = max(sp.Poly(n, *AXIS).total_degree() for n in nu if n != 0) + 1
-    monomials = [
-        sp.Mul(*combo)
-        for d in range(1, degree + 1)
-        for combo in itertools.combinations_with_replacement(AXIS, d)
+    monomials, rows, solution = _ansatz_system(degree)
+    target = [sp.S.Zero] * len(rows)
+    for k, component in enumerate(mech.cross(AXIS, nu)):
+        for exps, coeff in sp.Poly(fast.expand(component), *AXIS).terms():
+            if coeff == 0:
+                continue
+            if (k, exps) not in rows:
+                return None  # gamma x nu has a term no polynomial phi produces
+            target[rows[k, exps]] = coeff
+    terms = []
+    for column, weights in solution:
+        value = sp.Add(*(w * target[r] for r, w in weights))
+        terms.append(value * sp.Mul(*(g**e for g, e in zip(AXIS, monomials[column], strict=True))))
+    return sp.expand(sp.Add(*terms))
+
+
+@functools.lru_cache(maxsize=8)
+def _ansatz_system(degree: int):
+    """The linear system gamma x grad phi = b for phi = sum_j c_j m_j, m_j the monomials
+    of degrees 1..degree: the monomials' exponents, the row of each (component,
+    monomial) of b, and for each pivot coefficient c_j its weights on b's rows (a
+    particular solution, the free coefficients set to 0)."""
+    monomials = [e for d in range(1, degree + 1) for e in _exponents(d)]
+    rows = {(k, e): i for i, (k, e) in enumerate(itertools.product(range(3), monomials))}
+    n, m = len(monomials), len(rows)
+    matrix = [[QQ(0)] * (n + m) for _ in range(m)]
+    for j, exps in enumerate(monomials):
+        phi = sp.Mul(*(g**e for g, e in zip(AXIS, exps, strict=True)))
+        field = mech.cross(AXIS, [sp.diff(phi, g) for g in AXIS])
+        for k, component in enumerate(field):
+            for term_exps, coeff in sp.Poly(component, *AXIS).terms():
+                if coeff:
+                    matrix[rows[k, term_exps]][j] = QQ(int(coeff))
+    for i in range(m):
+        matrix[i][n + i] = QQ(1)
+    reduced, pivots = DomainMatrix(matrix, (m, n + m), QQ).rref()
+    reduced = reduced.to_Matrix()
+    solution = []
+    for i, column in enumerate(pivots):
+        if column >= n:
+            break
+        weights = [(r, reduced[i, n + r]) for r in range(m) if reduced[i, n + r] != 0]
+        solution.append((column, weights))
+    return monomials, rows, solution
+
+
+def _exponents(degree: int) -> list[tuple[int, int, int]]:
+    """The exponents of the monomials of gamma of the given total degree."""
+    return [
+        (a, b, degree - a - b) for a in range(degree, -1, -1) for b in range(degree - a, -1, -1)
     ]
-    coeffs = sp.symbols(f"c0:{len(monomials)}", cls=sp.Dummy)
-    phi = sp.Add(*(c * m for c, m in zip(coeffs, monomials, strict=True)))
-    grad = [sp.diff(phi, g) for g in AXIS]
-    residual = mech.cross(AXIS, [n - d for n, d in zip(nu, grad, strict=True)])
-    equations = [c for r in residual for c in sp.Poly(sp.expand(r), *AXIS).coeffs()]
-    solutions = sp.linsolve(equations, coeffs)
-    if not solutions:
-        return None
-    (solution,) = solutions
-    free = {c: 0 for c in coeffs}
-    return sp.expand(phi.xreplace(dict(zip(coeffs, solution, strict=True))).xreplace(free))
 
 
 def _meridian(axis: int):
@@ -325,7 +382,7 @@ def _meridian(axis: int):
         r = sp.Symbol("r", positive=True)
         slope = nu[axis] - z * (ga * nu[a] + gb * nu[b]) / (ga**2 + gb**2)
         on_meridian = sp.cancel(slope.subs({ga: rho, gb: 0}))
-        h = _closed_form(sp.integrate(on_meridian.subs(rho, sp.sqrt(r**2 - z**2)), z))
+        h = _integral(on_meridian.subs(rho, sp.sqrt(r**2 - z**2)), z)
         if h is None:
             return None
         # back to the cylindrical radius: r**2 = rho**2 + z**2, and for rho > 0

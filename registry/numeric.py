@@ -17,7 +17,6 @@ from dataclasses import dataclass
 
 import numpy as np
 import sympy as sp
-from scipy.integrate import solve_ivp
 
 from . import mechanics as mech
 from .checks import Mechanics
@@ -141,6 +140,8 @@ def _integrate(exprs: list[sp.Expr], y0: list[float]) -> tuple[float, float] | s
 
 def _solve(exprs: list[sp.Expr], y0: list[float], t_end: float):
     """(times, H, I) along the trajectory from y0, or why it failed."""
+    from scipy.integrate import solve_ivp  # only here: the audit starts faster without scipy
+
     field = sp.lambdify([mech.STATE], exprs[:6], modules="numpy")
     h = sp.lambdify([mech.STATE], exprs[6], modules="numpy")
     i = sp.lambdify([mech.STATE], exprs[7], modules="numpy")

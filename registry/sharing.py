@@ -18,9 +18,9 @@ from datetime import date, datetime
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-import pandas as pd
-
 if TYPE_CHECKING:
+    import pandas as pd
+
     from .api import Registry
 
 #: The file formats of ``export_tables``.
@@ -50,6 +50,8 @@ def tables(reg: Registry) -> dict[str, pd.DataFrame]:
 
 def all_results(reg: Registry) -> pd.DataFrame:
     """Every stored check result of every run, oldest run first."""
+    import pandas as pd
+
     frames = [reg.verdicts(int(run)) for run in reg.runs()["run"]]
     if not frames:
         return reg.verdicts().iloc[0:0]
@@ -95,6 +97,8 @@ def _json_text(value: Any) -> str | None:
 
 def _write_csv(frame: pd.DataFrame, path: Path) -> None:
     """CSV with a header row; dates in ISO 8601."""
+    import pandas as pd
+
     out = _encoded(frame)
     for column in out.select_dtypes(include=["datetime", "datetimetz"]).columns:
         out[column] = [None if pd.isna(t) else t.isoformat() for t in out[column]]
@@ -108,6 +112,8 @@ def _write_parquet(frame: pd.DataFrame, path: Path) -> None:
 
 def _plain(value: Any) -> Any:
     """A JSON-ready value: dates as ISO 8601 text, NaN and NaT as null, numpy scalars unboxed."""
+    import pandas as pd
+
     if isinstance(value, dict | list):
         return value
     if isinstance(value, tuple):
@@ -134,6 +140,8 @@ WRITERS: dict[str, Callable[[pd.DataFrame, Path], None]] = {
 
 def read_table(path: Path) -> pd.DataFrame:
     """Read back a table written by ``export_tables``: JSON columns decoded, dates parsed."""
+    import pandas as pd  # imported where used: the CLI starts faster without it
+
     path = Path(path)
     if path.suffix == ".json":
         frame = pd.DataFrame(json.loads(path.read_text(encoding="utf-8")))
