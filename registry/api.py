@@ -195,7 +195,7 @@ class Registry:
                 audits[i] = audit
                 self.store.record_case(run, stored[i].pk, audit)
             status = "complete"
-        except KeyboardInterrupt:
+        except (KeyboardInterrupt, SystemExit):  # Ctrl-C, or SIGTERM through the CLI
             status = "interrupted"
             raise
         finally:
@@ -273,6 +273,8 @@ class Registry:
         self.close()
 
 
-def open_registry(target: str | os.PathLike | None = None) -> Registry:
-    """Open (creating if needed) the registry at a path or SQLAlchemy URL."""
-    return Registry(Store(target if target is not None else default_target()))
+def open_registry(target: str | os.PathLike | None = None, *, create: bool = True) -> Registry:
+    """Open the registry at a path or SQLAlchemy URL, creating it if needed (unless
+    ``create`` is False: then a missing file is a DatabaseMissingError). An older
+    database is upgraded to the current schema, after a backup copy."""
+    return Registry(Store(target if target is not None else default_target(), create=create))

@@ -8,6 +8,7 @@ with status 1; ``--debug`` shows the traceback instead.
 from __future__ import annotations
 
 import json
+import signal
 import sys
 from dataclasses import replace
 from functools import wraps
@@ -43,10 +44,23 @@ def _user_errors(fn):
     return wrapper
 
 
-def _registry() -> Registry:
+def _interrupt(signum, frame):
+    """SIGTERM ends an audit like Ctrl-C: the run is recorded as interrupted."""
+    raise KeyboardInterrupt(f"signal {signum}")
+
+
+def _registry(create: bool = False) -> Registry:
+    """The registry named by --db; only ``add`` creates a database that does not exist."""
     ctx = click.get_current_context()
     if "registry" not in ctx.obj:
-        ctx.obj["registry"] = ctx.with_resource(open_registry(ctx.obj["db"]))
+        reg = ctx.with_resource(open_registry(ctx.obj["db"], create=create))
+        if reg.store.upgraded_from is not None:
+            click.echo(
+                f"Upgraded database {reg.store.location!r} from schema revision "
+                f"{reg.store.upgraded_from}; the copy made before is {str(reg.store.backup)!r}",
+                err=True,
+            )
+        ctx.obj["registry"] = reg
     return ctx.obj["registry"]
 
 
@@ -79,7 +93,7 @@ def add(paths: tuple[str, ...]) -> None:
 
     Example: registry add data/cases
     """
-    results = _registry().add(*paths)
+    results = _registry(create=True).add(*paths)
     refused = [r for r in results if r.status == "refused"]
     for r in results:
         if r.status != "refused":
@@ -146,6 +160,7 @@ def audit(
         bar.update()
 
     budget = replace(DEFAULT_BUDGET, check=check_budget) if check_budget else DEFAULT_BUDGET
+    previous = signal.signal(signal.SIGTERM, _interrupt)
     try:
         report = reg.audit(
             case_ids or None,
@@ -156,6 +171,7 @@ def audit(
             progress=progress,
         )
     finally:
+        signal.signal(signal.SIGTERM, previous)
         bar.close()
     document = report.document()
     if as_json:

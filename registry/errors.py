@@ -101,3 +101,66 @@ class UnknownRunError(RegistryError, LookupError):
 
 class StorageError(RegistryError, RuntimeError):
     """The database cannot be opened or written (missing, read-only, locked, full)."""
+
+
+class DatabaseMissingError(StorageError, FileNotFoundError):
+    """A command that reads the registry was pointed at a database file that does not exist."""
+
+    def __init__(self, location: str):
+        self.location = location
+        super().__init__(
+            f"no registry database at {location!r}; create one by adding cases "
+            "(registry add FILES) or name another with --db"
+        )
+
+
+class DatabaseReadOnlyError(StorageError, PermissionError):
+    """The database file (or its folder) cannot be written."""
+
+    def __init__(self, location: str, doing: str = "write to it"):
+        self.location = location
+        super().__init__(
+            f"database {location!r} is read-only, so the registry cannot {doing}; "
+            "check the permissions of the file and of its folder"
+        )
+
+
+class DatabaseFullError(StorageError, OSError):
+    """The disk (or the database's size limit) is full; the transaction was rolled back."""
+
+    def __init__(self, location: str):
+        self.location = location
+        super().__init__(
+            f"the disk holding database {location!r} is full; nothing of this change was "
+            "stored (free some space and run the command again)"
+        )
+
+
+class DatabaseLockedError(StorageError, TimeoutError):
+    """Another process kept the database locked for longer than the registry waits."""
+
+    def __init__(self, location: str, waited: float):
+        self.location = location
+        super().__init__(
+            f"database {location!r} is locked by another process (waited {waited:g} s); "
+            "run the command again when the other registry command has finished"
+        )
+
+
+class NotADatabaseError(StorageError):
+    """The file exists but is not an SQLite database (or is damaged)."""
+
+    def __init__(self, location: str, detail: str):
+        self.location = location
+        super().__init__(f"{location!r} is not a usable registry database ({detail})")
+
+
+class SchemaTooNewError(StorageError):
+    """The database was written by a newer release of the registry."""
+
+    def __init__(self, location: str, found: str, supported: str):
+        self.location = location
+        super().__init__(
+            f"database {location!r} has schema {found}, newer than this registry supports "
+            f"({supported}); upgrade the registry package to open it"
+        )

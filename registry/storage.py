@@ -14,7 +14,11 @@ happen under one write lock, even with several processes on one file.
 from __future__ import annotations
 
 import functools
+import os
 import platform
+import socket
+import sqlite3
+import time
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from contextlib import contextmanager
 from dataclasses import dataclass, field
@@ -39,17 +43,33 @@ from sqlalchemy import (
     event,
     false,
     func,
-    inspect,
     select,
 )
 from sqlalchemy import case as sql_case
 from sqlalchemy.engine import URL, Connection, Engine, make_url
-from sqlalchemy.exc import ArgumentError, DBAPIError, NoSuchModuleError, OperationalError
+from sqlalchemy.exc import (
+    ArgumentError,
+    DBAPIError,
+    IntegrityError,
+    NoSuchModuleError,
+    OperationalError,
+    ProgrammingError,
+)
 from sqlalchemy.orm import DeclarativeBase, Mapped, Session, mapped_column
 from sqlalchemy.pool import StaticPool
 from sqlalchemy.types import TypeDecorator
 
-from .errors import StorageError, UnknownCaseError, UnknownRunError
+from . import migrate
+from .errors import (
+    DatabaseFullError,
+    DatabaseLockedError,
+    DatabaseMissingError,
+    DatabaseReadOnlyError,
+    NotADatabaseError,
+    StorageError,
+    UnknownCaseError,
+    UnknownRunError,
+)
 from .model import (
     Case,
     CaseAudit,
@@ -75,8 +95,14 @@ __all__ = [
     "Base",
 ]
 
-#: Version of the table layout; kept in the ``meta`` table for future migrations.
-SCHEMA_VERSION = 1
+#: Version of the table layout, kept in the ``meta`` table (the Alembic revision, as a number).
+SCHEMA_VERSION = 2
+
+#: How long one attempt waits for another process's write lock (SQLite busy timeout).
+BUSY_TIMEOUT = 10.0
+
+#: Attempts of a transaction that found the database locked, before giving up.
+LOCK_ATTEMPTS = 3
 
 #: The states of an audit run; every run starts as ``running``.
 RUN_STATUSES = ("running", "complete", "failed", "interrupted")
@@ -195,6 +221,10 @@ class RunRow(Base):
     sympy_version: Mapped[str] = mapped_column(Text)
     python_version: Mapped[str] = mapped_column(Text)
     options: Mapped[dict[str, Any]] = mapped_column(JSON)
+    # the process running the audit, to tell a live run from one whose process died
+    host: Mapped[str | None] = mapped_column(Text)
+    pid: Mapped[int | None]
+    pid_started: Mapped[str | None] = mapped_column(Text)
 
 
 class ResultRow(Base):
@@ -306,15 +336,6 @@ latest_verdicts = Table(
 )
 
 
-def _create_view(conn: Connection) -> None:
-    """Create the ``latest_verdicts`` view from its select, compiled for this database."""
-    body = _latest_verdicts_select().compile(
-        dialect=conn.dialect, compile_kwargs={"literal_binds": True}
-    )
-    create = "CREATE VIEW IF NOT EXISTS" if conn.dialect.name == "sqlite" else "CREATE VIEW"
-    conn.exec_driver_sql(f"{create} {VIEW_NAME} AS {body}")
-
-
 # ---------------------------------------------------------------- public dataclasses
 
 
@@ -415,8 +436,11 @@ def _frame(rows: Iterable[Sequence[Any]], columns: Sequence[str]) -> pd.DataFram
 # ------------------------------------------------------------------------ opening
 
 
-def _resolve(url_or_path: str | Path) -> tuple[URL, str]:
-    """The SQLAlchemy URL for a path, ``:memory:`` or URL, and how to name it in messages."""
+def _resolve(url_or_path: str | Path, create: bool) -> tuple[URL, str]:
+    """The SQLAlchemy URL for a path, ``:memory:`` or URL, and how to name it in messages.
+
+    A database file that does not exist is an error unless ``create``.
+    """
     if isinstance(url_or_path, str) and "://" in url_or_path:
         try:
             url = make_url(url_or_path)
@@ -426,6 +450,10 @@ def _resolve(url_or_path: str | Path) -> tuple[URL, str]:
     if str(url_or_path) == ":memory:":
         return URL.create("sqlite", database=":memory:"), ":memory:"
     path = Path(url_or_path).expanduser()
+    if not create and not path.exists():
+        raise DatabaseMissingError(str(path))
+    if path.is_dir():
+        raise NotADatabaseError(str(path), "it is a folder")
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
     except OSError as err:
@@ -450,7 +478,7 @@ def _configure_sqlite(engine: Engine, file_db: bool) -> None:
         cursor = dbapi_connection.cursor()
         try:
             cursor.execute("PRAGMA foreign_keys=ON")
-            cursor.execute("PRAGMA busy_timeout=30000")
+            cursor.execute(f"PRAGMA busy_timeout={int(BUSY_TIMEOUT * 1000)}")
             if file_db:
                 cursor.execute("PRAGMA journal_mode=WAL")
         finally:
@@ -467,17 +495,41 @@ T = TypeVar("T")
 
 
 def _guarded(method: Callable[P, T]) -> Callable[P, T]:
-    """Turn a database failure (locked, read-only, disk full) into a one-line StorageError."""
+    """Turn a database failure into a one-line StorageError of its kind; a transaction
+    that found the database locked is retried (each method is one transaction, rolled
+    back on failure, so running it again is safe)."""
 
     @functools.wraps(method)
     def wrapper(*args: P.args, **kwargs: P.kwargs) -> T:
-        try:
-            return method(*args, **kwargs)
-        except OperationalError as err:
-            location = getattr(args[0], "location", "")
-            raise StorageError(f"database {location!r}: {err.orig}") from err
+        location = getattr(args[0], "location", "")
+        for attempt in range(1, LOCK_ATTEMPTS + 1):
+            try:
+                return method(*args, **kwargs)
+            except (IntegrityError, ProgrammingError):
+                raise  # a bug in the caller, not a state of the database
+            except DBAPIError as err:
+                problem = storage_error(err, location)
+                if not isinstance(problem, DatabaseLockedError) or attempt == LOCK_ATTEMPTS:
+                    raise problem from err
+                time.sleep(0.05 * 2**attempt)
+        raise AssertionError("unreachable")
 
     return wrapper
+
+
+def storage_error(err: DBAPIError, location: str, doing: str = "write to it") -> StorageError:
+    """The StorageError for a database failure, by what SQLite reports."""
+    reported = str(err.orig)
+    said = reported.lower()
+    if "locked" in said or "busy" in said:
+        return DatabaseLockedError(location, BUSY_TIMEOUT * LOCK_ATTEMPTS)
+    if "readonly" in said or "read-only" in said:
+        return DatabaseReadOnlyError(location, doing)
+    if "disk is full" in said or "disk full" in said:
+        return DatabaseFullError(location)
+    if "not a database" in said or "malformed" in said:
+        return NotADatabaseError(location, reported)
+    return StorageError(f"database {location!r}: {reported}")
 
 
 # -------------------------------------------------------------------------- store
@@ -490,8 +542,10 @@ class Store:
     write is one transaction. Use as a context manager or call ``close()``.
     """
 
-    def __init__(self, url_or_path: str | Path):
-        url, self.location = _resolve(url_or_path)
+    def __init__(self, url_or_path: str | Path, *, create: bool = True):
+        url, self.location = _resolve(url_or_path, create)
+        self.backup: Path | None = None  # the copy made before a schema upgrade
+        self.upgraded_from: str | None = None  # the revision upgraded from, if any
         try:
             if _is_memory(url):
                 engine = create_engine(
@@ -505,11 +559,18 @@ class Store:
             _configure_sqlite(engine, file_db=not _is_memory(url))
         self._engine = engine
         self._writer = engine.execution_options(**{_WRITE_OPTION: True})
+        self._file = Path(url.database) if url.get_backend_name() == "sqlite" else None
+        if _is_memory(url):
+            self._file = None
         try:
             self._init_schema()
+            self._mark_interrupted()
         except DBAPIError as err:
             engine.dispose()
-            raise StorageError(f"cannot open database {self.location!r}: {err.orig}") from err
+            raise storage_error(err, self.location, "create or upgrade its tables") from err
+        except BaseException:
+            engine.dispose()
+            raise
 
     # ----------------------------------------------------------------- lifecycle
 
@@ -532,40 +593,53 @@ class Store:
         return f"Store({self.location!r})"
 
     def _init_schema(self) -> None:
-        """Create missing tables, the view and the schema version; refuse newer schemas.
+        """Bring the schema to the newest revision (see ``migrate``); refuse newer ones.
 
-        A complete database is only read, so a read-only registry file still opens.
+        A current database is only read, so a read-only registry file still opens.
+        An older one is copied aside first, then upgraded in one transaction.
         """
-        tables = set(Base.metadata.tables)
         with self._engine.connect() as conn:
-            insp = inspect(conn)
-            complete = tables <= set(insp.get_table_names()) and VIEW_NAME in set(
-                insp.get_view_names()
-            )
-            version = self._schema_version(conn) if complete else None
-        if version is None:
-            with self._writer.begin() as conn:
-                Base.metadata.create_all(conn)
-                if VIEW_NAME not in inspect(conn).get_view_names():
-                    _create_view(conn)
-                version = self._schema_version(conn)
-                if version is None:
-                    conn.execute(
-                        MetaRow.__table__.insert().values(
-                            key="schema_version", value=str(SCHEMA_VERSION)
-                        )
-                    )
-                    version = SCHEMA_VERSION
-        if version > SCHEMA_VERSION:
-            raise StorageError(
-                f"database {self.location!r} has schema version {version}, "
-                f"newer than this program supports ({SCHEMA_VERSION})"
-            )
+            state = migrate.inspect_schema(conn, self.location)
+        if state.current:
+            return
+        if not state.empty and self._file is not None:
+            try:
+                self.backup = migrate.backup(self._file, state.revision or "")
+            except (OSError, sqlite3.Error) as err:
+                raise StorageError(
+                    f"database {self.location!r} needs a schema upgrade from revision "
+                    f"{state.revision}, but no backup copy could be made first ({err})"
+                ) from err
+        with self._writer.begin() as conn:
+            state = migrate.inspect_schema(conn, self.location)  # another process may have
+            if not state.current:  # upgraded it meanwhile
+                migrate.upgrade(conn, state)
+                self.upgraded_from = state.revision
 
-    @staticmethod
-    def _schema_version(conn: Connection) -> int | None:
-        value = conn.scalar(select(MetaRow.value).where(MetaRow.key == "schema_version"))
-        return None if value is None else int(value)
+    def _mark_interrupted(self) -> None:
+        """Mark as ``interrupted`` the runs left ``running`` by a process that has died.
+
+        Runs of processes on other hosts, or still alive, are left alone; so is a
+        database this process may not write (the next writer will do it).
+        """
+        with self._read() as session:
+            running = session.execute(
+                select(RunRow.id, RunRow.host, RunRow.pid, RunRow.pid_started).where(
+                    RunRow.status == "running"
+                )
+            ).all()
+        dead = [r.id for r in running if _process_gone(r.host, r.pid, r.pid_started)]
+        if not dead:
+            return
+        try:
+            with self._write() as session:
+                for run in session.scalars(
+                    select(RunRow).where(RunRow.id.in_(dead), RunRow.status == "running")
+                ):
+                    run.status = "interrupted"
+        except OperationalError as err:
+            if not isinstance(storage_error(err, self.location), DatabaseReadOnlyError):
+                raise
 
     @contextmanager
     def _write(self) -> Iterator[Session]:
@@ -673,6 +747,9 @@ class Store:
             sympy_version=_package_version("sympy"),
             python_version=platform.python_version(),
             options=dict(options),
+            host=socket.gethostname(),
+            pid=os.getpid(),
+            pid_started=_process_started(os.getpid()),
         )
         with self._write() as session:
             session.add(run)
@@ -1084,6 +1161,39 @@ def _audits(session: Session, where: Any) -> list[tuple[str, CaseAudit]]:
         )
         audits.append((case_id, audit))
     return audits
+
+
+def _process_started(pid: int) -> str | None:
+    """When process ``pid`` started, in the kernel's clock ticks since boot (Linux), else None.
+
+    With the pid it identifies a process: a pid reused by a later process differs here.
+    """
+    try:
+        stat = Path(f"/proc/{pid}/stat").read_text()
+    except OSError:
+        return None
+    fields = stat[stat.rindex(")") + 2 :].split()  # after "pid (command) "
+    return None if fields[0] in ("Z", "X") else fields[19]  # a zombie has died
+
+
+def _process_gone(host: str | None, pid: int | None, started: str | None) -> bool:
+    """Whether the process that ran an audit has certainly ended: it ran on this host
+    and no live process has its pid and start time. Runs from before the schema
+    recorded processes (no pid) count as ended."""
+    if pid is None:
+        return True
+    if host != socket.gethostname():
+        return False
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return True
+    except PermissionError:  # alive, another user's
+        pass
+    now = _process_started(pid)
+    if started is not None and Path("/proc").is_dir():
+        return now != started
+    return False
 
 
 def _package_version(name: str) -> str:

@@ -22,6 +22,7 @@ from samples import AFFINE, CASES, SEED, UNDECLARED, YEHIA_B, ZHUKOVSKY, case_fi
 
 import registry
 from registry.cli import main
+from registry.storage import Store
 
 ROOT = Path(registry.__file__).resolve().parent.parent
 COMMANDS = ("add", "audit", "cases", "verdicts", "runs", "corrections", "export-case")
@@ -157,6 +158,7 @@ def test_help_in_a_real_process(how, tmp_path):
 
 def test_user_error_in_a_real_process(tmp_path):
     db = tmp_path / "r.sqlite"
+    Store(db).close()
     done = subprocess.run(
         [_registry_script(), "--db", str(db), "audit", "--case", "no-such-case"],
         capture_output=True,
@@ -419,9 +421,16 @@ def test_db_from_environment(audited, document, tmp_path, monkeypatch):
         assert case_id in result.stdout
 
     other = tmp_path / "other.sqlite"
+    missing = invoke(None, "cases", env={"REGISTRY_DB": str(other)})
+    assert missing.exit_code == 1
+    assert error_lines(missing) == [
+        f"Error: no registry database at {str(other)!r}; create one by adding cases "
+        "(registry add FILES) or name another with --db"
+    ]
+    assert not other.exists()  # reading never creates a database
+    Store(other).close()
     empty = invoke(None, "cases", env={"REGISTRY_DB": str(other)})
     assert empty.exit_code == 0, empty.output
-    assert other.exists()
     assert empty.stdout.strip() == "(none)"
 
     explicit = invoke(audited.db, "cases", env={"REGISTRY_DB": str(other)})
@@ -494,6 +503,7 @@ def test_export_case_before_any_audit(tmp_path):
 
 
 def test_export_unknown_case(tmp_path):
+    Store(tmp_path / "r.sqlite").close()
     result = invoke(tmp_path / "r.sqlite", "export-case", "no-such-case")
     assert result.exit_code == 1
     errors = error_lines(result)
