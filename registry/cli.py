@@ -412,3 +412,29 @@ def runs() -> None:
     Example: registry runs
     """
     _print_frame(_registry().runs())
+
+
+@main.command()
+@_user_errors
+def check() -> None:
+    """Verify the database: schema, SQLite integrity and foreign keys, that every
+    stored case text matches its hash and re-parses, and every stored expression.
+
+    Exits with status 1 when a problem is found.
+
+    Example: registry check
+    """
+    from .integrity import verify
+
+    reg = _registry()
+    found = verify(reg.store)
+    click.echo(f"database {reg.store.location!r}, schema revision {found.revision}")
+    click.echo(", ".join(f"{n} {name}" for name, n in found.counts.items()))
+    for note in found.notes:
+        click.echo(f"note: {note}")
+    for problem in found.problems:
+        click.echo(f"problem: {problem}")
+    if found.problems:
+        click.echo(f"Error: {len(found.problems)} problem(s) found in the database", err=True)
+        sys.exit(1)
+    click.echo("ok: integrity, foreign keys, hashes and every stored expression")

@@ -91,6 +91,7 @@ __all__ = [
     "RUN_STATUSES",
     "AddOutcome",
     "StoredCase",
+    "StoredText",
     "Store",
     "Base",
 ]
@@ -347,6 +348,16 @@ class AddOutcome:
     version: int
     status: Literal["added", "unchanged", "new version"]
     pk: int | None = field(default=None, compare=False)
+
+
+@dataclass(frozen=True)
+class StoredText:
+    """One expression (or ``lhs = rhs`` equation) kept in the database, and where."""
+
+    case_pk: int
+    place: str
+    text: str
+    equation: bool = False
 
 
 @dataclass(frozen=True)
@@ -867,6 +878,105 @@ class Store:
                 return None
             audits = _audits(session, (ResultRow.run_id == run_id) & (ResultRow.case_pk == case_pk))
             return run_id, audits[0][1]
+
+    # ------------------------------------------------------------------ checking
+
+    @_guarded
+    def schema_revision(self) -> tuple[str | None, str | None]:
+        """(Alembic revision, ``meta.schema_version``) as stored."""
+        with self._engine.connect() as conn:
+            revision = migrate.inspect_schema(conn, self.location).revision
+            return revision, conn.scalar(
+                select(MetaRow.value).where(MetaRow.key == "schema_version")
+            )
+
+    @_guarded
+    def database_problems(self) -> list[str]:
+        """What the database engine and the table relations find wrong (no algebra):
+        SQLite's integrity and foreign-key checks, results tied to a claim of another
+        case version, and verdicts or run states outside their sets."""
+        problems = []
+        with self._engine.connect() as conn:
+            if conn.dialect.name == "sqlite":
+                found = [r[0] for r in conn.exec_driver_sql("PRAGMA integrity_check")]
+                problems += [f"SQLite integrity check: {r}" for r in found if r != "ok"]
+                problems += [
+                    f"foreign key: row {row} of {table} points to a missing row of {parent}"
+                    for table, row, parent, _ in conn.exec_driver_sql("PRAGMA foreign_key_check")
+                ]
+            claims = ClaimRow.__table__
+            for table in (ResultRow.__table__, CorrectionRow.__table__, EvidenceRow.__table__):
+                crossed = conn.execute(
+                    select(table.c.id)
+                    .join(claims, claims.c.id == table.c.claim_id)
+                    .where(claims.c.case_pk != table.c.case_pk)
+                ).scalars()
+                problems += [
+                    f"{table.name} row {i}: its claim belongs to another case version"
+                    for i in crossed
+                ]
+            verdicts = [str(v) for v in Verdict]
+            odd = conn.execute(
+                select(ResultRow.id, ResultRow.verdict).where(ResultRow.verdict.not_in(verdicts))
+            )
+            problems += [f"check_results row {i}: unknown verdict {v!r}" for i, v in odd]
+            odd = conn.execute(
+                select(RunRow.id, RunRow.status).where(RunRow.status.not_in(RUN_STATUSES))
+            )
+            problems += [f"audit run {i}: unknown status {v!r}" for i, v in odd]
+        return problems
+
+    @_guarded
+    def counts(self) -> dict[str, int]:
+        """How many rows each table holds."""
+        tables = {
+            "case versions": CaseRow,
+            "claims": ClaimRow,
+            "runs": RunRow,
+            "results": ResultRow,
+            "corrections": CorrectionRow,
+        }
+        with self._read() as session:
+            return {
+                name: session.scalar(select(func.count()).select_from(row)) or 0
+                for name, row in tables.items()
+            }
+
+    @_guarded
+    def running_runs(self) -> list[tuple[int, str | None, int | None]]:
+        """(run, host, pid) of the runs still marked ``running``."""
+        with self._read() as session:
+            stmt = select(RunRow.id, RunRow.host, RunRow.pid).where(RunRow.status == "running")
+            return [tuple(r) for r in session.execute(stmt)]
+
+    @_guarded
+    def stored_expressions(self) -> list[StoredText]:
+        """Every expression and equation the database keeps, with its place, so that
+        ``registry check`` can parse each again: the case columns, the claims, and the
+        derived Casimirs, torques and parameter conditions of every run."""
+        out: list[StoredText] = []
+        with self._read() as session:
+            cases = {r.id: r for r in session.scalars(select(CaseRow))}
+            for r in cases.values():
+                out.append(StoredText(r.id, "potential", r.potential))
+                out += [StoredText(r.id, f"torque[{i}]", t) for i, t in enumerate(r.torque)]
+                out += [StoredText(r.id, f"inertia[{i}]", t) for i, t in enumerate(r.inertia)]
+            for c in session.scalars(select(ClaimRow)):
+                where = f"claim {c.label!r}"
+                out.append(StoredText(c.case_pk, f"{where} expression", c.expression))
+                out += [
+                    StoredText(c.case_pk, f"{where} on[{i}]", e, equation=True)
+                    for i, e in enumerate(c.on)
+                ]
+            for row in session.scalars(select(CorrectionRow)):
+                where = f"run {row.run_id}, {row.kind} (corrections row {row.id})"
+                if row.expression:
+                    out.append(StoredText(row.case_pk, where, row.expression))
+                for i, t in enumerate(row.payload.get("torque") or ()):
+                    out.append(StoredText(row.case_pk, f"{where} torque[{i}]", t))
+                for branch in row.payload.get("branches") or ():
+                    out += [StoredText(row.case_pk, where, e, equation=True) for e in branch]
+        return out
 
     # -------------------------------------------------------------------- frames
 
