@@ -13,7 +13,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 
-from .casefile import content_hash, parse_case_text
+from .casefile import parse_case_text
 from .errors import CaseFormatError, ExpressionError
 from .expressions import Namespace, parse_equation, parse_expression
 from .model import Case
@@ -50,13 +50,13 @@ def verify(store: Store) -> Verification:
     names: dict[int, str] = {}
     for stored in store.case_versions(latest_only=False):
         name = names[stored.pk] = f"case {stored.case_id} version {stored.version}"
-        if content_hash(stored.text) != stored.content_hash:
-            problems.append(f"{name}: the stored hash does not match the stored text")
         try:
             case = parse_case_text(stored.text, name)
         except CaseFormatError as err:
             problems += [f"{name}: the stored text no longer parses: {p}" for p in err.problems]
             continue
+        if case.content_hash != stored.content_hash:
+            problems.append(f"{name}: the stored hash does not match the stored text")
         if case.id != stored.case_id:
             problems.append(f"{name}: the stored text has id {case.id!r}")
         cases[stored.pk] = case

@@ -522,7 +522,7 @@ def _guarded(method: Callable[P, T]) -> Callable[P, T]:
                 problem = storage_error(err, location)
                 if not isinstance(problem, DatabaseLockedError) or attempt == LOCK_ATTEMPTS:
                     raise problem from err
-                time.sleep(0.05 * 2**attempt)
+                time.sleep(min(0.05 * 2**attempt, 1.0))
         raise AssertionError("unreachable")
 
     return wrapper

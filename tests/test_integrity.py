@@ -1,0 +1,297 @@
+"""``registry check`` finds what was damaged in a database, and says nothing of a sound one;
+database failures (missing, read-only, full, locked) get their own one-line errors;
+runs whose process died are marked interrupted on the next start."""
+
+from __future__ import annotations
+
+import shutil
+import sqlite3
+import subprocess
+import sys
+import threading
+import time
+from contextlib import closing
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+from samples import CASES, ZHUKOVSKY
+from sqlalchemy import event
+
+import registry
+from registry import storage
+from registry.cli import main
+from registry.errors import (
+    DatabaseFullError,
+    DatabaseLockedError,
+    DatabaseMissingError,
+    DatabaseReadOnlyError,
+)
+from registry.integrity import verify
+from registry.storage import Store
+
+YEHIA_B = "yehia-2003-kovalevskaya-b"
+PICK = [ZHUKOVSKY, YEHIA_B, "affine-nonsymmetric"]
+
+
+@pytest.fixture(scope="module")
+def audited_db(tmp_path_factory) -> Path:
+    """A database with three seed cases, audited once with repairs (so it holds derived
+    Casimirs, torques and parameter conditions)."""
+    path = tmp_path_factory.mktemp("audited") / "registry.sqlite"
+    reg = registry.open(path)
+    reg.add(*(CASES / f"{c}.toml" for c in PICK))
+    reg.audit(jobs=0)
+    reg.store.close()
+    return path
+
+
+@pytest.fixture
+def db(audited_db, tmp_path) -> Path:
+    """A private copy of the audited database, to damage."""
+    copy = tmp_path / "registry.sqlite"
+    shutil.copy(audited_db, copy)
+    return copy
+
+
+def damage(path: Path, *statements: str) -> None:
+    """Change the database behind the registry's back (foreign keys off, as a careless
+    tool would)."""
+    with closing(sqlite3.connect(path)) as conn:
+        conn.execute("PRAGMA foreign_keys=OFF")
+        for sql in statements:
+            conn.execute(sql)
+        conn.commit()
+
+
+def problems(path: Path) -> list[str]:
+    with Store(path) as store:
+        return list(verify(store).problems)
+
+
+def pk_of(path: Path, case_id: str) -> int:
+    with closing(sqlite3.connect(path)) as conn:
+        return conn.execute("SELECT id FROM cases WHERE case_id = ?", (case_id,)).fetchone()[0]
+
+
+# ---------------------------------------------------------------- registry check
+
+
+def test_a_sound_database_passes(db):
+    result = CliRunner().invoke(main, ["--db", str(db), "check"])
+    assert result.exit_code == 0, result.output
+    lines = result.stdout.splitlines()
+    assert lines[0] == f"database {str(db)!r}, schema revision 0002"
+    assert lines[1].startswith("3 case versions, 3 claims, 1 runs, ")
+    assert lines[-1] == "ok: integrity, foreign keys, hashes and every stored expression"
+    found = verify(Store(db))
+    assert found.ok and found.counts["corrections"] > 0  # derived texts were looked at
+
+
+def test_an_edited_case_text_is_found(db):
+    damage(
+        db,
+        f"UPDATE cases SET text = replace(text, 'Zhukovsky', 'Zhukovskii') "
+        f"WHERE case_id = '{ZHUKOVSKY}'",
+    )
+    assert problems(db) == [
+        f"case {ZHUKOVSKY} version 1: the stored hash does not match the stored text"
+    ]
+
+
+def test_an_edited_column_is_found(db):
+    damage(db, f"UPDATE cases SET potential = 'gamma3' WHERE case_id = '{YEHIA_B}'")
+    with closing(sqlite3.connect(db)) as conn:
+        (text,) = conn.execute("SELECT text FROM cases WHERE case_id = ?", (YEHIA_B,)).fetchone()
+    case = registry.parse_case_text(text)
+    assert problems(db) == [
+        f"case {YEHIA_B} version 1: potential: stored as 'gamma3', but the case text says "
+        f"{case.system.potential.text!r}"
+    ]
+
+
+def test_a_stored_claim_that_no_longer_parses_is_found(db):
+    damage(db, "UPDATE claims SET expression = '__import__(''os'')' WHERE label = 'I2'")
+    found = problems(db)
+    assert len(found) == 2
+    assert found[0].startswith(
+        f"case {YEHIA_B} version 1: claim 'I2' expression: stored as \"__import__('os')\""
+    )
+    assert found[1].startswith(
+        f"case {YEHIA_B} version 1: claim 'I2' expression: \"__import__('os')\" does not parse: "
+    )
+
+
+def test_a_derived_expression_that_does_not_parse_is_found(db):
+    damage(db, "UPDATE corrections SET expression = 'gamma1 ^ 2' WHERE kind = 'casimir'")
+    found = problems(db)
+    assert found and all("does not parse" in p and "'gamma1 ^ 2'" in p for p in found)
+    assert all(p.startswith(f"case {YEHIA_B} version 1: run 1, casimir") for p in found)
+
+
+def test_a_stored_text_that_no_longer_parses_is_found(db):
+    damage(db, f"UPDATE cases SET text = 'id = ', content_hash = 'x' WHERE case_id = '{ZHUKOVSKY}'")
+    (found,) = problems(db)
+    assert found == (
+        f"case {ZHUKOVSKY} version 1: the stored text no longer parses: "
+        "invalid TOML: Invalid value (at end of document)"
+    )
+
+
+def test_broken_references_and_unknown_values_are_found(db):
+    with closing(sqlite3.connect(db)) as conn:
+        (crossed,) = conn.execute(
+            "SELECT min(id) FROM check_results WHERE case_pk = ?", (pk_of(db, ZHUKOVSKY),)
+        ).fetchone()
+    damage(
+        db,
+        "UPDATE check_results SET run_id = 99 WHERE id = 1",
+        "UPDATE check_results SET verdict = 'probably' WHERE id = 2",
+        "UPDATE check_results SET claim_id = (SELECT id FROM claims WHERE label = 'I2') "
+        f"WHERE id = {crossed}",
+        "UPDATE audit_runs SET status = 'done'",
+    )
+    assert sorted(problems(db)) == sorted(
+        [
+            "foreign key: row 1 of check_results points to a missing row of audit_runs",
+            "check_results row 2: unknown verdict 'probably'",
+            f"check_results row {crossed}: its claim belongs to another case version",
+            "audit run 1: unknown status 'done'",
+        ]
+    )
+
+
+def test_the_cli_lists_the_problems_and_exits_1(db):
+    damage(db, "UPDATE check_results SET verdict = 'probably' WHERE id = 2")
+    result = CliRunner().invoke(main, ["--db", str(db), "check"])
+    assert result.exit_code == 1
+    assert "problem: check_results row 2: unknown verdict 'probably'" in result.stdout
+    assert result.stderr.splitlines() == ["Error: 1 problem(s) found in the database"]
+
+
+# ---------------------------------------------------------------- database errors
+
+
+def test_a_missing_database_is_reported_and_not_created(tmp_path):
+    missing = tmp_path / "nowhere.sqlite"
+    with pytest.raises(DatabaseMissingError):
+        registry.open(missing, create=False)
+    for command in (["cases"], ["verdicts"], ["audit"], ["check"], ["runs"]):
+        result = CliRunner().invoke(main, ["--db", str(missing), *command])
+        assert result.exit_code == 1
+        assert result.stderr.splitlines() == [
+            f"Error: no registry database at {str(missing)!r}; create one by adding cases "
+            "(registry add FILES) or name another with --db"
+        ]
+    assert not missing.exists()
+
+
+def test_a_read_only_database_is_read_but_not_written(db):
+    url = f"sqlite:///file:{db}?mode=ro&uri=true"
+    reg = registry.open(url)
+    assert set(reg.cases()["case"]) == set(PICK)  # reading works
+    with pytest.raises(DatabaseReadOnlyError) as info:
+        reg.add(CASES / "borisov-mamaev-1997.toml")
+    assert str(info.value) == (
+        f"database {reg.store.location!r} is read-only, so the registry cannot write to it; "
+        "check the permissions of the file and of its folder"
+    )
+    result = CliRunner().invoke(main, ["--db", url, "add", str(CASES / "axis-torque.toml")])
+    assert result.exit_code == 1
+    assert result.stderr.splitlines() == [f"Error: {info.value}"]
+
+
+def test_a_full_disk_stores_nothing_of_the_change(db, monkeypatch):
+    def tiny(engine, file_db):
+        original(engine, file_db)
+
+        @event.listens_for(engine, "connect")
+        def _limit(dbapi_connection, _record):
+            pages = dbapi_connection.execute("PRAGMA page_count").fetchone()[0]
+            dbapi_connection.execute(f"PRAGMA max_page_count={pages + 1}")
+
+    original = storage._configure_sqlite
+    monkeypatch.setattr(storage, "_configure_sqlite", tiny)
+    reg = registry.open(db)
+    before = len(reg.cases())
+    with pytest.raises(DatabaseFullError) as info:
+        for path in sorted(CASES.glob("*.toml")):
+            reg.add(path)
+    assert str(info.value) == (
+        f"the disk holding database {str(db)!r} is full; nothing of this change was "
+        "stored (free some space and run the command again)"
+    )
+    reg.store.close()
+    monkeypatch.undo()
+    with Store(db) as store:
+        assert verify(store).ok  # no half-written case
+    assert len(registry.open(db).cases()) >= before
+
+
+def test_a_locked_database_is_retried_then_reported(db, monkeypatch):
+    monkeypatch.setattr(storage, "BUSY_TIMEOUT", 0.1)
+    monkeypatch.setattr(storage, "LOCK_ATTEMPTS", 2)
+    reg = registry.open(db)
+    holder = sqlite3.connect(db, isolation_level=None, check_same_thread=False)
+    holder.execute("BEGIN IMMEDIATE")
+    try:
+        with pytest.raises(DatabaseLockedError) as info:
+            reg.add(CASES / "axis-torque.toml")
+        assert str(info.value) == (
+            f"database {str(db)!r} is locked by another process (waited 0.2 s); "
+            "run the command again when the other registry command has finished"
+        )
+        # a lock released while the registry retries is waited out
+        monkeypatch.setattr(storage, "LOCK_ATTEMPTS", 20)
+        threading.Timer(0.5, holder.rollback).start()
+        assert reg.add(CASES / "axis-torque.toml")[0].status == "added"
+    finally:
+        holder.close()
+
+
+# ------------------------------------------------------------- interrupted runs
+
+
+def test_a_run_whose_process_died_is_marked_interrupted_on_the_next_start(db):
+    dead = subprocess.Popen([sys.executable, "-c", "pass"])
+    dead.wait()
+    reg = registry.open(db)
+    alive = reg.store.start_run({}, "test")  # this process: alive
+    reg.store.close()
+    with closing(sqlite3.connect(db)) as conn, conn:
+        orphan = conn.execute(
+            "INSERT INTO audit_runs (started_at, status, code_version, sympy_version, "
+            "python_version, options, host, pid, pid_started) "
+            "SELECT started_at, 'running', 'test', '', '', '{}', host, ?, '1' "
+            "FROM audit_runs WHERE id = ?",
+            (dead.pid, alive),
+        ).lastrowid
+    runs = registry.open(db).runs().set_index("run")["status"]
+    assert runs[orphan] == "interrupted"
+    assert runs[alive] == "running"  # its process (this one) is alive
+    assert runs[1] == "complete"
+
+
+def test_a_run_on_another_host_is_left_alone(db):
+    with closing(sqlite3.connect(db)) as conn, conn:
+        conn.execute(
+            "INSERT INTO audit_runs (started_at, status, code_version, sympy_version, "
+            "python_version, options, host, pid) VALUES "
+            "('2026-01-01 00:00:00', 'running', 't', '', '', '{}', 'elsewhere', 1)"
+        )
+    reg = registry.open(db)
+    assert list(reg.runs()["status"]) == ["complete", "running"]
+    assert verify(reg.store).notes == ("run 2 is still running (process 1 on elsewhere)",)
+
+
+def test_an_interrupted_audit_in_process_is_recorded(db, monkeypatch):
+    reg = registry.open(db)
+
+    def stop(*args, **kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(registry.api, "audit_case", stop)
+    with pytest.raises(KeyboardInterrupt):
+        reg.audit([ZHUKOVSKY], fresh=True, jobs=0)
+    assert list(reg.runs()["status"]) == ["complete", "interrupted"]
+    time.sleep(0)  # nothing else to wait for: the status is written before re-raising
