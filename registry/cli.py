@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import json
 import signal
+from collections import Counter
 import sys
 from dataclasses import replace
 from functools import wraps
@@ -98,6 +99,9 @@ def add(paths: tuple[str, ...]) -> None:
     for r in results:
         if r.status != "refused":
             click.echo(f"{r.status:12} {r.case} (version {r.version})  {r.path}")
+    counts = Counter(r.status for r in results)
+    tally = ", ".join(f"{counts[s]} {s}" for s in ("added", "new version", "unchanged", "refused"))
+    click.echo(f"{len(results)} file(s): {tally}")
     for r in refused:
         _report(r.error)
     if refused:

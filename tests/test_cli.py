@@ -30,6 +30,7 @@ VERDICTS = {"verified", "refuted", "inconclusive"}
 
 #: One line of ``registry add`` for a stored file: status, case id, version, path.
 ADD_LINE = re.compile(r"^(added|unchanged|new version)\s+(\S+) \(version (\d+)\)\s+(.+)$")
+TALLY = re.compile(r"^\d+ file\(s\): \d+ added, \d+ new version, \d+ unchanged, \d+ refused$")
 
 
 ZERO_INERTIA = """\
@@ -65,7 +66,9 @@ def error_lines(result) -> list[str]:
 def add_lines(result) -> list[tuple[str, str, int, str]]:
     """The stored-file lines of ``registry add`` as (status, case, version, path)."""
     parsed = []
-    for line in result.stdout.strip().splitlines():
+    *lines, tally = result.stdout.strip().splitlines()
+    assert TALLY.match(tally), tally
+    for line in lines:
         match = ADD_LINE.match(line)
         assert match, f"unexpected line from add: {line!r}"
         status, case, version, path = match.groups()
@@ -217,6 +220,8 @@ def test_add_refuses_bad_files_and_keeps_good_ones(tmp_path):
 
     stored = add_lines(result)
     assert [(s, c, v) for s, c, v, _ in stored] == [("added", ZHUKOVSKY, 1)]
+    tally = result.stdout.strip().splitlines()[-1]
+    assert tally == "3 file(s): 1 added, 0 new version, 0 unchanged, 2 refused"
 
     errors = error_lines(result)
     assert len(errors) == 2, result.stderr
