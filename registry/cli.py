@@ -9,8 +9,8 @@ from __future__ import annotations
 
 import json
 import signal
-from collections import Counter
 import sys
+from collections import Counter
 from dataclasses import replace
 from functools import wraps
 
