@@ -36,13 +36,40 @@ def _user_errors(fn):
         ctx = click.get_current_context()
         try:
             return fn(*args, **kwargs)
-        except RegistryError as err:
+        except (RegistryError, OSError) as err:
             if ctx.obj and ctx.obj.get("debug"):
                 raise
+            if isinstance(err, OSError) and not isinstance(err, RegistryError):
+                err = RegistryError(_os_message(err))
             _report(err)
             ctx.exit(1)
 
     return wrapper
+
+
+def _os_message(err: OSError) -> str:
+    """An operating-system failure (a file that cannot be read or written) in one line."""
+    where = f" {str(err.filename)!r}" if err.filename else ""
+    return f"cannot use{where}: {err.strerror or err}"
+
+
+class _Group(click.Group):
+    """The command group, with click's own usage errors as one ``Error:`` line, exit 1."""
+
+    def main(self, *args, **kwargs):
+        kwargs.update(standalone_mode=False, prog_name="registry")  # also for python -m
+        try:
+            code = super().main(*args, **kwargs)
+        except click.exceptions.Abort:
+            click.echo("Error: interrupted", err=True)
+            sys.exit(130)
+        except click.ClickException as err:
+            hint = ""
+            if isinstance(err, click.UsageError) and err.ctx is not None:
+                hint = f" (see: {err.ctx.command_path} --help)"
+            click.echo(f"Error: {err.format_message()}{hint}", err=True)
+            sys.exit(1)
+        sys.exit(code if isinstance(code, int) else 0)
 
 
 def _interrupt(signum, frame):
@@ -65,7 +92,7 @@ def _registry(create: bool = False) -> Registry:
     return ctx.obj["registry"]
 
 
-@click.group(context_settings={"help_option_names": ["-h", "--help"]})
+@click.group(cls=_Group, context_settings={"help_option_names": ["-h", "--help"]})
 @click.option(
     "--db",
     metavar="PATH|URL",

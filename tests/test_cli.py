@@ -524,3 +524,42 @@ def test_checks_lists_every_registered_check_with_its_statement():
     lines = result.stdout.splitlines()
     assert [line.split()[0] for line in lines] == list(CHECKS)
     assert any("Jacobi identity" in line for line in lines)
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (
+            ["add", "/no/such/file.toml"],
+            "Invalid value for 'PATHS...': Path "
+            "'/no/such/file.toml' does not exist. (see: registry add --help)",
+        ),
+        (["bogus"], "No such command 'bogus'. (see: registry --help)"),
+        (
+            ["audit", "--jobs", "-1"],
+            "Invalid value for '--jobs': -1 is not in the range x>=0. (see: registry audit --help)",
+        ),
+        (
+            ["verdicts", "--run", "x"],
+            "Invalid value for '--run': 'x' is not a valid "
+            "integer. (see: registry verdicts --help)",
+        ),
+    ],
+)
+def test_usage_mistakes_are_one_error_line_and_exit_1(tmp_path, args, message):
+    result = invoke(tmp_path / "r.sqlite", *args)
+    assert result.exit_code == 1
+    assert result.stderr.splitlines() == [f"Error: {message}"]
+    assert result.stdout == ""
+
+
+def test_a_file_that_cannot_be_written_is_one_error_line(tmp_path):
+    db = tmp_path / "r.sqlite"
+    invoke(db, "add", str(case_file(ZHUKOVSKY)))
+    blocker = tmp_path / "file"
+    blocker.write_text("not a folder")
+    result = invoke(db, "export", "--format", "csv", "-o", str(blocker / "out"))
+    assert result.exit_code == 1
+    assert result.stderr.splitlines() == [
+        f"Error: cannot use {str(blocker / 'out')!r}: Not a directory"
+    ]

@@ -199,8 +199,10 @@ def test_cli_export_bibtex_to_a_file_and_to_stdout(audited, tmp_path):
 @pytest.mark.parametrize("args", [[], ["--format", "csv", "--bibtex"]])
 def test_cli_export_needs_exactly_one_kind(audited, args):
     result = CliRunner().invoke(main, ["--db", str(audited.db), "export", *args])
-    assert result.exit_code == 2
-    assert "exactly one of --format and --bibtex" in result.output
+    assert result.exit_code == 1
+    assert result.stderr.splitlines() == [
+        "Error: give exactly one of --format and --bibtex (see: registry export --help)"
+    ]
 
 
 def test_cli_export_help_has_an_example():
