@@ -56,9 +56,32 @@ class Family:
     reason: str = ""
 
 
+#: Families already recognised in this process, by torque and domain (a catalog often
+#: holds several cases with one torque: a claim, its correction, a variant).
+_RECOGNISED: dict[tuple, Family] = {}
+
+
 def recognise(mu: Sequence[sp.Expr], domain: Domain) -> Family:
     """The family of the torque ``mu`` and, when found, its Casimir C(gamma, s)."""
     mu = tuple(sp.sympify(m) for m in mu)
+    key = (
+        mu,
+        domain.parameters,
+        tuple(sorted((name, f, args) for name, (f, args) in domain.functions.items())),
+        domain.nonzero,
+        domain.on,
+        domain.defined,
+    )
+    found = _RECOGNISED.get(key)
+    if found is None:
+        found = _recognise(mu, domain)
+        if len(_RECOGNISED) >= 64:
+            _RECOGNISED.clear()
+        _RECOGNISED[key] = found
+    return found
+
+
+def _recognise(mu: Vector, domain: Domain) -> Family:
     shape = _shape(mu)
     if shape == "none":
         return Family("none", reason="the torque depends on M other than through s")

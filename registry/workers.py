@@ -66,10 +66,12 @@ class _Worker:
         self.proc.start()
         child.close()
         self.task: tuple[int, float, float] | None = None  # (index, deadline, seconds)
+        self.torque: tuple | None = None  # of the last case, whose work it has cached
 
     def give(self, index: int, case: Case, seconds: float) -> None:
         self.conn.send(case)
         self.task = (index, time.monotonic() + seconds, seconds)
+        self.torque = _torque(case)
 
     def stop(self, kill: bool = False) -> None:
         if not kill:
@@ -84,6 +86,20 @@ class _Worker:
             self.proc.kill()
             self.proc.join()
         self.conn.close()
+
+
+def _torque(case: Case) -> tuple:
+    """What cases sharing a torque share: its components and the parameters' assumptions."""
+    return tuple(e.text for e in case.system.torque), tuple(sorted(case.assumptions.items()))
+
+
+def _next(pending: list[tuple[int, Case]], torque: tuple | None) -> int:
+    """Which pending case a worker takes: the largest with the torque of its last case
+    (its family and sympy caches are warm for it), else the largest."""
+    for i in range(len(pending) - 1, -1, -1):
+        if _torque(pending[i][1]) == torque:
+            return i
+    return -1
 
 
 def killed(case: Case, seconds: float) -> CaseAudit:
@@ -122,7 +138,7 @@ def audit_in_workers(
         while True:
             for w in workers:
                 if w.task is None and pending:
-                    index, case = pending.pop()
+                    index, case = pending.pop(_next(pending, w.torque))
                     if started is not None:
                         started(case)
                     w.give(index, case, budget.case_deadline(count_checks(case)))

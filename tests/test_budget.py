@@ -12,9 +12,10 @@ import sympy as sp
 import registry
 from registry import Verdict, audit_case, load_case
 from registry.budget import Budget, BudgetExceeded, time_limit
-from registry.checks import CHECKS
+from registry.checks import CHECKS, Mechanics
+from registry.families import recognise
 from registry.model import Expression
-from registry.workers import audit_in_workers
+from registry.workers import _next, _torque, audit_in_workers
 
 CASES = Path(__file__).resolve().parents[1] / "data" / "cases"
 
@@ -120,3 +121,24 @@ def _without_timings(cases):
             for detail in claim["details"].values():
                 detail.pop("seconds", None)
     return cases
+
+
+def test_a_free_worker_takes_the_largest_case_sharing_its_last_torque():
+    cases = [load_case(p) for p in sorted(CASES.glob("*.toml"))]
+    by_id = {c.id: c for c in cases}
+    pending = list(enumerate(cases))
+    b = by_id["yehia-2003-kovalevskaya-b"]
+    twin = by_id["bcc-yehia-b-corrected-casimir"]  # the same torque, another claim
+    picked = pending[_next(pending, _torque(b))][1]
+    assert picked.id in {b.id, twin.id}
+    assert _next(pending, None) == -1  # no history: the largest (the last, sorted by cost)
+    assert _next(pending, ("nothing", ())) == -1
+
+
+def test_recognising_a_torque_twice_reuses_the_first_result():
+    case = load_case(CASES / "yehia-2003-kovalevskaya-a.toml")
+    m = Mechanics(case)
+    first = recognise(m.mu, m.domain)
+    assert recognise(m.mu, m.domain) is first
+    other = Mechanics(load_case(CASES / "yehia-2003-cyclic.toml"))
+    assert recognise(other.mu, other.domain) is not first
