@@ -20,6 +20,7 @@ import sympy as sp
 
 from . import mechanics as mech
 from .checks import Mechanics
+from .expressions import FUNCTIONS
 from .model import Claim, Evidence, Verdict
 from .zero import _concrete_functions, _sample_point, _substitute_functions
 
@@ -138,10 +139,24 @@ def _integrate(exprs: list[sp.Expr], y0: list[float]) -> tuple[float, float] | s
     return _relative(is_), _relative(hs)
 
 
+def _only_numeric(exprs: list[sp.Expr]) -> None:
+    """Refuse to generate code for anything but the state variables, numbers, arithmetic
+    and the elementary functions of the case-file language (defence in depth: the trees
+    come from the whitelist parser, with parameters and functions already replaced)."""
+    allowed = set(mech.STATE)
+    for e in exprs:
+        if not e.free_symbols <= allowed:
+            raise ValueError(f"unexpected symbols {e.free_symbols - allowed} in {e}")
+        for f in e.atoms(sp.Function):
+            if type(f).__name__ not in FUNCTIONS and not isinstance(f, (sp.Abs, sp.sign)):
+                raise ValueError(f"unexpected function {type(f).__name__} in {e}")
+
+
 def _solve(exprs: list[sp.Expr], y0: list[float], t_end: float):
     """(times, H, I) along the trajectory from y0, or why it failed."""
     from scipy.integrate import solve_ivp  # only here: the audit starts faster without scipy
 
+    _only_numeric(exprs)
     field = sp.lambdify([mech.STATE], exprs[:6], modules="numpy")
     h = sp.lambdify([mech.STATE], exprs[6], modules="numpy")
     i = sp.lambdify([mech.STATE], exprs[7], modules="numpy")

@@ -3,10 +3,12 @@
 from pathlib import Path
 
 import pytest
+import sympy as sp
 from click.testing import CliRunner
 
 import registry
 from registry import Verdict, load_case
+from registry import mechanics as mech
 from registry import numeric as numeric_module
 from registry.checks import Mechanics
 from registry.cli import main
@@ -91,3 +93,14 @@ def test_plot_command_writes_a_png_and_refuses_unknown_claims(tmp_path):
     bad = runner.invoke(main, ["--db", str(db), "plot", "borisov-mamaev-1997", "K"])
     assert bad.exit_code == 1
     assert "Error: case 'borisov-mamaev-1997' has no claim 'K'" in bad.stderr
+
+
+def test_code_is_generated_only_for_state_numbers_and_language_functions():
+    from registry.numeric import _only_numeric
+
+    g1, m1 = mech.AXIS[0], mech.MOMENTUM[0]
+    _only_numeric([sp.sin(m1) + sp.sqrt(g1) * sp.atan(g1) / 3 + sp.Abs(m1)])
+    with pytest.raises(ValueError, match="unexpected symbols"):
+        _only_numeric([g1 + sp.Symbol("os")])
+    with pytest.raises(ValueError, match="unexpected function"):
+        _only_numeric([sp.Function("system")(g1)])
