@@ -1,8 +1,10 @@
 """Case files: read one TOML file (CASE_FORMAT.md) into a ``registry.model.Case``.
 
 Everything in a file is validated before anything is built, and every problem
-found is reported at once in one ``CaseFormatError``, each with its field
-(``claims[2].expression``), what is wrong and the offending text.
+found is reported at once in one ``CaseFormatError`` (up to MAX_PROBLEMS of them),
+each with its field (``claims[2].expression``), what is wrong and the offending
+text. A file is untrusted input: the limits below and in ``registry.expressions``
+bound the work any file can cause, and nothing in it is executed.
 
 Examples
 --------
@@ -34,6 +36,7 @@ import json
 import keyword
 import os
 import re
+import stat
 import tomllib
 from collections.abc import Callable
 from dataclasses import replace
@@ -42,16 +45,36 @@ from typing import Any
 import sympy as sp
 
 from .errors import CaseFormatError, ExpressionError, Problem
-from .expressions import RESERVED_NAMES, VARIABLES, Namespace, parse_equation, parse_expression
+from .expressions import (
+    MAX_DIGITS,
+    RESERVED_NAMES,
+    VARIABLES,
+    Budget,
+    Namespace,
+    parse_equation,
+    parse_expression,
+)
 from .mechanics import MOMENTUM, STATE, s
 from .model import Assumption, Case, Claim, ClaimKind, Equation, Expression, Source, System
 
+# Limits on a case file besides those on its expressions (``registry.expressions``):
+# each is checked before the work it bounds, so that a hostile file is refused fast.
+
 #: Largest case file, in bytes.
 MAX_FILE_BYTES = 1_000_000
+#: Deepest nesting of arrays, inline tables and dotted keys in the TOML (``a.b.c``
+#: is 3 levels); checked before the TOML parser runs, which is slow on deep keys.
+MAX_TOML_DEPTH = 10
 #: Most claims in one case.
 MAX_CLAIMS = 200
+#: Most level-set equations (``on``) of one claim.
+MAX_EQUATIONS = 20
 #: Most parameters in one case (and, separately, most declared functions).
 MAX_PARAMETERS = 100
+#: Most problems listed in one error; the rest are counted in a last line.
+MAX_PROBLEMS = 50
+#: Longest piece of user text (a key, a name, a value) shown in a message.
+MAX_SHOWN = 40
 
 #: A case id: lowercase letters, digits, '.' and '-', starting with a letter or digit.
 ID_PATTERN = re.compile(r"[a-z0-9][a-z0-9.-]*")
@@ -61,6 +84,11 @@ _SOURCE_KEYS = ("citation", "locator", "doi")
 _SYSTEM_KEYS = ("inertia", "potential", "torque")
 _CLAIM_KEYS = ("label", "kind", "expression", "on", "locator")
 _VARIABLE_LIST = ", ".join(VARIABLES)
+#: Control characters (C0, DEL, C1) and the Unicode bidirectional controls, which
+#: can make text display as something else; with and without tab and line breaks.
+_CONTROL = "\x00-\x08\x0b\x0c\x0e-\x1f\x7f-\x9f\u061c\u200e\u200f\u202a-\u202e\u2066-\u2069"
+_CONTROLS = re.compile(f"[{_CONTROL}\t\n\r]")
+_CONTROLS_BUT_LINE_BREAKS = re.compile(f"[{_CONTROL}]")
 _ZERO = Expression("0", sp.Integer(0))
 
 
@@ -77,7 +105,7 @@ def parse_case_text(text: str, file: str = "<string>") -> Case:
     reader = _Reader()
     case = reader.case(data)
     if case is None:
-        raise CaseFormatError(file, reader.problems)
+        raise CaseFormatError(file, reader.listed())
     return replace(case, text=text, content_hash=_hash_data(data))
 
 
@@ -100,9 +128,17 @@ def _fail(file: str, message: str) -> CaseFormatError:
 
 def _read_text(path: str | os.PathLike, file: str) -> str:
     """The file's text: at most MAX_FILE_BYTES of UTF-8 (a leading BOM is dropped)."""
+    flags = os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_BINARY", 0)
     try:
-        with open(path, "rb") as handle:
-            data = handle.read(MAX_FILE_BYTES + 1)
+        # Non-blocking, so that a named pipe or a device is refused instead of waited on.
+        fd = os.open(path, flags)
+        try:
+            if not stat.S_ISREG(os.fstat(fd).st_mode):
+                raise _fail(file, "not a regular file")
+            with open(fd, "rb", closefd=False) as handle:
+                data = handle.read(MAX_FILE_BYTES + 1)
+        finally:
+            os.close(fd)
     except OSError as err:
         raise _fail(file, f"cannot read the file ({err.strerror or err})") from None
     if len(data) > MAX_FILE_BYTES:
@@ -120,16 +156,108 @@ def _load_toml(text: str, file: str) -> dict:
     """The TOML document in ``text``, or CaseFormatError naming the line and column."""
     if not isinstance(text, str):
         raise TypeError(f"a case file text must be a str, not {type(text).__name__}")
-    if len(text.encode("utf-8", "replace")) > MAX_FILE_BYTES:
+    try:
+        size = len(text.encode("utf-8"))
+    except UnicodeEncodeError as err:
+        code = ord(text[err.start])
+        raise _fail(
+            file,
+            f"the text is not valid Unicode (lone surrogate U+{code:04X} at offset {err.start})",
+        ) from None
+    if size > MAX_FILE_BYTES:
         raise _fail(file, f"the file is too large (more than {MAX_FILE_BYTES} bytes)")
     if not text.strip():
         raise _fail(file, "the file is empty")
+    shape = _toml_shape_problem(text)
+    if shape:
+        raise _fail(file, f"invalid TOML: {shape}")
     try:
         return tomllib.loads(text)
-    except tomllib.TOMLDecodeError as err:
-        raise _fail(file, f"invalid TOML: {err}") from None
     except RecursionError:
-        raise _fail(file, "invalid TOML: nested too deeply") from None
+        raise _fail(
+            file, f"invalid TOML: nested too deeply (more than {MAX_TOML_DEPTH} levels)"
+        ) from None
+    except ValueError as err:  # TOMLDecodeError (or anything else tomllib refuses)
+        raise _fail(file, f"invalid TOML: {_toml_message(str(err))}") from None
+
+
+def _toml_message(message: str) -> str:
+    """tomllib's message, escaped and cut: the keys it quotes can be as long as the file."""
+    body, at = re.fullmatch(r"(.*?)((?: \(at line \d+, column \d+\))?)", message, re.S).groups()
+    return "".join(c if " " <= c <= "~" else ascii(c)[1:-1] for c in _cut(body, 100)) + at
+
+
+# Outside strings and comments: brackets, separators, dots and long digit runs.
+_TOML_EVENT = re.compile(rf"[\"'#\[\]{{}}=,.\n]|(?<!\w)[0-9][0-9_]{{{MAX_DIGITS},}}")
+_TOML_STRING_END = {
+    '"': re.compile(r'\\.|["\n]', re.S),
+    "'": re.compile(r"['\n]"),
+    '"""': re.compile(r'\\.|"""', re.S),
+    "'''": re.compile(r"'''"),
+}
+
+
+def _toml_shape_problem(text: str) -> str | None:
+    """Why ``text`` is too deep or has too long a number for the TOML parser, or None.
+
+    A linear scan that skips strings and comments. tomllib takes quadratic time in
+    the parts of a dotted key and recursion in nested arrays, and raises ValueError
+    on integers of more than 4300 digits, so these are refused before it runs.
+    """
+    depth = dots = 0
+    pos = 0
+    while True:
+        event = _TOML_EVENT.search(text, pos)
+        if event is None:
+            return None
+        char, pos = event.group(), event.end()
+        if char in "[{":
+            depth += 1
+            dots = 0
+        elif char in "]}":
+            depth = max(depth - 1, 0)
+            dots = 0
+        elif char in "=,\n":
+            dots = 0
+        elif char == ".":
+            dots += 1
+        elif char == "#":
+            end = text.find("\n", pos)
+            pos = len(text) if end < 0 else end
+        elif char in "\"'":
+            quote = text[pos - 1 : pos + 2] if text[pos : pos + 2] == char * 2 else char
+            pos = _string_end(text, pos + len(quote) - 1, quote)
+            if pos is None:
+                return None  # unterminated: tomllib says where
+        else:
+            return f"number too long (more than {MAX_DIGITS} digits){_at(text, event.start())}"
+        if depth + dots > MAX_TOML_DEPTH:
+            return (
+                f"nested too deeply (more than {MAX_TOML_DEPTH} levels){_at(text, event.start())}"
+            )
+
+
+def _string_end(text: str, pos: int, quote: str) -> int | None:
+    """Where the TOML string opened by ``quote`` just before ``pos`` ends, or None."""
+    pattern = _TOML_STRING_END[quote]
+    while True:
+        found = pattern.search(text, pos)
+        if found is None or found.group() == "\n":
+            return None
+        pos = found.end()
+        if found.group()[0] != "\\":
+            if len(quote) == 3:
+                # A multi-line string may end with one or two quotes before its closing three.
+                for _ in range(2):
+                    pos += text.startswith(quote[0], pos)
+            return pos
+
+
+def _at(text: str, pos: int) -> str:
+    """' (at line L, column C)', as tomllib writes positions."""
+    line = text.count("\n", 0, pos) + 1
+    column = pos - text.rfind("\n", 0, pos)
+    return f" (at line {line}, column {column})"
 
 
 def _found(value: Any) -> str:
@@ -151,8 +279,38 @@ def _found(value: Any) -> str:
 
 def _key(parent: str, key: str) -> str:
     """The field name of ``key`` inside ``parent`` (quoted when it is no bare TOML key)."""
+    key = _cut(key)
     shown = key if re.fullmatch(r"[A-Za-z0-9_-]+", key) else json.dumps(key)
     return f"{parent}.{shown}" if parent else shown
+
+
+def _cut(text: str, limit: int = MAX_SHOWN) -> str:
+    """``text`` cut to ``limit`` characters, for a message."""
+    return text if len(text) <= limit else text[: limit - 3] + "..."
+
+
+def _show(text: str) -> str:
+    """User text quoted for a message: cut, with anything but printable ASCII escaped.
+
+    Escaping shows look-alikes for what they are: 'tіtle' (Cyrillic і) is 't\\u0456tle'.
+    """
+    return ascii(_cut(text))
+
+
+def _char(char: str) -> str:
+    """One character for a message: 'D', or its code point when it is not printable ASCII."""
+    return repr(char) if char.isascii() and char.isprintable() else f"U+{ord(char):04X}"
+
+
+def _control_problem(text: str, line_breaks: bool = False) -> str | None:
+    """Why ``text`` may not be shown in a terminal, or None.
+
+    Control characters (escape sequences) and bidirectional controls could make a
+    listing show something else than what is stored; ``line_breaks`` allows tab and
+    line breaks.
+    """
+    found = (_CONTROLS_BUT_LINE_BREAKS if line_breaks else _CONTROLS).search(text)
+    return f"control character {_char(found.group())} is not allowed" if found else None
 
 
 def _name_problem(name: str) -> str | None:
@@ -160,9 +318,9 @@ def _name_problem(name: str) -> str | None:
     if not (name.isascii() and name.isidentifier()):
         return "not a valid name (use ASCII letters, digits and '_', not starting with a digit)"
     if keyword.iskeyword(name):
-        return f"{name!r} is a reserved name (a Python keyword)"
+        return f"{_show(name)} is a reserved name (a Python keyword)"
     if name in RESERVED_NAMES:
-        return f"{name!r} is a reserved name ({RESERVED_NAMES[name]})"
+        return f"{_show(name)} is a reserved name ({RESERVED_NAMES[name]})"
     return None
 
 
@@ -183,20 +341,42 @@ class _Reader:
 
     def __init__(self) -> None:
         self.problems: list[Problem] = []
+        self.unlisted = 0
         self.ns = Namespace()
+        self.budget = Budget()
+        self.budget_reported = False
 
     def problem(self, field: str, message: str, text: str | None = None) -> None:
-        self.problems.append(Problem(field, message, text))
+        if self.full:
+            self.unlisted += 1
+        else:
+            self.problems.append(Problem(field, message, text))
+
+    @property
+    def full(self) -> bool:
+        """Whether MAX_PROBLEMS problems are listed already (more are only counted)."""
+        return len(self.problems) >= MAX_PROBLEMS
+
+    def listed(self) -> list[Problem]:
+        """The problems to report: the first MAX_PROBLEMS, then how many more there are."""
+        if not self.unlisted:
+            return self.problems
+        more = f"{self.unlisted} more problem{'s' * (self.unlisted > 1)} not listed"
+        return [*self.problems, Problem("", f"{more} (at most {MAX_PROBLEMS} are)")]
 
     # ------------------------------------------------------- generic checks
 
     def check_keys(self, table: dict, allowed: tuple[str, ...], field: str) -> None:
         """Report keys of ``table`` that the format does not know (with a suggestion)."""
         for key in table:
-            if key not in allowed:
-                close = difflib.get_close_matches(key, allowed, n=1)
-                hint = f" (did you mean {close[0]!r}?)" if close else ""
-                self.problem(field, f"unknown key {key!r}{hint}")
+            if key in allowed:
+                continue
+            if self.full:
+                self.unlisted += 1
+                continue
+            close = difflib.get_close_matches(_cut(key), allowed, n=1)
+            hint = f" (did you mean {close[0]!r}?)" if close else ""
+            self.problem(field, f"unknown key {_show(key)}{hint}")
 
     def table(self, data: dict, key: str, field: str) -> dict | None:
         """The sub-table ``data[key]``; None when absent or not a table (reported)."""
@@ -207,9 +387,18 @@ class _Reader:
         return None
 
     def string(
-        self, data: dict, key: str, field: str, required: bool = False, nonempty: bool = False
+        self,
+        data: dict,
+        key: str,
+        field: str,
+        required: bool = False,
+        nonempty: bool = False,
+        line_breaks: bool = False,
     ) -> str | None:
-        """The string ``data[key]``; None (reported if required or wrong) otherwise."""
+        """The string ``data[key]``; None (reported if required or wrong) otherwise.
+
+        Control characters are refused (tab and line breaks too, unless ``line_breaks``).
+        """
         if key not in data:
             if required:
                 self.problem(field, "required field is missing")
@@ -221,6 +410,10 @@ class _Reader:
         if nonempty and not value.strip():
             self.problem(field, "must not be empty")
             return None
+        control = _control_problem(value, line_breaks)
+        if control:
+            self.problem(field, control, value)
+            return None
         return value
 
     def expression(self, text: Any, field: str) -> Expression | None:
@@ -229,10 +422,16 @@ class _Reader:
             self.problem(field, f"expected a string, found {_found(text)}")
             return None
         try:
-            return Expression(text, parse_expression(text, self.ns))
+            return Expression(text, parse_expression(text, self.ns, self.budget))
         except ExpressionError as err:
-            self.problem(field, err.message, err.text)
+            self.expression_problem(field, err)
             return None
+
+    def expression_problem(self, field: str, err: ExpressionError) -> None:
+        """Report a refused expression; a case past its Budget is reported once."""
+        if err.message != self.budget.exhausted or not self.budget_reported:
+            self.problem(field, err.message, err.text)
+        self.budget_reported = self.budget.exhausted is not None
 
     def equation(self, text: Any, field: str) -> Equation | None:
         """A level-set equation ``lhs = rhs``; parse errors become problems."""
@@ -240,9 +439,9 @@ class _Reader:
             self.problem(field, f"expected a string, found {_found(text)}")
             return None
         try:
-            lhs, rhs = parse_equation(text, self.ns)
+            lhs, rhs = parse_equation(text, self.ns, self.budget)
         except ExpressionError as err:
-            self.problem(field, err.message, err.text)
+            self.expression_problem(field, err)
             return None
         return Equation(text, lhs, rhs)
 
@@ -259,7 +458,7 @@ class _Reader:
         self.ns = Namespace(parameters, functions)
         system = self.system(data)
         claims = self.claims(data)
-        notes = self.string(data, "notes", "notes")
+        notes = self.string(data, "notes", "notes", line_breaks=True)
         if self.problems:
             return None
         return Case(
@@ -276,16 +475,18 @@ class _Reader:
 
     def case_id(self, data: dict) -> str | None:
         """The id: lowercase letters, digits, '.' and '-', starting with a letter or digit."""
-        case_id = self.string(data, "id", "id", required=True)
-        if case_id is not None and not ID_PATTERN.fullmatch(case_id):
+        case_id = data.get("id")
+        if isinstance(case_id, str) and case_id and not ID_PATTERN.fullmatch(case_id):
+            # Checked before string(), which would only name a control character.
+            bad = next((c for c in case_id if not re.fullmatch(r"[a-z0-9.-]", c)), case_id[0])
             self.problem(
                 "id",
                 "an id may hold only lowercase letters, digits, '.' and '-', "
-                "and starts with a letter or digit",
+                f"and starts with a letter or digit (found {_char(bad)})",
                 case_id,
             )
             return None
-        return case_id
+        return self.string(data, "id", "id", required=True, nonempty=True)
 
     def source(self, data: dict) -> Source | None:
         """[source]: citation (required), locator, doi."""
@@ -332,7 +533,7 @@ class _Reader:
         except ValueError:
             expected = ", ".join(repr(a.value) for a in Assumption)
             expected = " or ".join(expected.rsplit(", ", 1))
-            self.problem(field, f"unknown assumption {value!r} (expected {expected})")
+            self.problem(field, f"unknown assumption {_show(value)} (expected {expected})")
             return None
 
     def functions(
@@ -351,7 +552,9 @@ class _Reader:
             if bad_name:
                 self.problem(field, bad_name)
             elif name in parameters:
-                self.problem(field, f"{name!r} is declared both as a parameter and as a function")
+                self.problem(
+                    field, f"{_show(name)} is declared both as a parameter and as a function"
+                )
                 bad_name = "clash"
             args = self.arguments(value, field)
             if bad_name is None and args is not None:
@@ -366,6 +569,11 @@ class _Reader:
         if not value:
             self.problem(field, "a function needs at least one argument")
             return None
+        if len(value) > len(VARIABLES):
+            self.problem(
+                field, f"too many arguments ({len(value)}; at most {len(VARIABLES)}, all distinct)"
+            )
+            return None
         args: list[sp.Symbol] = []
         ok = True
         for i, arg in enumerate(value):
@@ -373,7 +581,9 @@ class _Reader:
             if not isinstance(arg, str):
                 self.problem(where, f"expected a string, found {_found(arg)}")
             elif arg not in VARIABLES:
-                self.problem(where, f"unknown argument {arg!r} (expected one of {_VARIABLE_LIST})")
+                self.problem(
+                    where, f"unknown argument {_show(arg)} (expected one of {_VARIABLE_LIST})"
+                )
             elif VARIABLES[arg] in args:
                 self.problem(where, f"duplicate argument {arg!r}")
             else:
@@ -419,7 +629,7 @@ class _Reader:
         if len(value) != 3:
             self.problem(field, f"expected 3 entries, found {len(value)}")
         items = []
-        for i, text in enumerate(value):
+        for i, text in enumerate(value[:3]):
             expr = self.expression(text, f"{field}[{i}]")
             if expr is not None and check is not None:
                 check(expr, f"{field}[{i}]")
@@ -474,7 +684,7 @@ class _Reader:
         label = self.string(item, "label", f"{field}.label", required=True, nonempty=True)
         if label is not None:
             if label in labels:
-                self.problem(f"{field}.label", f"duplicate label {label!r}")
+                self.problem(f"{field}.label", f"duplicate label {_show(label)}")
             labels.add(label)
         kind = self.claim_kind(item, f"{field}.kind")
         expression = None
@@ -496,7 +706,9 @@ class _Reader:
         try:
             return ClaimKind(kind)
         except ValueError:
-            self.problem(field, f"unknown claim kind {kind!r} (expected 'integral' or 'casimir')")
+            self.problem(
+                field, f"unknown claim kind {_show(kind)} (expected 'integral' or 'casimir')"
+            )
             return None
 
     def level_set(self, item: dict, field: str) -> tuple[Equation, ...] | None:
@@ -504,6 +716,9 @@ class _Reader:
         value = item.get("on", [])
         if not isinstance(value, list):
             self.problem(field, f"expected an array of equations, found {_found(value)}")
+            return None
+        if len(value) > MAX_EQUATIONS:
+            self.problem(field, f"too many equations ({len(value)}; at most {MAX_EQUATIONS})")
             return None
         equations = [self.equation(text, f"{field}[{i}]") for i, text in enumerate(value)]
         return None if None in equations else tuple(equations)

@@ -44,7 +44,13 @@ class CaseFormatError(RegistryError, ValueError):
         super().__init__(str(self))
 
     def __str__(self) -> str:
-        return "\n".join(f"{self.file}: {p}" for p in self.problems)
+        file = _printable(self.file)
+        return "\n".join(f"{file}: {p}" for p in self.problems)
+
+
+def _printable(text: str) -> str:
+    """``text`` with unprintable characters escaped (a file name may hold line breaks)."""
+    return "".join(c if c.isprintable() else ascii(c)[1:-1] for c in text)
 
 
 class ExpressionError(RegistryError, ValueError):

@@ -60,6 +60,21 @@ MAX_ROOT_DIGITS = 300
 #: length of each product in them (the product rule makes k terms of k factors).
 MAX_DIFF_WORK = 10_000
 
+# Limits on all the expressions of one case file together (a ``Budget``), so that
+# a file of many expressions, each within the limits above, is refused as fast.
+
+#: Most expression parts (as MAX_NODES counts them) in one case file.
+MAX_CASE_PARTS = 5_000
+#: Most digits of the numbers whose roots the expressions of one case file take
+#: (sympy factors each such number, which takes time even when it is small).
+MAX_CASE_ROOT_DIGITS = 1_000
+#: Most differentiation work (as MAX_DIFF_WORK counts it) in one case file.
+MAX_CASE_DIFF_WORK = 10_000
+#: Largest denominator q of a rational multiple p/q of pi at which sin, cos and tan
+#: are evaluated (sympy writes cos(pi/120) as nested radicals, which takes time);
+#: beyond it they are kept as written, with the same value.
+MAX_TRIG_DENOMINATOR = 12
+
 #: The state variables and ``s``, by name.
 VARIABLES: Mapping[str, sp.Symbol] = MappingProxyType({str(v): v for v in (*STATE, s)})
 #: Named constants.
@@ -120,24 +135,65 @@ class Namespace:
 EMPTY = Namespace()
 
 
+@dataclass
+class Budget:
+    """What the expressions of one case file may still use together.
+
+    Pass the same budget to every ``parse_expression`` of a case; once a limit is
+    passed, ``exhausted`` holds the message and every later parse is refused.
+    """
+
+    parts: int = MAX_CASE_PARTS
+    root_digits: int = MAX_CASE_ROOT_DIGITS
+    diff_work: int = MAX_CASE_DIFF_WORK
+    exhausted: str | None = None
+
+    def spend(self, kind: str, amount: int, text: str) -> None:
+        """Take ``amount`` of ``kind`` ('parts', 'root_digits', 'diff_work'), or refuse
+        ``text`` with ExpressionError once the case's MAX_CASE_* limit is passed."""
+        if self.exhausted is None:
+            left = getattr(self, kind) - amount
+            setattr(self, kind, left)
+            if left >= 0:
+                return
+            self.exhausted = _CASE_LIMITS[kind]
+        raise ExpressionError(self.exhausted, text)
+
+
+_CASE_LIMITS = {
+    "parts": f"the case's expressions are too large together "
+    f"(more than {MAX_CASE_PARTS} parts in all)",
+    "root_digits": f"too many roots of numbers "
+    f"(more than {MAX_CASE_ROOT_DIGITS} digits under roots in all)",
+    "diff_work": "the case's expressions are too large to differentiate together",
+}
+
+
 # --------------------------------------------------------------------------- parsing
 
 
-def parse_expression(text: str, ns: Namespace = EMPTY) -> sp.Expr:
+def parse_expression(text: str, ns: Namespace = EMPTY, budget: Budget | None = None) -> sp.Expr:
     """The sympy expression that ``text`` denotes in the case-file language.
 
     Raises ``ExpressionError`` (message, text) for anything outside the language.
+    ``budget``, shared by the expressions of one case file, bounds them together.
     """
     if not isinstance(text, str):
         raise TypeError(f"an expression must be a str, not {type(text).__name__}")
+    budget = Budget() if budget is None else budget
+    if budget.exhausted is not None:
+        raise ExpressionError(budget.exhausted, text)
     flat = _check_text(text)
+    budget.spend("parts", _count_parts(flat), text)
     tree = _parse_tree(flat, text)
     _check_node_count(tree, text)
-    expr, _ = _Builder(flat, text, ns).build(tree.body, 0)
+    expr, _ = _Builder(flat, text, ns, budget).build(tree.body, 0)
     return expr
 
 
-def parse_equation(text: str, ns: Namespace = EMPTY) -> tuple[sp.Expr, sp.Expr]:
+def parse_equation(
+    text: str, ns: Namespace = EMPTY, budget: Budget | None = None
+) -> tuple[sp.Expr, sp.Expr]:
     """(lhs, rhs) of a level-set equation ``lhs = rhs``.
 
     Errors carry the whole equation as their text.
@@ -147,8 +203,9 @@ def parse_equation(text: str, ns: Namespace = EMPTY) -> tuple[sp.Expr, sp.Expr]:
     parts = text.split("=")
     if len(parts) != 2 or parts[0][-1:] in ("<", ">", "!") or not all(p.strip() for p in parts):
         raise ExpressionError("an equation needs the form lhs = rhs", text)
+    budget = Budget() if budget is None else budget
     try:
-        return parse_expression(parts[0], ns), parse_expression(parts[1], ns)
+        return parse_expression(parts[0], ns, budget), parse_expression(parts[1], ns, budget)
     except ExpressionError as err:
         raise ExpressionError(err.message, text) from None
 
@@ -165,6 +222,11 @@ def _check_text(text: str) -> str:
         # Python would NFKC-normalise look-alike identifiers, so refuse them here.
         char = next(c for c in text if ord(c) > 127)
         raise ExpressionError(f"non-ASCII character {char!r} (U+{ord(char):04X})", text)
+    control = re.search(r"[\x00-\x08\x0b\x0c\x0e-\x1f\x7f]", text)
+    if control:
+        # Python reads a form feed as a space; none of these belongs in an expression.
+        code = ord(control.group())
+        raise ExpressionError(f"control character U+{code:04X} is not allowed", text)
     if "#" in text:
         raise ExpressionError("comments ('#') are not allowed", text)
     if _count_parts(text) > MAX_NODES:
@@ -265,10 +327,11 @@ class _Builder:
     step checks first that the numbers it would make stay small.
     """
 
-    def __init__(self, flat: str, text: str, ns: Namespace):
+    def __init__(self, flat: str, text: str, ns: Namespace, budget: Budget):
         self.flat = flat
         self.text = text
         self.ns = ns
+        self.budget = budget
         self.diff_work = 0
 
     def fail(self, message: str) -> ExpressionError:
@@ -415,6 +478,10 @@ class _Builder:
             size = max(base_size, self.power_digits(base, exponent))
         else:
             size = base_size + exponent_size
+        inner_base, inner_exponent = base.as_base_exp()
+        if inner_base is sp.E:
+            # E**x and exp(x)**y are exp(x*y), which sympy evaluates like exp().
+            size = max(size, self.exp_log_digits(inner_exponent * exponent))
         return self.checked(sp.Pow(base, exponent)), size
 
     def power_digits(self, base: sp.Expr, exponent: sp.Rational) -> int:
@@ -429,6 +496,7 @@ class _Builder:
         digits = _number_digits(base)
         if exponent.q > 1:
             self.check_root(digits)
+            self.budget.spend("root_digits", digits, self.text)
         return self.bounded(digits * max(1, math.ceil(abs(exponent))))
 
     def check_root(self, digits: int) -> None:
@@ -452,6 +520,8 @@ class _Builder:
             raise self.fail("division by zero or an undefined value")
         if expr.has(sp.I):
             raise self.fail("the expression is not real (it involves the imaginary unit)")
+        if expr.find(_is_complex_root):
+            raise self.fail("the expression is not real (a fractional power of a negative number)")
         return expr
 
     def exp_log_digits(self, arg: sp.Expr) -> int:
@@ -501,6 +571,10 @@ class _Builder:
             size = max(size, self.power_digits(arg, sp.Rational(1, 2)))
         if name == "exp":
             size = max(size, self.exp_log_digits(arg))
+        if name in ("sin", "cos", "tan"):
+            coeff, rest = arg.as_coeff_Mul()
+            if rest is sp.pi and coeff.is_Rational and coeff.q > MAX_TRIG_DENOMINATOR:
+                return FUNCTIONS[name](arg, evaluate=False), size
         return self.checked(FUNCTIONS[name](arg)), size
 
     def declared(self, name: str, args: list[ast.expr]) -> sp.Expr:
@@ -519,9 +593,11 @@ class _Builder:
         if not (isinstance(var, ast.Name) and var.id in VARIABLES):
             raise self.fail(f"the second argument of diff must be one of {_VARIABLE_LIST}")
         expr, size = self.build(args[0], depth + 1)
-        self.diff_work += _diff_work(expr, MAX_DIFF_WORK - self.diff_work)
+        work = _diff_work(expr, MAX_DIFF_WORK - self.diff_work)
+        self.diff_work += work
         if self.diff_work > MAX_DIFF_WORK:
             raise self.fail("expression too large to differentiate")
+        self.budget.spend("diff_work", work, self.text)
         symbol = VARIABLES[var.id]
         if symbol != s:
             return total_diff(expr, symbol), size + 10
@@ -530,6 +606,13 @@ class _Builder:
                 "diff(..., s) needs an expression that depends on the variables through s alone"
             )
         return sp.diff(expr, s), size + 10
+
+
+def _is_complex_root(expr: sp.Basic) -> bool:
+    """Whether ``expr`` is (-1)**q for a fraction q: sympy's complex root of -1."""
+    if not (expr.is_Pow and expr.base is sp.S.NegativeOne):
+        return False
+    return expr.exp.is_Rational and not expr.exp.is_Integer
 
 
 def _diff_work(expr: sp.Expr, limit: int) -> int:

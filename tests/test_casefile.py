@@ -212,7 +212,7 @@ CASES = {
             (
                 "id",
                 "an id may hold only lowercase letters, digits, '.' and '-', "
-                "and starts with a letter or digit",
+                "and starts with a letter or digit (found 'D')",
                 "Demo_1",
             )
         ],
@@ -223,7 +223,7 @@ CASES = {
             (
                 "id",
                 "an id may hold only lowercase letters, digits, '.' and '-', "
-                "and starts with a letter or digit",
+                "and starts with a letter or digit (found '.')",
                 ".demo",
             )
         ],

@@ -141,6 +141,8 @@ def test_diff_is_the_total_derivative(text, expected):
         ("gamma1 \u2212 1", "non-ASCII character '\u2212' (U+2212)"),
         ("\uff47amma1", "non-ASCII character '\uff47' (U+FF47)"),
         ("gamma1 # a note", "comments ('#') are not allowed"),
+        ("gamma1\x0c+ 1", "control character U+000C is not allowed"),
+        ("gamma1\x1b[2J", "control character U+001B is not allowed"),
         ("gamma1 +", "not a valid expression"),
         ("(gamma1", "not a valid expression"),
         ("gamma1 = 1", "not a valid expression"),
@@ -224,6 +226,8 @@ def test_diff_is_the_total_derivative(text, expected):
         ("sqrt(-1)", "the expression is not real (it involves the imaginary unit)"),
         ("sqrt(-C)", "the expression is not real (it involves the imaginary unit)"),
         ("log(-1)", "the expression is not real (it involves the imaginary unit)"),
+        ("(-8)**(1/3)", "the expression is not real (a fractional power of a negative number)"),
+        ("(-C)**(1/3)", "the expression is not real (a fractional power of a negative number)"),
     ],
 )
 def test_refused(text, message):
@@ -279,6 +283,10 @@ LIMIT_CASES = [
         "number too large (it could have more than 4000 digits)",
     ),
     ("exp(1000*log(10**100))", "number too large (it could have more than 4000 digits)"),
+    ("E**(1000*log(10**100))", "number too large (it could have more than 4000 digits)"),
+    ("(E**1000)**log(10**100)", "number too large (it could have more than 4000 digits)"),
+    ("exp(2)**(500*log(10**100))", "number too large (it could have more than 4000 digits)"),
+    ("E**(log(10**301 + 1)/2)", "number too large for a root (it could have more than 300 digits)"),
     (
         "+".join(f"1/{p}**300" for p in (2, 3, 5, 7, 11, 13, 17)),
         "number too large (it could have more than 4000 digits)",
@@ -288,6 +296,10 @@ LIMIT_CASES = [
     (
         "*".join(f"sqrt(10**99 + {i})" for i in range(1, 5)),
         "number too large for a root (it could have more than 300 digits)",
+    ),
+    (
+        "+".join(f"sqrt(10**299 + {i})" for i in range(1, 5)),
+        "too many roots of numbers (more than 1000 digits under roots in all)",
     ),
     (
         "diff(diff(" + "*".join(f"sin(gamma1 + {i})" for i in range(20)) + ", gamma1), gamma1)",
