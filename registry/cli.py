@@ -18,7 +18,7 @@ import click
 
 from .api import Registry, default_target, open_registry
 from .audit import DEFAULT_BUDGET
-from .errors import RegistryError, UnknownClaimError
+from .errors import RegistryError, UnknownClaimError, printable
 from .report import disagreements, verdict_table
 
 
@@ -125,7 +125,7 @@ def add(paths: tuple[str, ...]) -> None:
     refused = [r for r in results if r.status == "refused"]
     for r in results:
         if r.status != "refused":
-            click.echo(f"{r.status:12} {r.case} (version {r.version})  {r.path}")
+            click.echo(f"{r.status:12} {r.case} (version {r.version})  {printable(r.path)}")
     counts = Counter(r.status for r in results)
     tally = ", ".join(f"{counts[s]} {s}" for s in ("added", "new version", "unchanged", "refused"))
     click.echo(f"{len(results)} file(s): {tally}")

@@ -44,11 +44,11 @@ class CaseFormatError(RegistryError, ValueError):
         super().__init__(str(self))
 
     def __str__(self) -> str:
-        file = _printable(self.file)
+        file = printable(self.file)
         return "\n".join(f"{file}: {p}" for p in self.problems)
 
 
-def _printable(text: str) -> str:
+def printable(text: str) -> str:
     """``text`` with unprintable characters escaped (a file name may hold line breaks)."""
     return "".join(c if c.isprintable() else ascii(c)[1:-1] for c in text)
 
