@@ -9,6 +9,7 @@ inconclusive, and the next case takes its place.
 
 from __future__ import annotations
 
+import importlib
 import multiprocessing as mp
 import os
 import time
@@ -28,6 +29,23 @@ def default_jobs() -> int:
         return max(1, len(os.sched_getaffinity(0)))
     except AttributeError:  # not on Linux
         return max(1, os.cpu_count() or 1)
+
+
+#: sympy modules imported on first use deep inside integration and solving: imported
+#: once in the parent, so that forked workers do not each pay for them.
+_LAZY_SYMPY = (
+    "sympy.integrals.heurisch",
+    "sympy.integrals.manualintegrate",
+    "sympy.integrals.risch",
+    "sympy.polys.polymatrix",
+    "sympy.sets.setexpr",
+    "sympy.physics.units",
+)
+
+
+def _preload() -> None:
+    for name in _LAZY_SYMPY:
+        importlib.import_module(name)
 
 
 def _context():
@@ -131,6 +149,7 @@ def audit_in_workers(
     A worker that overruns its case's deadline is killed and replaced by a new one.
     """
     ctx = _context()
+    _preload()
     # largest first, so that no long case starts last while the other workers idle
     pending = sorted(enumerate(cases), key=lambda item: estimated_cost(item[1]))
     workers = [_Worker(ctx, budget, numeric) for _ in range(min(max(1, jobs), len(cases)))]
