@@ -9,7 +9,6 @@ inconclusive, and the next case takes its place.
 
 from __future__ import annotations
 
-import importlib
 import multiprocessing as mp
 import os
 import time
@@ -31,23 +30,6 @@ def default_jobs() -> int:
         return max(1, os.cpu_count() or 1)
 
 
-#: sympy modules imported on first use deep inside integration and solving: imported
-#: once in the parent, so that forked workers do not each pay for them.
-_LAZY_SYMPY = (
-    "sympy.integrals.heurisch",
-    "sympy.integrals.manualintegrate",
-    "sympy.integrals.risch",
-    "sympy.polys.polymatrix",
-    "sympy.sets.setexpr",
-    "sympy.physics.units",
-)
-
-
-def _preload() -> None:
-    for name in _LAZY_SYMPY:
-        importlib.import_module(name)
-
-
 def _context():
     methods = mp.get_all_start_methods()
     return mp.get_context("fork" if "fork" in methods else "spawn")
@@ -61,18 +43,20 @@ def estimated_cost(case: Case) -> int:
 
 
 def _serve(conn, budget: Budget, numeric: bool) -> None:
-    """A worker: audit each case received until told to stop (None)."""
+    """A worker: audit each batch of cases received, sending each audit (or the
+    exception) as it finishes, until told to stop (None)."""
     while True:
         try:
-            case = conn.recv()
+            batch = conn.recv()
         except EOFError:
             return
-        if case is None:
+        if batch is None:
             return
-        try:
-            conn.send(audit_case(case, budget=budget, numeric=numeric))
-        except BaseException as exc:  # report, never hang the parent
-            conn.send(exc)
+        for case in batch:
+            try:
+                conn.send(audit_case(case, budget=budget, numeric=numeric))
+            except BaseException as exc:  # report, never hang the parent
+                conn.send(exc)
 
 
 class _Worker:
@@ -83,13 +67,19 @@ class _Worker:
         self.proc = ctx.Process(target=_serve, args=(child, budget, numeric), daemon=True)
         self.proc.start()
         child.close()
-        self.task: tuple[int, float, float] | None = None  # (index, deadline, seconds)
-        self.torque: tuple | None = None  # of the last case, whose work it has cached
+        self.batch: list[tuple[int, Case]] = []  # what it has still to audit, in order
+        self.deadline = 0.0  # for the case it is auditing now
+        self.seconds = 0.0
 
-    def give(self, index: int, case: Case, seconds: float) -> None:
-        self.conn.send(case)
-        self.task = (index, time.monotonic() + seconds, seconds)
-        self.torque = _torque(case)
+    def give(self, batch: list[tuple[int, Case]], budget: Budget) -> None:
+        self.conn.send([case for _, case in batch])
+        self.batch = list(batch)
+        self.start_clock(budget)
+
+    def start_clock(self, budget: Budget) -> None:
+        """Start the deadline of the next case of its batch."""
+        self.seconds = budget.case_deadline(count_checks(self.batch[0][1]))
+        self.deadline = time.monotonic() + self.seconds
 
     def stop(self, kill: bool = False) -> None:
         if not kill:
@@ -111,13 +101,16 @@ def _torque(case: Case) -> tuple:
     return tuple(e.text for e in case.system.torque), tuple(sorted(case.assumptions.items()))
 
 
-def _next(pending: list[tuple[int, Case]], torque: tuple | None) -> int:
-    """Which pending case a worker takes: the largest with the torque of its last case
-    (its family and sympy caches are warm for it), else the largest."""
-    for i in range(len(pending) - 1, -1, -1):
-        if _torque(pending[i][1]) == torque:
-            return i
-    return -1
+def batches(cases: Sequence[Case]) -> list[list[tuple[int, Case]]]:
+    """The cases as (index, case), grouped by torque, largest group first, largest case
+    first within a group: one worker audits a group, recognising its torque's family
+    once and with sympy's caches warm (a correction after the case it corrects costs a
+    fraction of the first); largest first, so no long group starts last."""
+    cost = [estimated_cost(c) for c in cases]
+    groups: dict[tuple, list[tuple[int, Case]]] = {}
+    for i in sorted(range(len(cases)), key=lambda i: -cost[i]):
+        groups.setdefault(_torque(cases[i]), []).append((i, cases[i]))
+    return sorted(groups.values(), key=lambda g: -sum(cost[i] for i, _ in g))
 
 
 def killed(case: Case, seconds: float) -> CaseAudit:
@@ -146,47 +139,60 @@ def audit_in_workers(
 ) -> Iterator[tuple[int, CaseAudit]]:
     """Audit ``cases`` in up to ``jobs`` processes; yield (index, audit) as each finishes.
 
-    A worker that overruns its case's deadline is killed and replaced by a new one.
+    A worker that overruns its case's deadline is killed and replaced by a new one;
+    the rest of its batch goes back to the queue.
     """
     ctx = _context()
-    _preload()
-    # largest first, so that no long case starts last while the other workers idle
-    pending = sorted(enumerate(cases), key=lambda item: estimated_cost(item[1]))
-    workers = [_Worker(ctx, budget, numeric) for _ in range(min(max(1, jobs), len(cases)))]
+    pending = batches(cases)
+    workers = [_Worker(ctx, budget, numeric) for _ in range(min(max(1, jobs), len(pending)))]
+
+    def begin(w: _Worker) -> None:
+        if started is not None:
+            started(w.batch[0][1])
+
     try:
         while True:
             for w in workers:
-                if w.task is None and pending:
-                    index, case = pending.pop(_next(pending, w.torque))
-                    if started is not None:
-                        started(case)
-                    w.give(index, case, budget.case_deadline(count_checks(case)))
-            busy = [w for w in workers if w.task is not None]
+                if not w.batch and pending:
+                    w.give(pending.pop(0), budget)
+                    begin(w)
+            busy = [w for w in workers if w.batch]
             if not busy:
                 return
-            soonest = min(w.task[1] for w in busy)
+            soonest = min(w.deadline for w in busy)
             ready = wait([w.conn for w in busy], timeout=max(0.0, soonest - time.monotonic()))
             for i, w in enumerate(workers):
-                if w.task is None:
+                if not w.batch:
                     continue
-                index, deadline, seconds = w.task
+                index, case = w.batch[0]
                 if w.conn in ready:
-                    w.task = None
                     try:
                         outcome = w.conn.recv()
                     except EOFError:  # the worker died: report it and replace it
-                        yield index, crashed(cases[index], f"worker died ({w.proc.exitcode})")
+                        yield index, crashed(case, f"worker died ({w.proc.exitcode})")
+                        rest = w.batch[1:]
+                        w.batch = []
                         w.stop(kill=True)
                         workers[i] = _Worker(ctx, budget, numeric)
+                        if rest:
+                            pending.insert(0, rest)
                         continue
+                    w.batch.pop(0)
                     if isinstance(outcome, CaseAudit):
                         yield index, outcome
                     else:
-                        yield index, crashed(cases[index], f"{type(outcome).__name__}: {outcome}")
-                elif time.monotonic() >= deadline:  # stuck where the timer cannot reach
+                        yield index, crashed(case, f"{type(outcome).__name__}: {outcome}")
+                    if w.batch:
+                        w.start_clock(budget)
+                        begin(w)
+                elif time.monotonic() >= w.deadline:  # stuck where the timer cannot reach
+                    rest = w.batch[1:]
+                    w.batch = []
                     w.stop(kill=True)
                     workers[i] = _Worker(ctx, budget, numeric)
-                    yield index, killed(cases[index], seconds)
+                    if rest:
+                        pending.insert(0, rest)
+                    yield index, killed(case, w.seconds)
     finally:
         for w in workers:
-            w.stop(kill=w.task is not None)
+            w.stop(kill=bool(w.batch))

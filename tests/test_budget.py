@@ -15,7 +15,7 @@ from registry.budget import Budget, BudgetExceeded, time_limit
 from registry.checks import CHECKS, Mechanics
 from registry.families import recognise
 from registry.model import Expression
-from registry.workers import _next, _torque, audit_in_workers
+from registry.workers import _torque, audit_in_workers, batches, estimated_cost
 
 CASES = Path(__file__).resolve().parents[1] / "data" / "cases"
 
@@ -123,16 +123,19 @@ def _without_timings(cases):
     return cases
 
 
-def test_a_free_worker_takes_the_largest_case_sharing_its_last_torque():
+def test_cases_sharing_a_torque_are_audited_by_one_worker_in_one_batch():
     cases = [load_case(p) for p in sorted(CASES.glob("*.toml"))]
-    by_id = {c.id: c for c in cases}
-    pending = list(enumerate(cases))
-    b = by_id["yehia-2003-kovalevskaya-b"]
-    twin = by_id["bcc-yehia-b-corrected-casimir"]  # the same torque, another claim
-    picked = pending[_next(pending, _torque(b))][1]
-    assert picked.id in {b.id, twin.id}
-    assert _next(pending, None) == -1  # no history: the largest (the last, sorted by cost)
-    assert _next(pending, ("nothing", ())) == -1
+    groups = batches(cases)
+    assert sorted(i for g in groups for i, _ in g) == list(range(len(cases)))
+    ids = [{c.id for _, c in g} for g in groups]
+    assert {"yehia-2003-kovalevskaya-b", "bcc-yehia-b-corrected-casimir"} in ids
+    assert {"zhukovsky-gyrostat"} in ids  # its own torque
+    for g in groups:
+        assert len({_torque(c) for _, c in g}) == 1
+        costs = [estimated_cost(c) for _, c in g]
+        assert costs == sorted(costs, reverse=True)
+    totals = [sum(estimated_cost(c) for _, c in g) for g in groups]
+    assert totals == sorted(totals, reverse=True)
 
 
 def test_recognising_a_torque_twice_reuses_the_first_result():
