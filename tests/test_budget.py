@@ -145,3 +145,27 @@ def test_recognising_a_torque_twice_reuses_the_first_result():
     assert recognise(m.mu, m.domain) is first
     other = Mechanics(load_case(CASES / "yehia-2003-cyclic.toml"))
     assert recognise(other.mu, other.domain) is not first
+
+
+def _stuck_on_a_claim_named_stuck(mech, *args):
+    if any(c.label == "stuck" for c in mech.case.claims):
+        _stuck_in_c(mech)
+    return ORIGINAL_ENERGY.run(mech, *args)
+
+
+ORIGINAL_ENERGY = CHECKS["energy"]
+
+
+def test_the_rest_of_a_killed_workers_batch_is_still_audited(monkeypatch):
+    monkeypatch.setitem(
+        CHECKS, "energy", replace(ORIGINAL_ENERGY, run=_stuck_on_a_claim_named_stuck)
+    )
+    zhukovsky = load_case(CASES / "zhukovsky-gyrostat.toml")
+    claim = replace(zhukovsky.claims[0], label="stuck")
+    # the same torque, so one batch; the larger (stuck) one goes first
+    stuck = replace(zhukovsky, id="stuck-variant", claims=(claim,) * 3)
+    cases = [zhukovsky, stuck]
+    assert len(batches(cases)) == 1 and batches(cases)[0][0][1].id == "stuck-variant"
+    results = dict(audit_in_workers(cases, 1, Budget(check=0.5, repairs=0.5, margin=0.5)))
+    assert "worker killed" in results[1].results[0].reason
+    assert {r.verdict for r in results[0].results} == {Verdict.VERIFIED}
