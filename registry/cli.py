@@ -11,6 +11,8 @@ import json
 import signal
 import sys
 from collections import Counter
+from collections.abc import Iterator
+from contextlib import contextmanager
 from dataclasses import replace
 from functools import wraps
 
@@ -20,6 +22,7 @@ from .api import Registry, default_target, open_registry
 from .audit import DEFAULT_BUDGET
 from .errors import RegistryError, UnknownClaimError, printable
 from .report import disagreements, verdict_table
+from .storage import Store
 
 
 def _report(err: Exception) -> None:
@@ -72,9 +75,33 @@ class _Group(click.Group):
         sys.exit(code if isinstance(code, int) else 0)
 
 
-def _interrupt(signum, frame):
-    """SIGTERM ends an audit like Ctrl-C: the run is recorded as interrupted."""
-    raise KeyboardInterrupt(f"signal {signum}")
+@contextmanager
+def _interruptible(store: Store) -> Iterator[None]:
+    """SIGTERM ends an audit like Ctrl-C (its run is recorded as interrupted), but never
+    in the middle of a database session: a signal arriving there takes effect when the
+    session has ended, so that no transaction or connection is left half done."""
+    pending: list[int] = []
+
+    def stop(signum, frame):
+        if store.busy:
+            pending.append(signum)
+        else:
+            raise KeyboardInterrupt(f"signal {signum}")
+
+    def idle():
+        if pending:
+            signum = pending.pop()
+            pending.clear()
+            raise KeyboardInterrupt(f"signal {signum}")
+
+    previous = {sig: signal.signal(sig, stop) for sig in (signal.SIGTERM, signal.SIGINT)}
+    store.on_idle = idle
+    try:
+        yield
+    finally:
+        store.on_idle = None
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
 
 
 def _registry(create: bool = False) -> Registry:
@@ -191,18 +218,17 @@ def audit(
         bar.update()
 
     budget = replace(DEFAULT_BUDGET, check=check_budget) if check_budget else DEFAULT_BUDGET
-    previous = signal.signal(signal.SIGTERM, _interrupt)
     try:
-        report = reg.audit(
-            case_ids or None,
-            fresh=fresh,
-            jobs=jobs,
-            budget=budget,
-            numeric=numeric or strict,
-            progress=progress,
-        )
+        with _interruptible(reg.store):
+            report = reg.audit(
+                case_ids or None,
+                fresh=fresh,
+                jobs=jobs,
+                budget=budget,
+                numeric=numeric or strict,
+                progress=progress,
+            )
     finally:
-        signal.signal(signal.SIGTERM, previous)
         bar.close()
     document = report.document()
     if as_json:

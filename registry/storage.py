@@ -557,6 +557,8 @@ class Store:
         url, self.location = _resolve(url_or_path, create)
         self.backup: Path | None = None  # the copy made before a schema upgrade
         self.upgraded_from: str | None = None  # the revision upgraded from, if any
+        self.busy = 0  # database sessions in progress
+        self.on_idle: Callable[[], None] | None = None  # called when the last one ends
         try:
             if _is_memory(url):
                 engine = create_engine(
@@ -655,14 +657,26 @@ class Store:
     @contextmanager
     def _write(self) -> Iterator[Session]:
         """A session in one write transaction: committed on success, rolled back on error."""
-        with Session(self._writer) as session, session.begin():
+        with self._busy(), Session(self._writer) as session, session.begin():
             yield session
 
     @contextmanager
     def _read(self) -> Iterator[Session]:
         """A session for reading (one consistent snapshot)."""
-        with Session(self._engine) as session:
+        with self._busy(), Session(self._engine) as session:
             yield session
+
+    @contextmanager
+    def _busy(self) -> Iterator[None]:
+        """Count the sessions in progress (``busy``) and call ``on_idle`` when none is
+        left: a signal handler that must not break a session waits for that moment."""
+        self.busy += 1
+        try:
+            yield
+        finally:
+            self.busy -= 1
+            if not self.busy and self.on_idle is not None:
+                self.on_idle()
 
     # --------------------------------------------------------------------- cases
 

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import multiprocessing as mp
 import os
+import signal
 import time
 from collections.abc import Callable, Iterator, Sequence
 from multiprocessing.connection import wait
@@ -44,7 +45,12 @@ def estimated_cost(case: Case) -> int:
 
 def _serve(conn, budget: Budget, numeric: bool) -> None:
     """A worker: audit each batch of cases received, sending each audit (or the
-    exception) as it finishes, until told to stop (None)."""
+    exception) as it finishes, until told to stop (None).
+
+    SIGTERM ends a worker at once; Ctrl-C is the parent's to handle (it stops the
+    workers and records the run as interrupted)."""
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
     while True:
         try:
             batch = conn.recv()

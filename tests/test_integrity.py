@@ -295,3 +295,25 @@ def test_an_interrupted_audit_in_process_is_recorded(db, monkeypatch):
         reg.audit([ZHUKOVSKY], fresh=True, jobs=0)
     assert list(reg.runs()["status"]) == ["complete", "interrupted"]
     time.sleep(0)  # nothing else to wait for: the status is written before re-raising
+
+
+def test_a_signal_during_a_database_session_waits_for_its_end(tmp_path):
+    import os
+    import signal
+
+    from registry.cli import _interruptible
+
+    store = Store(tmp_path / "r.sqlite")
+    finished = False
+    with pytest.raises(KeyboardInterrupt), _interruptible(store):
+        with store._write():
+            os.kill(os.getpid(), signal.SIGTERM)
+            time.sleep(0.05)  # the handler runs here: it must not break the transaction
+            finished = True
+        pytest.fail("the interrupt should take effect as the session ends")
+    assert finished
+    assert signal.getsignal(signal.SIGTERM) is signal.SIG_DFL  # handlers restored
+    with pytest.raises(KeyboardInterrupt), _interruptible(store):
+        os.kill(os.getpid(), signal.SIGTERM)  # outside a session: at once
+        time.sleep(1)
+        pytest.fail("not interrupted")
