@@ -14,6 +14,7 @@ from __future__ import annotations
 import hashlib
 import os
 from collections.abc import Callable, Iterable, Sequence
+from contextlib import closing
 from dataclasses import asdict, dataclass, field
 from functools import cache
 from importlib import metadata
@@ -190,10 +191,11 @@ class Registry:
                 else:
                     todo.append((i, case))
             computed = self._compute([c for _, c in todo], jobs, budget, numeric, progress)
-            for k, audit in computed:
-                i = todo[k][0]
-                audits[i] = audit
-                self.store.record_case(run, stored[i].pk, audit)
+            with closing(computed):  # stops the workers at once if recording fails
+                for k, audit in computed:
+                    i = todo[k][0]
+                    audits[i] = audit
+                    self.store.record_case(run, stored[i].pk, audit)
             status = "complete"
         except (KeyboardInterrupt, SystemExit):  # Ctrl-C, or SIGTERM through the CLI
             status = "interrupted"

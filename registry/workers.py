@@ -150,13 +150,15 @@ def audit_in_workers(
     """
     ctx = _context()
     pending = batches(cases)
-    workers = [_Worker(ctx, budget, numeric) for _ in range(min(max(1, jobs), len(pending)))]
+    workers: list[_Worker] = []
 
     def begin(w: _Worker) -> None:
         if started is not None:
             started(w.batch[0][1])
 
     try:
+        for _ in range(min(max(1, jobs), len(pending))):
+            workers.append(_Worker(ctx, budget, numeric))
         while True:
             for w in workers:
                 if not w.batch and pending:
