@@ -28,7 +28,7 @@ YEHIA_B = "yehia-2003-kovalevskaya-b"
 ZHUKOVSKY = "zhukovsky-gyrostat"
 READERS = {
     "csv": pd.read_csv,
-    "json": lambda p: pd.read_json(p, orient="records"),
+    "json": lambda p: pd.read_json(p, orient="records", precise_float=True),
     "parquet": pd.read_parquet,
 }
 KEYS = {
