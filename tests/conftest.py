@@ -3,10 +3,12 @@
 from __future__ import annotations
 
 import hashlib
+import os
 from collections.abc import Callable, Iterator
 
 import pytest
 import sympy as sp
+from hypothesis import settings
 
 from registry.model import (
     Assumption,
@@ -19,6 +21,12 @@ from registry.model import (
     System,
 )
 from registry.storage import Store
+
+# Property tests draw the same examples on every run (a failure is reproducible, and CI
+# does not fail at random); HYPOTHESIS_PROFILE=explore draws new ones each run.
+settings.register_profile("repeatable", derandomize=True)
+settings.register_profile("explore", derandomize=False, max_examples=1000)
+settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "repeatable"))
 
 C = sp.Symbol("C", positive=True)
 N = sp.Symbol("N", real=True)
