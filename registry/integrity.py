@@ -13,6 +13,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 
+from . import migrate
 from .casefile import parse_case_text
 from .errors import CaseFormatError, ExpressionError
 from .expressions import Namespace, parse_equation, parse_expression
@@ -36,8 +37,6 @@ class Verification:
 
 def verify(store: Store) -> Verification:
     """Check a registry database end to end (see the module docstring)."""
-    from . import migrate
-
     revision, version = store.schema_revision()
     problems = []
     if revision != migrate.head():
