@@ -26,6 +26,7 @@ from .budget import Budget
 from .casefile import load_case, parse_case_text
 from .errors import CaseFormatError, RegistryError
 from .export import corrected_case_text
+from .integrity import Verification, verify
 from .model import Case, CaseAudit, Verdict
 from .report import audit_document
 from .storage import Store
@@ -264,6 +265,11 @@ class Registry:
     def runs(self) -> pd.DataFrame:
         """One row per audit run: when, status, code and sympy versions."""
         return self.store.runs_frame()
+
+    def check(self) -> Verification:
+        """Verify the database itself (``registry check``): schema, integrity, foreign
+        keys, hashes of the stored case texts, and every stored expression re-parsed."""
+        return verify(self.store)
 
     def close(self) -> None:
         self.store.close()

@@ -481,10 +481,8 @@ def check() -> None:
 
     Example: registry check
     """
-    from .integrity import verify
-
     reg = _registry()
-    found = verify(reg.store)
+    found = reg.check()
     click.echo(f"database {reg.store.location!r}, schema revision {found.revision}")
     click.echo(", ".join(f"{n} {name}" for name, n in found.counts.items()))
     for note in found.notes:

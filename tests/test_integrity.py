@@ -317,3 +317,11 @@ def test_a_signal_during_a_database_session_waits_for_its_end(tmp_path):
         os.kill(os.getpid(), signal.SIGTERM)  # outside a session: at once
         time.sleep(1)
         pytest.fail("not interrupted")
+
+
+def test_the_python_api_gives_the_same_verification(db):
+    damage(db, "UPDATE check_results SET verdict = 'probably' WHERE id = 2")
+    found = registry.open(db).check()
+    assert not found.ok
+    assert found.problems == ("check_results row 2: unknown verdict 'probably'",)
+    assert found.counts["case versions"] == 3
