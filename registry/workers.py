@@ -156,6 +156,15 @@ def audit_in_workers(
         if started is not None:
             started(w.batch[0][1])
 
+    def renew(i: int) -> None:
+        """Kill worker i and start a new one; the rest of its batch goes back in front."""
+        old = workers[i]
+        rest, old.batch = old.batch[1:], []
+        old.stop(kill=True)
+        workers[i] = _Worker(ctx, budget, numeric)
+        if rest:
+            pending.insert(0, rest)
+
     try:
         for _ in range(min(max(1, jobs), len(pending))):
             workers.append(_Worker(ctx, budget, numeric))
@@ -178,12 +187,7 @@ def audit_in_workers(
                         outcome = w.conn.recv()
                     except EOFError:  # the worker died: report it and replace it
                         yield index, crashed(case, f"worker died ({w.proc.exitcode})")
-                        rest = w.batch[1:]
-                        w.batch = []
-                        w.stop(kill=True)
-                        workers[i] = _Worker(ctx, budget, numeric)
-                        if rest:
-                            pending.insert(0, rest)
+                        renew(i)
                         continue
                     w.batch.pop(0)
                     if isinstance(outcome, CaseAudit):
@@ -194,12 +198,7 @@ def audit_in_workers(
                         w.start_clock(budget)
                         begin(w)
                 elif time.monotonic() >= w.deadline:  # stuck where the timer cannot reach
-                    rest = w.batch[1:]
-                    w.batch = []
-                    w.stop(kill=True)
-                    workers[i] = _Worker(ctx, budget, numeric)
-                    if rest:
-                        pending.insert(0, rest)
+                    renew(i)
                     yield index, killed(case, w.seconds)
     finally:
         for w in workers:
