@@ -15,6 +15,7 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 from dataclasses import replace
 from functools import wraps
+from typing import TYPE_CHECKING
 
 import click
 
@@ -23,6 +24,9 @@ from .audit import DEFAULT_BUDGET
 from .errors import RegistryError, UnknownClaimError, printable
 from .report import disagreements, verdict_table
 from .storage import Store
+
+if TYPE_CHECKING:
+    import pandas as pd
 
 
 def _report(err: Exception) -> None:
@@ -244,7 +248,7 @@ def audit(
         sys.exit(1)
 
 
-def _print_frame(frame) -> None:
+def _print_frame(frame: pd.DataFrame) -> None:
     import pandas as pd  # only the listing commands need pandas
 
     with pd.option_context(
