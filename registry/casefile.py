@@ -79,10 +79,26 @@ MAX_SHOWN = 40
 #: A case id: lowercase letters, digits, '.' and '-', starting with a letter or digit.
 ID_PATTERN = re.compile(r"[a-z0-9][a-z0-9.-]*")
 
-_TOP_KEYS = ("id", "title", "source", "parameters", "functions", "system", "claims", "notes")
-_SOURCE_KEYS = ("citation", "locator", "doi")
+_TOP_KEYS = (
+    "id",
+    "title",
+    "topic",
+    "aliases",
+    "source",
+    "parameters",
+    "functions",
+    "system",
+    "claims",
+    "notes",
+)
+#: The optional text fields of ``[source]`` that structure the citation (for BibTeX).
+SOURCE_TEXT_FIELDS = ("title", "journal", "booktitle", "publisher", "volume", "issue", "pages", "url")
+_SOURCE_KEYS = ("citation", "locator", "doi", "authors", "year", *SOURCE_TEXT_FIELDS)
 _SYSTEM_KEYS = ("inertia", "potential", "torque")
-_CLAIM_KEYS = ("label", "kind", "expression", "on", "locator")
+_CLAIM_KEYS = ("label", "kind", "expression", "on", "locator", "notes")
+#: Most authors of one source, and most aliases of one case.
+MAX_AUTHORS = 50
+MAX_ALIASES = 20
 _VARIABLE_LIST = ", ".join(VARIABLES)
 #: Control characters (C0, DEL, C1) and the Unicode bidirectional controls, which
 #: can make text display as something else; with and without tab and line breaks.
@@ -452,6 +468,8 @@ class _Reader:
         self.check_keys(data, _TOP_KEYS, "")
         case_id = self.case_id(data)
         title = self.string(data, "title", "title", required=True, nonempty=True)
+        topic = self.string(data, "topic", "topic")
+        aliases = self.aliases(data, case_id)
         source = self.source(data)
         parameters, assumptions = self.parameters(data)
         functions = self.functions(data, parameters)
@@ -471,25 +489,57 @@ class _Reader:
             assumptions=assumptions,
             functions=functions,
             notes=notes or "",
+            topic=topic or "",
+            aliases=aliases,
         )
 
     def case_id(self, data: dict) -> str | None:
         """The id: lowercase letters, digits, '.' and '-', starting with a letter or digit."""
         case_id = data.get("id")
-        if isinstance(case_id, str) and case_id and not ID_PATTERN.fullmatch(case_id):
-            # Checked before string(), which would only name a control character.
-            bad = next((c for c in case_id if not re.fullmatch(r"[a-z0-9.-]", c)), case_id[0])
-            self.problem(
-                "id",
-                "an id may hold only lowercase letters, digits, '.' and '-', "
-                f"and starts with a letter or digit (found {_char(bad)})",
-                case_id,
-            )
+        if not self.id_pattern(case_id, "id"):
             return None
         return self.string(data, "id", "id", required=True, nonempty=True)
 
+    def id_pattern(self, value: Any, field: str) -> bool:
+        """False (reported) for a non-empty string that is not a valid id; checked before
+        string(), which would only name a control character."""
+        if isinstance(value, str) and value and not ID_PATTERN.fullmatch(value):
+            bad = next((c for c in value if not re.fullmatch(r"[a-z0-9.-]", c)), value[0])
+            self.problem(
+                field,
+                "an id may hold only lowercase letters, digits, '.' and '-', "
+                f"and starts with a letter or digit (found {_char(bad)})",
+                value,
+            )
+            return False
+        return True
+
+    def aliases(self, data: dict, case_id: str | None) -> tuple[str, ...]:
+        """``aliases``: earlier ids of this case, under which it is still found."""
+        value = data.get("aliases", [])
+        if not isinstance(value, list):
+            self.problem("aliases", f"expected an array of ids, found {_found(value)}")
+            return ()
+        if len(value) > MAX_ALIASES:
+            self.problem("aliases", f"too many aliases ({len(value)}; at most {MAX_ALIASES})")
+            return ()
+        found: list[str] = []
+        for i, alias in enumerate(value):
+            field = f"aliases[{i}]"
+            if not self.id_pattern(alias, field):
+                continue
+            text = self.string({"a": alias}, "a", field, nonempty=True)
+            if text is None:
+                continue
+            if text == case_id or text in found:
+                self.problem(field, "repeats the id or another alias", text)
+                continue
+            found.append(text)
+        return tuple(found)
+
     def source(self, data: dict) -> Source | None:
-        """[source]: citation (required), locator, doi."""
+        """[source]: citation (required), locator, doi, and the structured fields of the
+        citation (authors, year, title, journal or booktitle, publisher, volume, ...)."""
         table = self.table(data, "source", "source")
         if table is None:
             if "source" not in data:
@@ -499,9 +549,40 @@ class _Reader:
         citation = self.string(table, "citation", "source.citation", required=True, nonempty=True)
         locator = self.string(table, "locator", "source.locator")
         doi = self.string(table, "doi", "source.doi")
+        texts = {k: self.string(table, k, f"source.{k}") or "" for k in SOURCE_TEXT_FIELDS}
+        authors = self.authors(table)
+        year = self.year(table)
         if citation is None:
             return None
-        return Source(citation, locator or "", doi or "")
+        return Source(citation, locator or "", doi or "", authors, year, **texts)
+
+    def authors(self, table: dict) -> tuple[str, ...]:
+        """``source.authors``: an array of names as the source prints them."""
+        value = table.get("authors", [])
+        if not isinstance(value, list):
+            self.problem("source.authors", f"expected an array of names, found {_found(value)}")
+            return ()
+        if len(value) > MAX_AUTHORS:
+            self.problem("source.authors", f"too many authors ({len(value)}; at most {MAX_AUTHORS})")
+            return ()
+        names = [
+            self.string({"a": name}, "a", f"source.authors[{i}]", nonempty=True)
+            for i, name in enumerate(value)
+        ]
+        return tuple(n for n in names if n is not None)
+
+    def year(self, table: dict) -> int | None:
+        """``source.year``: an integer between 1500 and 2999."""
+        value = table.get("year")
+        if value is None:
+            return None
+        if isinstance(value, bool) or not isinstance(value, int):
+            self.problem("source.year", f"expected an integer, found {_found(value)}")
+            return None
+        if not 1500 <= value <= 2999:
+            self.problem("source.year", f"not a plausible year of publication ({value})")
+            return None
+        return value
 
     def parameters(self, data: dict) -> tuple[dict[str, sp.Symbol], dict[str, Assumption]]:
         """[parameters]: name -> assumption, each name a fresh identifier."""
@@ -694,9 +775,10 @@ class _Reader:
             expression = self.expression(item["expression"], f"{field}.expression")
         on = self.level_set(item, f"{field}.on")
         locator = self.string(item, "locator", f"{field}.locator")
+        notes = self.string(item, "notes", f"{field}.notes", line_breaks=True)
         if None in (label, kind, expression, on):
             return None
-        return Claim(label, kind, expression, on, locator or "")
+        return Claim(label, kind, expression, on, locator or "", notes or "")
 
     def claim_kind(self, item: dict, field: str) -> ClaimKind | None:
         """'integral' or 'casimir'."""

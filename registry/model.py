@@ -69,11 +69,22 @@ class Equation:
 
 @dataclass(frozen=True)
 class Source:
-    """Where a case or claim comes from in the literature."""
+    """Where a case comes from in the literature: the citation as a reader writes it,
+    where in the source (``locator``), and the structured fields BibTeX needs."""
 
     citation: str
     locator: str = ""
     doi: str = ""
+    authors: tuple[str, ...] = ()
+    year: int | None = None
+    title: str = ""
+    journal: str = ""
+    booktitle: str = ""
+    publisher: str = ""
+    volume: str = ""
+    issue: str = ""
+    pages: str = ""
+    url: str = ""
 
 
 @dataclass(frozen=True)
@@ -85,6 +96,7 @@ class Claim:
     expression: Expression
     on: tuple[Equation, ...] = ()
     locator: str = ""
+    notes: str = ""
 
 
 @dataclass(frozen=True)
@@ -144,6 +156,8 @@ class Case:
         default_factory=dict
     )
     notes: str = ""
+    topic: str = ""
+    aliases: tuple[str, ...] = ()
     text: str = ""
     content_hash: str = ""
     path: str | None = None
