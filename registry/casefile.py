@@ -92,7 +92,16 @@ _TOP_KEYS = (
     "notes",
 )
 #: The optional text fields of ``[source]`` that structure the citation (for BibTeX).
-SOURCE_TEXT_FIELDS = ("title", "journal", "booktitle", "publisher", "volume", "issue", "pages", "url")
+SOURCE_TEXT_FIELDS = (
+    "title",
+    "journal",
+    "booktitle",
+    "publisher",
+    "volume",
+    "issue",
+    "pages",
+    "url",
+)
 _SOURCE_KEYS = ("citation", "locator", "doi", "authors", "year", *SOURCE_TEXT_FIELDS)
 _SYSTEM_KEYS = ("inertia", "potential", "torque")
 _CLAIM_KEYS = ("label", "kind", "expression", "on", "locator", "notes")
@@ -563,7 +572,9 @@ class _Reader:
             self.problem("source.authors", f"expected an array of names, found {_found(value)}")
             return ()
         if len(value) > MAX_AUTHORS:
-            self.problem("source.authors", f"too many authors ({len(value)}; at most {MAX_AUTHORS})")
+            self.problem(
+                "source.authors", f"too many authors ({len(value)}; at most {MAX_AUTHORS})"
+            )
             return ()
         names = [
             self.string({"a": name}, "a", f"source.authors[{i}]", nonempty=True)
