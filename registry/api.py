@@ -97,10 +97,11 @@ class AuditReport:
 
 
 def case_files(paths: Iterable[str | os.PathLike]) -> list[Path]:
-    """The case files named by ``paths``: files as given, folders as their *.toml files."""
+    """The case files named by ``paths``: files as given, folders as every *.toml file in
+    them and their sub-folders (a catalog may be organised by topic)."""
     files: list[Path] = []
     for p in map(Path, paths):
-        files.extend(sorted(p.glob("*.toml")) if p.is_dir() else [p])
+        files.extend(sorted(p.rglob("*.toml")) if p.is_dir() else [p])
     return files
 
 
