@@ -75,15 +75,10 @@ def audit_case(
 
 
 def _with_evidence(audit: CaseAudit, mech: Mechanics, seconds: float | None) -> CaseAudit:
-    verdicts = {
-        c.label: r.verdict
-        for c in mech.case.claims
-        for r in audit.results
-        if r.claim == c.label and r.check == str(c.kind)
-    }
+    integral = {r.claim: r.verdict for r in audit.results if r.check == "integral"}
     try:
         with time_limit(seconds):
-            found = numeric_evidence(mech, verdicts)
+            found = numeric_evidence(mech, integral)
     except BudgetExceeded:
         found = tuple(
             Evidence(c.label, math.nan, math.nan, 0, note="time budget exceeded")

@@ -62,6 +62,13 @@ class Mechanics:
             for (i, j, k), value in mech.jacobiator(self.pi).items()
         }
 
+    def claim_domain(self, claim: Claim) -> Domain:
+        """Where a claim is decided: the case's domain on the claim's level set (its ``on``
+        equations, nothing added), at points where the claimed expression is defined."""
+        return self.domain.restricted([eq.expr for eq in claim.on]).requiring(
+            [claim.expression.expr]
+        )
+
     def casimir_residual(self, expr: sp.Expr) -> dict[str, sp.Expr]:
         """Pi_mu nabla f, by component (row of Pi_mu)."""
         values = self.pi * sp.Matrix(mech.gradient(expr))
@@ -161,9 +168,7 @@ def _text(expr: sp.Expr) -> str:
 def _decide(m: Mechanics, name: str, residuals, claim: Claim | None = None) -> ZeroTest:
     """The zero test on the case's domain, or on the claim's level set where the claim
     itself must be defined."""
-    domain = m.domain
-    if claim is not None:
-        domain = domain.restricted([eq.expr for eq in claim.on]).requiring([claim.expression.expr])
+    domain = m.domain if claim is None else m.claim_domain(claim)
     return decide(residuals, domain, seed=m.seed(name, None if claim is None else claim.label))
 
 

@@ -13,7 +13,7 @@ test with its values substituted.
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import sympy as sp
 
@@ -118,13 +118,20 @@ def _admissible(branch: Branch, protected: Sequence[sp.Expr]) -> bool:
 
 
 def _holds(residuals: Mapping[str, sp.Expr], domain: Domain, branch: Branch) -> bool:
+    """Whether the residuals vanish with the branch's values substituted, on the same
+    domain as the original check (its level set, nonzero moments, and the points where
+    the case's expressions must be defined), restricted to the remaining parameters."""
+
+    def put(exprs: tuple[sp.Expr, ...]) -> tuple[sp.Expr, ...]:
+        return tuple(sp.sympify(e).xreplace(branch) for e in exprs)
+
     substituted = {k: sp.sympify(e).xreplace(branch) for k, e in residuals.items()}
-    rest = tuple(p for p in domain.parameters if p not in branch)
-    narrowed = Domain(
-        rest,
-        domain.functions,
-        tuple(sp.sympify(e).xreplace(branch) for e in domain.nonzero),
-        tuple(sp.sympify(e).xreplace(branch) for e in domain.on),
+    narrowed = replace(
+        domain,
+        parameters=tuple(p for p in domain.parameters if p not in branch),
+        nonzero=put(domain.nonzero),
+        on=put(domain.on),
+        defined=put(domain.defined),
     )
     return decide(substituted, narrowed).verdict is Verdict.VERIFIED
 

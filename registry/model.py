@@ -8,7 +8,7 @@ wrote, so that what is stored and printed is what the paper says.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from enum import StrEnum
 
@@ -40,6 +40,18 @@ class Verdict(StrEnum):
     REFUTED = "refuted"
     INCONCLUSIVE = "inconclusive"
     ERROR = "error"
+
+    @classmethod
+    def combined(cls, verdicts: Iterable[Verdict]) -> Verdict:
+        """The verdict of several checks taken together: verified only if all are; refuted
+        if one is; else error if one crashed; else inconclusive (also for none at all)."""
+        found = set(verdicts)
+        if found == {cls.VERIFIED}:
+            return cls.VERIFIED
+        for verdict in (cls.REFUTED, cls.ERROR):
+            if verdict in found:
+                return verdict
+        return cls.INCONCLUSIVE
 
 
 @dataclass(frozen=True)
@@ -292,7 +304,9 @@ class FamilyRecord:
 class Evidence:
     """Numerical evidence for a claim: the largest relative drift of I along integrated
     trajectories, that of H (the noise floor), how many runs, and whether the numbers
-    contradict the symbolic verdict."""
+    contradict the symbolic verdict they were compared with (``compared_with``: always
+    the ``integral`` check, since a drift speaks of conservation only). ``narrowed``
+    says why the trajectories stand on a smaller set than the claim's, if they do."""
 
     claim: str
     drift: float
@@ -300,6 +314,8 @@ class Evidence:
     runs: int
     contradicts: bool = False
     note: str = ""
+    compared_with: str = "integral"
+    narrowed: str = ""
 
     def as_dict(self) -> dict:
         def number(x: float) -> float | None:
@@ -310,6 +326,8 @@ class Evidence:
             "floor": number(self.floor),
             "runs": self.runs,
             "agrees": not self.contradicts,
+            "compared_with": self.compared_with,
+            **({"narrowed": self.narrowed} if self.narrowed else {}),
             **({"note": self.note} if self.note else {}),
         }
 

@@ -2,10 +2,22 @@
 
 Independent of the symbolic verdicts: for every claim, system (2.2) is
 integrated with scipy's DOP853 at tight tolerances, from seeded random initial
-conditions on the claim's level set (on |gamma| = 1 by default) and for seeded
-random parameter values respecting their assumptions. The largest relative
-drift of I along the runs is compared with that of H, which is conserved for
-every torque and so measures the integrator's own noise floor.
+conditions on exactly the set where the symbolic check decided (the claim's
+``on`` equations, nothing added) and for seeded random parameter values
+respecting their assumptions. The largest relative drift of I along the runs is
+compared with that of H, which is conserved for every torque and so measures
+the integrator's own noise floor.
+
+The rules of the comparison:
+
+* The drift says whether I is *conserved*, so it is compared with the claim's
+  ``integral`` verdict, whatever the claim's kind: a true integral claimed as a
+  Casimir is ``integral: verified, casimir: refuted``, and a flat drift agrees.
+* A drift far above the floor contradicts ``verified``; a drift at the floor
+  contradicts ``refuted``, unless the numbers stand on a smaller set than the
+  claim's (one instance of a family's arbitrary functions): a refutation may
+  hold elsewhere on the claim's set, so a flat drift there proves nothing.
+* An ``inconclusive`` verdict is never contradicted.
 """
 
 from __future__ import annotations
@@ -47,14 +59,17 @@ class Drift:
     runs: int
     note: str = ""
 
-    def contradicts(self, verdict: Verdict | str) -> bool:
-        """True when the numbers disagree with the symbolic verdict of the claim."""
+    narrowed: str = ""  # why the numbers stand on a smaller set than the claim's
+
+    def contradicts(self, integral: Verdict | str) -> bool:
+        """True when the numbers disagree with the claim's ``integral`` verdict (rules in
+        the module docstring)."""
         if self.runs == 0:
             return False
         floor = max(self.floor, MIN_FLOOR)
-        if Verdict(verdict) is Verdict.VERIFIED:
+        if Verdict(integral) is Verdict.VERIFIED:
             return self.drift > DISAGREE_FACTOR * floor
-        if Verdict(verdict) is Verdict.REFUTED:
+        if Verdict(integral) is Verdict.REFUTED and not self.narrowed:
             return self.drift <= FLOOR_FACTOR * floor
         return False
 
@@ -62,16 +77,21 @@ class Drift:
         return {"drift": self.drift, "floor": self.floor, "runs": self.runs, "note": self.note}
 
 
+def narrowing(m: Mechanics) -> str:
+    """Why the numbers of this case stand on a smaller set than its claims' (or "")."""
+    if m.case.functions:
+        names = ", ".join(m.case.functions)
+        return f"one instance of the family's arbitrary functions ({names})"
+    return ""
+
+
 def _setup(m: Mechanics, claim: Claim, rng: random.Random):
-    """Where to start (the claim's level set, on |gamma| = 1 unless it fixes gamma), the
-    concrete functions of a family, and the vector field, H and I ready to evaluate."""
+    """Where to start (the set where the symbolic check decided), the concrete functions
+    of a family, and the vector field, H and I ready to evaluate."""
     funcs = _concrete_functions(m.case.functions, rng)
-    on = tuple(eq.expr for eq in claim.on)
-    sphere = mech.C1 * 2 - 1
-    domain = m.domain.restricted(on if any(e.has(*mech.AXIS) for e in on) else (*on, sphere))
     exprs = [*m.field, m.hamiltonian, claim.expression.expr]
     exprs = [_substitute_functions(e, funcs).subs(mech.s, mech.S_VALUE) for e in exprs]
-    return domain, funcs, exprs
+    return m.claim_domain(claim), funcs, exprs
 
 
 def claim_drift(m: Mechanics, claim: Claim, seed: int = 0, runs: int = RUNS) -> Drift:
@@ -92,9 +112,11 @@ def claim_drift(m: Mechanics, claim: Claim, seed: int = 0, runs: int = RUNS) -> 
             continue
         drifts.append(run[0])
         floors.append(run[1])
+    narrowed = narrowing(m)
     if not drifts:
-        return Drift(claim.label, math.nan, math.nan, 0, notes[0] if notes else "no run")
-    return Drift(claim.label, max(drifts), max(floors), len(drifts))
+        why = notes[0] if notes else "found no start point on the claim's set"
+        return Drift(claim.label, math.nan, math.nan, 0, why, narrowed)
+    return Drift(claim.label, max(drifts), max(floors), len(drifts), narrowed=narrowed)
 
 
 @dataclass(frozen=True)
@@ -187,11 +209,22 @@ def _relative(values: np.ndarray) -> float:
     return float(np.max(np.abs(values - values[0])) / max(1.0, abs(values[0])))
 
 
-def evidence(m: Mechanics, verdicts: dict[str, Verdict], seed: int = 0) -> tuple[Evidence, ...]:
-    """Evidence for every claim, compared with its symbolic verdict (label -> verdict)."""
+def evidence(m: Mechanics, integral: dict[str, Verdict], seed: int = 0) -> tuple[Evidence, ...]:
+    """Evidence for every claim, compared with its ``integral`` verdict (label -> verdict)."""
     out = []
     for claim in m.case.claims:
         d = claim_drift(m, claim, seed=seed)
-        verdict = verdicts.get(claim.label, Verdict.INCONCLUSIVE)
-        out.append(Evidence(claim.label, d.drift, d.floor, d.runs, d.contradicts(verdict), d.note))
+        verdict = integral.get(claim.label, Verdict.INCONCLUSIVE)
+        out.append(
+            Evidence(
+                claim.label,
+                d.drift,
+                d.floor,
+                d.runs,
+                d.contradicts(verdict),
+                d.note,
+                compared_with="integral",
+                narrowed=d.narrowed,
+            )
+        )
     return tuple(out)

@@ -154,10 +154,11 @@ def verdict_table(document: dict) -> str:
             )
             numeric = claim.get("numeric")
             if numeric and not numeric["agrees"]:
+                compared = numeric["compared_with"]
                 notes.insert(
                     0,
-                    f"DISAGREEMENT {case['case']}/{claim['label']}: verdict "
-                    f"{claim['verdict']} but the drift of I is {numeric['drift']:.2e} "
+                    f"DISAGREEMENT {case['case']}/{claim['label']}: {compared} "
+                    f"{claim[compared]} but the drift of I is {numeric['drift']:.2e} "
                     f"against {numeric['floor']:.2e} for H",
                 )
             for prop in ("integral", "casimir", "invariant"):
@@ -183,7 +184,8 @@ def verdict_table(document: dict) -> str:
     if with_numbers:
         agree = sum(c["numeric"]["agrees"] for c in with_numbers)
         lines.append(
-            f"numeric evidence: {agree} of {len(with_numbers)} claims agree with their verdicts"
+            f"numeric evidence: {agree} of {len(with_numbers)} claims agree with their "
+            "integral verdicts"
         )
     lines.extend(f"  note: {n}" for n in notes)
     if repairs:

@@ -392,9 +392,12 @@ def _evidence(w: _Writer, numeric: dict | None) -> None:
         w.para(f"Numeric evidence: no trajectory could be integrated ({numeric.get('note', '')}).")
         return
     agrees = "agrees with" if numeric["agrees"] else "CONTRADICTS"
+    narrowed = numeric.get("narrowed")
+    where = f" Trajectories on a smaller set than the claim's: {narrowed}." if narrowed else ""
     w.para(
         f"Numeric evidence ({numeric['runs']} trajectories): largest relative drift of I "
-        f"{numeric['drift']:.3g}, of H {numeric['floor']:.3g}; {agrees} the symbolic verdict."
+        f"{numeric['drift']:.3g}, of H {numeric['floor']:.3g}; {agrees} the "
+        f"{numeric['compared_with']} verdict.{where}"
     )
 
 

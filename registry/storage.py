@@ -97,7 +97,7 @@ __all__ = [
 ]
 
 #: Version of the table layout, kept in the ``meta`` table (the Alembic revision, as a number).
-SCHEMA_VERSION = 2
+SCHEMA_VERSION = 3
 
 #: How long one attempt waits for another process's write lock (SQLite busy timeout).
 BUSY_TIMEOUT = 10.0
@@ -261,7 +261,8 @@ class CorrectionRow(Base):
     kind: Mapped[str] = mapped_column(Text)
     expression: Mapped[str | None] = mapped_column(Text)
     method: Mapped[str] = mapped_column(Text, default="")
-    verdict: Mapped[str] = mapped_column(Text, default="")
+    # a Verdict value, or NULL where none applies (a family with no Casimir, no conditions)
+    verdict: Mapped[str | None] = mapped_column(Text)
     payload: Mapped[dict[str, Any]] = mapped_column(JSON)
 
 
@@ -279,6 +280,10 @@ class EvidenceRow(Base):
     runs: Mapped[int]
     contradicts: Mapped[bool] = mapped_column(Boolean, default=False)
     note: Mapped[str] = mapped_column(Text, default="")
+    # the check whose verdict the drift was compared with (``integral``), and why the
+    # trajectories stand on a smaller set than the claim's, if they do
+    compared_with: Mapped[str] = mapped_column(Text, default="integral", server_default="integral")
+    narrowed: Mapped[str] = mapped_column(Text, default="", server_default="")
 
 
 # --------------------------------------------------------------------------- views
@@ -611,7 +616,7 @@ class Store:
         A current database is only read, so a read-only registry file still opens.
         An older one is copied aside first, then upgraded in one transaction.
         """
-        with self._engine.connect() as conn:
+        with self._connect() as conn:
             state = migrate.inspect_schema(conn, self.location)
         if state.current:
             return
@@ -665,6 +670,12 @@ class Store:
         """A session for reading (one consistent snapshot)."""
         with self._busy(), Session(self._engine) as session:
             yield session
+
+    @contextmanager
+    def _connect(self) -> Iterator[Connection]:
+        """A plain connection (no ORM session), counted like a session (``_busy``)."""
+        with self._busy(), self._engine.connect() as conn:
+            yield conn
 
     @contextmanager
     def _busy(self) -> Iterator[None]:
@@ -828,6 +839,8 @@ class Store:
                     runs=e.runs,
                     contradicts=e.contradicts,
                     note=e.note,
+                    compared_with=e.compared_with,
+                    narrowed=e.narrowed,
                 )
                 for e in audit.evidence
                 if e.claim in claim_ids
@@ -898,7 +911,7 @@ class Store:
     @_guarded
     def schema_revision(self) -> tuple[str | None, str | None]:
         """(Alembic revision, ``meta.schema_version``) as stored."""
-        with self._engine.connect() as conn:
+        with self._connect() as conn:
             revision = migrate.inspect_schema(conn, self.location).revision
             return revision, conn.scalar(
                 select(MetaRow.value).where(MetaRow.key == "schema_version")
@@ -910,7 +923,7 @@ class Store:
         SQLite's integrity and foreign-key checks, results tied to a claim of another
         case version, and verdicts or run states outside their sets."""
         problems = []
-        with self._engine.connect() as conn:
+        with self._connect() as conn:
             if conn.dialect.name == "sqlite":
                 found = [r[0] for r in conn.exec_driver_sql("PRAGMA integrity_check")]
                 problems += [f"SQLite integrity check: {r}" for r in found if r != "ok"]
@@ -934,6 +947,12 @@ class Store:
                 select(ResultRow.id, ResultRow.verdict).where(ResultRow.verdict.not_in(verdicts))
             )
             problems += [f"check_results row {i}: unknown verdict {v!r}" for i, v in odd]
+            odd = conn.execute(
+                select(CorrectionRow.id, CorrectionRow.verdict).where(
+                    CorrectionRow.verdict.is_not(None), CorrectionRow.verdict.not_in(verdicts)
+                )
+            )
+            problems += [f"corrections row {i}: unknown verdict {v!r}" for i, v in odd]
             odd = conn.execute(
                 select(RunRow.id, RunRow.status).where(RunRow.status.not_in(RUN_STATUSES))
             )
@@ -1146,7 +1165,7 @@ class Store:
 
     def _select_frame(self, stmt: Select) -> pd.DataFrame:
         """Run a select and return its rows as a DataFrame named by its columns."""
-        with self._engine.connect() as conn:
+        with self._connect() as conn:
             result = conn.execute(stmt)
             return _frame(result.all(), list(result.keys()))
 
@@ -1177,12 +1196,13 @@ def _correction_rows(
                 kind="family",
                 expression=audit.family.casimir,
                 method=audit.family.method,
-                verdict="",
+                # a family's Casimir is reported only once it re-checks
+                verdict=None if audit.family.casimir is None else str(Verdict.VERIFIED),
                 payload=audit.family.as_dict(),
             )
         )
     for c in audit.corrections:
-        verdict = "verified" if set(c.checks.values()) == {"verified"} else "unverified"
+        verdict = str(Verdict.combined(Verdict(v) for v in c.checks.values()))
         rows.append(
             CorrectionRow(
                 run_id=run_id,
@@ -1208,7 +1228,8 @@ def _correction_rows(
                 case_pk=case_pk,
                 claim_id=claim_id,
                 kind="conditions",
-                verdict="verified" if cond.branches else "",
+                # every branch is re-checked before it is reported
+                verdict=str(Verdict.VERIFIED) if cond.branches else None,
                 payload=payload,
             )
         )
@@ -1277,7 +1298,16 @@ def _audits(session: Session, where: Any) -> list[tuple[str, CaseAudit]]:
             .order_by(EvidenceRow.id)
         ).all()
         evidence = tuple(
-            Evidence(label, _nan(e.drift), _nan(e.floor), e.runs, e.contradicts, e.note)
+            Evidence(
+                label,
+                _nan(e.drift),
+                _nan(e.floor),
+                e.runs,
+                e.contradicts,
+                e.note,
+                e.compared_with,
+                e.narrowed,
+            )
             for e, label in found
         )
         audit = CaseAudit(

@@ -9,9 +9,12 @@ inconclusive, and the next case takes its place.
 
 from __future__ import annotations
 
+import ctypes
 import multiprocessing as mp
 import os
 import signal
+import sys
+import threading
 import time
 from collections.abc import Callable, Iterator, Sequence
 from multiprocessing.connection import wait
@@ -43,12 +46,45 @@ def estimated_cost(case: Case) -> int:
     return sum(sp.count_ops(e.expr) for e in exprs) + 100 * len(case.functions)
 
 
-def _serve(conn, budget: Budget, numeric: bool) -> None:
+#: prctl(2) option: the signal this process gets when its parent dies (Linux).
+_PR_SET_PDEATHSIG = 1
+#: Seconds between two looks at the parent, where the kernel cannot be asked to tell.
+WATCHDOG_INTERVAL = 0.2
+
+
+def die_with_parent(parent: int) -> None:
+    """Make this process end when ``parent`` dies, however it dies (SIGKILL included),
+    even in the middle of a long check.
+
+    On Linux the kernel sends SIGKILL on the parent's death (``PR_SET_PDEATHSIG``);
+    elsewhere a daemon thread watches the parent and kills this process when it is gone.
+    """
+    if sys.platform.startswith("linux"):
+        try:
+            libc = ctypes.CDLL(None, use_errno=True)
+            if libc.prctl(_PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0) == 0:
+                if os.getppid() != parent:  # it died before the request took effect
+                    os._exit(1)
+                return
+        except (OSError, AttributeError):
+            pass  # no prctl: fall back to the watchdog
+
+    def watch() -> None:
+        while os.getppid() == parent:
+            time.sleep(WATCHDOG_INTERVAL)
+        os.kill(os.getpid(), signal.SIGKILL)
+
+    threading.Thread(target=watch, name="parent-watchdog", daemon=True).start()
+
+
+def _serve(conn, budget: Budget, numeric: bool, parent: int) -> None:
     """A worker: audit each batch of cases received, sending each audit (or the
     exception) as it finishes, until told to stop (None).
 
     SIGTERM ends a worker at once; Ctrl-C is the parent's to handle (it stops the
-    workers and records the run as interrupted)."""
+    workers and records the run as interrupted); the worker never outlives the
+    parent (``die_with_parent``)."""
+    die_with_parent(parent)
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     while True:
@@ -70,7 +106,9 @@ class _Worker:
 
     def __init__(self, ctx, budget: Budget, numeric: bool):
         self.conn, child = ctx.Pipe()
-        self.proc = ctx.Process(target=_serve, args=(child, budget, numeric), daemon=True)
+        self.proc = ctx.Process(
+            target=_serve, args=(child, budget, numeric, os.getpid()), daemon=True
+        )
         self.proc.start()
         child.close()
         self.batch: list[tuple[int, Case]] = []  # what it has still to audit, in order

@@ -12,7 +12,7 @@ import pytest
 from alembic.autogenerate import compare_metadata
 from alembic.runtime.migration import MigrationContext
 from click.testing import CliRunner
-from sqlalchemy import inspect, text
+from sqlalchemy import create_engine, inspect, text
 
 import registry
 from registry import migrate
@@ -33,16 +33,31 @@ def first_schema_db(path: Path) -> Path:
     return path
 
 
-def rows(path: Path, table: str) -> list[tuple]:
+#: Columns added by later revisions, left out when rows are compared with schema 1.
+ADDED = ("host", "pid", "pid_started", "compared_with", "narrowed")
+
+
+def rows(path: Path, table: str) -> list[dict]:
+    """The rows of ``table`` (columns of schema 1 only), in id order."""
     with closing(sqlite3.connect(path)) as conn:
         names = [r[1] for r in conn.execute(f"PRAGMA table_info({table})")]
-        old = [n for n in names if n not in ("host", "pid", "pid_started")]
-        query = f"SELECT {', '.join(map(repr, old))} FROM {table} ORDER BY id"
-        return conn.execute(query).fetchall()
+        old = [n for n in names if n not in ADDED]
+        columns = ", ".join(f'"{n}"' for n in old)
+        query = f"SELECT {columns} FROM {table} ORDER BY id"
+        return [dict(zip(old, r, strict=True)) for r in conn.execute(query)]
+
+
+def upgraded(table: str, row: dict) -> dict:
+    """A schema-1 row as revision 0003 rewrites it: derived facts carry a verdict of the
+    one vocabulary or none (``unverified`` and ``""`` were no verdicts)."""
+    if table == "corrections":
+        verdict = {"": None, "unverified": "inconclusive"}.get(row["verdict"], row["verdict"])
+        return {**row, "verdict": verdict}
+    return row
 
 
 def test_revisions_form_one_chain_ending_at_the_schema_version():
-    assert migrate.known_revisions() == ["0001", "0002"]
+    assert migrate.known_revisions() == ["0001", "0002", "0003"]
     assert int(migrate.head()) == SCHEMA_VERSION
 
 
@@ -70,7 +85,11 @@ def test_the_first_released_schema_is_upgraded_with_its_data_intact(tmp_path):
             assert conn.scalar(text("PRAGMA integrity_check")) == "ok"
             assert conn.execute(text("PRAGMA foreign_key_check")).all() == []
 
-    assert {t: rows(path, t) for t in TABLES} == before
+    after = {t: rows(path, t) for t in TABLES}
+    assert after == {t: [upgraded(t, r) for r in before[t]] for t in TABLES}
+    assert [r["verdict"] for r in after["corrections"]] == [
+        None, "verified", "verified", "verified", None, None
+    ]  # fmt: skip
     # the backup is the database as it was: schema 1, no Alembic table
     assert {t: rows(store.backup, t) for t in TABLES} == before
     with closing(sqlite3.connect(store.backup)) as conn:
@@ -114,7 +133,7 @@ def test_a_newer_revision_is_refused_with_a_clear_message(tmp_path):
         conn.execute(text("UPDATE alembic_version SET version_num = '0099'"))
     expected = (
         f"database {str(path)!r} has schema revision 0099, newer than this registry "
-        "supports (revision 0002); upgrade the registry package to open it"
+        "supports (revision 0003); upgrade the registry package to open it"
     )
     with pytest.raises(SchemaTooNewError) as info:
         Store(path)
@@ -166,3 +185,36 @@ def test_a_failed_upgrade_leaves_the_database_as_it_was(tmp_path, monkeypatch):
     monkeypatch.undo()
     with Store(path) as store:  # and the next open upgrades it
         assert store.upgraded_from == "0001"
+
+
+def test_evidence_stored_before_revision_0003_keeps_the_verdict_it_was_compared_with(tmp_path):
+    """Before 0003 the drift was compared with the verdict the claim's kind names; the
+    upgrade records that kind, so the history does not claim an integral comparison."""
+    path = first_schema_db(tmp_path / "old.sqlite")
+    engine = create_engine(f"sqlite:///{path}")
+    with engine.begin() as conn:
+        config = migrate._config(conn)
+        migrate.command.stamp(config, migrate.FIRST_REVISION)
+        migrate.command.upgrade(config, "0002")
+        claims = conn.execute(text("SELECT id, case_pk, kind FROM claims ORDER BY id")).all()
+        for claim_id, case_pk, _ in claims:
+            conn.execute(
+                text(
+                    "INSERT INTO evidence (run_id, case_pk, claim_id, drift, floor, runs, "
+                    "contradicts, note) VALUES (1, :case, :claim, 1e-12, 1e-12, 3, 0, '')"
+                ),
+                {"case": case_pk, "claim": claim_id},
+            )
+    engine.dispose()
+    with Store(path) as store:
+        assert store.upgraded_from == "0002"
+    stored = [(r["claim_id"], r["compared_with"]) for r in rows_all(path, "evidence")]
+    assert stored == [(claim_id, kind) for claim_id, _, kind in claims]
+    assert {kind for _, _, kind in claims} == {"casimir", "integral"}  # both kinds occur
+
+
+def rows_all(path: Path, table: str) -> list[dict]:
+    """Every column of every row of ``table``, in id order."""
+    with closing(sqlite3.connect(path)) as conn:
+        conn.row_factory = sqlite3.Row
+        return [dict(r) for r in conn.execute(f"SELECT * FROM {table} ORDER BY id")]

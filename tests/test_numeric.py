@@ -1,5 +1,7 @@
 """Numerical evidence agrees with the symbolic verdicts, and disagreements are reported."""
 
+import json
+from dataclasses import replace
 from pathlib import Path
 
 import pytest
@@ -12,7 +14,7 @@ from registry import mechanics as mech
 from registry import numeric as numeric_module
 from registry.checks import Mechanics
 from registry.cli import main
-from registry.numeric import Drift, claim_drift
+from registry.numeric import DISAGREE_FACTOR, Drift, claim_drift
 
 CASES = Path(__file__).resolve().parents[1] / "data" / "cases"
 
@@ -104,3 +106,133 @@ def test_code_is_generated_only_for_state_numbers_and_language_functions():
         _only_numeric([g1 + sp.Symbol("os")])
     with pytest.raises(ValueError, match="unexpected function"):
         _only_numeric([sp.Function("system")(g1)])
+
+
+# --- the comparison rules (issue "evidence that never cries wolf") ---------------------
+
+CLASSICAL = Path(__file__).resolve().parent / "data" / "classical"
+
+
+def classical(name: str) -> registry.Case:
+    return load_case(CLASSICAL / f"{name}.toml")
+
+
+V, R = Verdict.VERIFIED, Verdict.REFUTED
+#: The classical test catalog as the literature decides it: file -> {claim: (integral, casimir)}.
+#: Mis-stated claims are there on purpose: a true integral claimed as a Casimir, an integral
+#: without the level set it needs, a sign or a term wrong, unit-sphere forms off the sphere.
+CLASSICAL_EXPECTED = {
+    "free-top": {
+        "H": (V, R), "M2-as-casimir": (V, R), "M2": (V, R), "area": (V, V), "M1-false": (R, R)
+    },
+    "lagrange-top": {"M3": (V, R), "M3-as-casimir": (V, R), "M1-false": (R, R)},
+    "kovalevskaya-top": {"K": (V, R), "K-as-casimir": (V, R), "K-sign": (R, R)},
+    "goryachev-chaplygin-top": {"K": (V, R), "K-as-casimir": (V, R), "K-everywhere": (R, R)},
+    "chaplygin-kirchhoff": {
+        "K": (V, R), "K-sphere-form": (R, R), "K-sphere-form-on-sphere": (V, R)
+    },
+    "clebsch": {"F": (V, R), "F-as-casimir": (V, R), "F-sign": (R, R)},
+    "zhukovsky-volterra-gyrostat": {
+        "M-plus-k": (V, R), "area": (V, V), "M-false": (R, R), "area-no-k": (R, R)
+    },
+}  # fmt: skip
+
+
+def true_integrals() -> list[tuple[str, str]]:
+    """(file, claim) of every true integral of the classical test catalog that is no Casimir,
+    stated without a level set."""
+    return [
+        (name, label)
+        for name, claims in CLASSICAL_EXPECTED.items()
+        for label, verdicts in claims.items()
+        if verdicts == (V, R) and not classical(name).claim(label).on
+    ]
+
+
+def audited_claim(case, claim):
+    audit = registry.audit_case(replace(case, claims=(claim,)), numeric=True)
+    (evidence,) = audit.evidence
+    return audit.result("integral", claim.label), audit.result("casimir", claim.label), evidence
+
+
+@pytest.mark.parametrize("name,label", true_integrals())
+def test_a_true_integral_stated_as_a_casimir_is_refuted_as_casimir_and_the_numbers_agree(
+    name, label
+):
+    case = classical(name)
+    claim = replace(case.claim(label), kind=registry.ClaimKind.CASIMIR)
+    integral, casimir, evidence = audited_claim(case, claim)
+    assert integral.verdict is Verdict.VERIFIED
+    assert casimir.verdict is Verdict.REFUTED
+    assert evidence.compared_with == "integral"
+    assert evidence.runs >= 2 and not evidence.contradicts, evidence
+    assert evidence.drift < 1e-7  # conserved: flat, which no Casimir refutation can explain
+
+
+@pytest.mark.parametrize("name,label", true_integrals())
+def test_a_perturbed_true_integral_is_refuted_and_the_numbers_agree(name, label):
+    """One term of the integral gets a factor 1 + gamma1/3 (a mutation that is never a mere
+    rescaling, also for one-term integrals such as M3)."""
+    case = classical(name)
+    claim = case.claim(label)
+    expr = claim.expression.expr
+    state = {*mech.STATE, mech.s}
+    term = [t for t in sp.Add.make_args(sp.expand(expr)) if t.free_symbols & state][-1]
+    changed = expr + term * mech.AXIS[0] / 3
+    mutated = replace(claim, expression=registry.model.Expression(str(changed), changed))
+    integral, _, evidence = audited_claim(case, mutated)
+    assert integral.verdict is Verdict.REFUTED
+    assert evidence.runs >= 2
+    assert evidence.drift > DISAGREE_FACTOR * evidence.floor
+    assert not evidence.contradicts
+
+
+def test_a_claim_in_unit_sphere_form_on_s_zero_is_refuted_there_and_the_numbers_agree():
+    case = classical("chaplygin-kirchhoff")
+    claim = case.claim("K-sphere-form")
+    assert [eq.text for eq in claim.on] == ["s = 0"]
+    integral, _, evidence = audited_claim(case, claim)
+    assert integral.verdict is Verdict.REFUTED
+    assert not evidence.contradicts
+    assert evidence.drift > DISAGREE_FACTOR * evidence.floor  # |gamma| is not 1 off the sphere
+    # on the smaller set s = 0, |gamma| = 1 the same expression is conserved: had the numbers
+    # been taken there (the old default), a flat drift would have contradicted "refuted"
+    on_sphere = case.claim("K-sphere-form-on-sphere")
+    assert sp.simplify(on_sphere.expression.expr - claim.expression.expr) == 0
+    flat = claim_drift(Mechanics(case), on_sphere)
+    assert flat.drift < 1e-7 and flat.contradicts(Verdict.REFUTED)
+
+
+def test_numbers_on_one_instance_of_a_family_cannot_contradict_a_refutation():
+    case = load_case(CASES / "bcc-family-psi-grad-phi.toml")
+    d = claim_drift(Mechanics(case), case.claims[0])
+    assert "one instance of the family's arbitrary functions" in d.narrowed
+    assert d.drift < 1e-7  # the family's Casimir is conserved for this instance
+    assert not d.contradicts(Verdict.REFUTED)  # refuted elsewhere is still possible
+    assert replace(d, narrowed="").contradicts(Verdict.REFUTED)
+    assert not d.contradicts(Verdict.VERIFIED)
+
+
+def test_strict_audit_of_the_classical_catalog_passes_with_every_claim_decided(tmp_path):
+    db = tmp_path / "r.sqlite"
+    with registry.open(db) as reg:
+        reg.add(CLASSICAL)
+    result = CliRunner().invoke(main, ["--db", str(db), "audit", "--strict", "--json"])
+    assert result.exit_code == 0, result.output
+    document = json.loads(result.stdout)
+    claims = [c for case in document["cases"] for c in case["claims"]]
+    assert len(claims) == sum(map(len, CLASSICAL_EXPECTED.values()))
+    decided = {
+        (case["case"].removeprefix("test-"), c["label"]): (c["integral"], c["casimir"])
+        for case in document["cases"]
+        for c in case["claims"]
+    }
+    expected = {
+        (name, label): (str(i), str(c))
+        for name, claims in CLASSICAL_EXPECTED.items()
+        for label, (i, c) in claims.items()
+    }
+    assert decided == expected
+    for c in claims:
+        assert c["numeric"]["agrees"] and c["numeric"]["compared_with"] == "integral", c
+        assert c["numeric"]["runs"] >= 2, c

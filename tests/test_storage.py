@@ -67,7 +67,7 @@ def audit_of(case, stored: StoredCase, integral: Verdict = Verdict.VERIFIED) -> 
 def test_memory_store_has_schema_version(memory_store):
     with memory_store.engine.connect() as conn:
         value = conn.scalar(text("SELECT value FROM meta WHERE key = 'schema_version'"))
-    assert value == str(storage.SCHEMA_VERSION) == "2"
+    assert value == str(storage.SCHEMA_VERSION) == "3"
 
 
 def test_file_store_uses_wal_and_foreign_keys(file_store, tmp_path):
