@@ -186,12 +186,14 @@ def add(paths: tuple[str, ...]) -> None:
 @click.option(
     "--numeric",
     is_flag=True,
-    help="Add numerical evidence: drift of each claim along trajectories.",
+    help="Add numerical evidence: drift of each claim along trajectories started on "
+    "exactly the claim's level set (its 'on' equations, nothing added).",
 )
 @click.option(
     "--strict",
     is_flag=True,
-    help="Implies --numeric; exit with status 1 when numbers contradict a symbolic verdict.",
+    help="Implies --numeric; exit with status 1 when the numbers contradict a claim's "
+    "integral verdict (the drift speaks of conservation, never of the Casimir property).",
 )
 @_user_errors
 def audit(
@@ -207,6 +209,16 @@ def audit(
 
     Unchanged cases reuse the results stored by the same code version; --fresh
     recomputes them. A check that runs out of time is inconclusive.
+
+    \b
+    Numerical evidence (--numeric, --strict) follows three rules:
+    - the drift of I is compared with the claim's integral verdict, whatever its
+      kind: a true integral claimed as a Casimir (integral verified, casimir
+      refuted) has a flat drift, and that agrees;
+    - trajectories start on the set where the symbols decided, the claim's 'on'
+      equations and nothing else (no |gamma| = 1 added);
+    - where the numbers stand on a smaller set (one instance of a family's
+      functions, said in the output), a flat drift cannot contradict a refutation.
 
     Example: registry audit --case yehia-2003-kovalevskaya-b --json
     """
