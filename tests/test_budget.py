@@ -30,9 +30,19 @@ def test_time_limit_interrupts_python_code():
 
 
 def test_time_limit_is_lifted_afterwards():
-    with time_limit(0.2):
-        pass
-    time.sleep(0.3)  # no stray alarm
+    handler = signal.getsignal(signal.SIGALRM)
+    with time_limit(5):
+        assert signal.getitimer(signal.ITIMER_REAL)[0] > 0
+    assert signal.getitimer(signal.ITIMER_REAL) == (0.0, 0.0)  # no stray alarm
+    assert signal.getsignal(signal.SIGALRM) is handler
+    # the same after a block that ran out of time
+    with pytest.raises(BudgetExceeded):
+        with time_limit(0.05):
+            assert signal.getitimer(signal.ITIMER_REAL)[0] > 0
+            while True:
+                pass
+    assert signal.getitimer(signal.ITIMER_REAL) == (0.0, 0.0)
+    assert signal.getsignal(signal.SIGALRM) is handler
 
 
 def test_an_expression_crafted_to_take_forever_ends_inconclusive_within_its_budget():

@@ -133,7 +133,8 @@ def test_load_case_drops_a_byte_order_mark(tmp_path):
 def test_seed_catalog_loads():
     from pathlib import Path
 
-    files = sorted(Path(__file__).parent.parent.glob("data/cases/*.toml"))
+    files = sorted((Path(__file__).parent.parent / "data" / "cases").rglob("*.toml"))
+    assert files, "no case files found in data/cases"
     for path in files:
         assert load_case(path).id == path.stem
 

@@ -524,6 +524,14 @@ def test_checks_lists_every_registered_check_with_its_statement():
     lines = result.stdout.splitlines()
     assert [line.split()[0] for line in lines] == list(CHECKS)
     assert any("Jacobi identity" in line for line in lines)
+    for line, spec in zip(lines, CHECKS.values(), strict=True):
+        found = re.fullmatch(r"(\S+) +(per claim|per case) +(\S+) +(\S.*)", line)
+        assert found, line
+        name, scope, cost, statement = found.groups()
+        assert name == spec.name
+        assert scope == ("per claim" if spec.per_claim else "per case")
+        assert cost == spec.cost
+        assert statement == spec.statement != ""
 
 
 @pytest.mark.parametrize(

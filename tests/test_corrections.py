@@ -13,7 +13,7 @@ from registry import mechanics as mech
 from registry.checks import Mechanics
 from registry.expressions import Namespace, parse_expression
 from registry.families import recognise
-from registry.zero import Domain
+from registry.zero import Domain, decide
 
 CASES = Path(__file__).resolve().parents[1] / "data" / "cases"
 
@@ -48,6 +48,12 @@ def vanishes_numerically(case, exprs, points=5, seed=7):
             if abs(value) > sp.Float("1e-30"):
                 return False
     return True
+
+
+def independent_of_c1(case, expr) -> bool:
+    """Some d/dM_i of ``expr`` is not zero: ``expr`` is not a function of gamma alone
+    (as C1 = |gamma|^2/2 is, which satisfies every Casimir system trivially)."""
+    return not vanishes_numerically(case, [mech.total_diff(expr, v) for v in mech.MOMENTUM])
 
 
 def casimir_residual(case, torque, expr):
@@ -131,6 +137,12 @@ def test_families_are_recognised_with_a_casimir_where_poisson(case_id, name):
         assert family.casimir is None
         return
     assert family.casimir is not None
+    # symbolically, on the case's domain (the only way for arbitrary functions phi, psi, a)
+    system = mech.casimir_system(m.mu, family.casimir)
+    residuals = {f"(3.3)[{i}]": r for i, r in enumerate(system)}
+    assert decide(residuals, m.domain).verdict is Verdict.VERIFIED
+    grad_m = {f"d/d{v}": mech.total_diff(family.casimir, v) for v in mech.MOMENTUM}
+    assert decide(grad_m, m.domain).verdict is Verdict.REFUTED  # independent of C1
     if not case.functions:
         assert vanishes_numerically(case, casimir_residual(case, m.mu, family.casimir))
         assert not vanishes_numerically(case, [mech.total_diff(family.casimir, mech.M1)])
@@ -177,6 +189,7 @@ def test_a_case_without_claims_gets_its_second_casimir_discovered():
     assert found.claim is None
     expr = parse(case, found.expression)
     assert vanishes_numerically(case, casimir_residual(case, case.system.torque_exprs, expr))
+    assert independent_of_c1(case, expr)
 
 
 TRUE_CASES = [
@@ -207,6 +220,7 @@ def test_mutated_claims_get_valid_repairs_or_none(case_id):
         if fix.kind == "casimir":
             c = parse(case, fix.expression)
             assert vanishes_numerically(case, casimir_residual(case, case.system.torque_exprs, c))
+            assert independent_of_c1(case, c)
         else:
             torque = [parse(case, t) for t in fix.torque]
             assert vanishes_numerically(case, casimir_residual(case, torque, mutated_expr))
@@ -215,7 +229,7 @@ def test_mutated_claims_get_valid_repairs_or_none(case_id):
     assert any(f.kind == "casimir" for f in audit.corrections)
 
 
-def test_a_claim_no_torque_can_repair_says_so():
+def test_a_claim_no_torque_can_repair_gets_only_the_cases_own_casimir():
     case = load("zhukovsky-gyrostat")
     claim = case.claims[0]
     from registry.model import Expression
@@ -224,6 +238,17 @@ def test_a_claim_no_torque_can_repair_says_so():
     audit = audit_case(
         replace(case, claims=(replace(claim, expression=Expression("M1**2", expr)),))
     )
+    assert audit.result("casimir", claim.label).verdict is Verdict.REFUTED
+    # the repair step ran: the torque's family is recorded, and the claim is offered the
+    # case's own Casimir (a valid one, independent of C1) ...
+    assert audit.family is not None
+    assert audit.family.name == "constant"
+    (fix,) = [f for f in audit.corrections if f.claim == claim.label]
+    assert fix.kind == "casimir"
+    c = parse(case, fix.expression)
+    assert vanishes_numerically(case, casimir_residual(case, case.system.torque_exprs, c))
+    assert independent_of_c1(case, c)
+    # ... but no corrected torque
     assert not [f for f in audit.corrections if f.kind == "torque"]
 
 

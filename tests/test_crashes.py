@@ -251,6 +251,7 @@ def test_audits_killed_at_random_moments_leave_a_sound_database(db, audited, cap
     reference = result_keys(db, 1)  # the results of each case in a complete fresh run
     assert len(reference) == n_cases
     landed = []
+    outcomes = []  # (trigger, value, where the kill landed, cases committed)
     for trigger, value in kill_plan(rng, n_cases):
         before = runs(db)
         earlier = max(before)
@@ -277,19 +278,22 @@ def test_audits_killed_at_random_moments_leave_a_sound_database(db, audited, cap
         new = sorted(set(left) - set(before))
         assert len(new) <= 1, f"one audit recorded runs {new}"
         killed = new[0] if new else None
-        where = "before start_run"
+        where, category, committed = "before start_run", "before start_run", 0
         if killed is not None:
             keys = result_keys(db, killed)
             # each case's results are committed together or not at all
             for case_pk, found in keys.items():
                 assert found == reference[case_pk], f"case {case_pk} committed partly"
             status = left[killed][0]
+            committed = len(keys)
             if status == "complete":
                 assert len(keys) == n_cases
-                where = "after finish_run (complete)"
+                where = category = "after finish_run (complete)"
             else:
                 assert status == "running", f"killed run {killed} is {status}"
                 where = f"mid-run, {len(keys)}/{n_cases} cases committed"
+                category = "mid-run"
+        outcomes.append((trigger, value, category, committed))
         landed.append(
             f"{trigger}={value:g}: killed after {elapsed:.2f} s (exit {proc.returncode}), {where}"
         )
@@ -312,6 +316,16 @@ def test_audits_killed_at_random_moments_leave_a_sound_database(db, audited, cap
 
     with capsys.disabled():
         print("\nSIGKILL moments:\n  " + "\n  ".join(landed))
+    # the plan's moments were really hit: a kill during the interpreter's start-up (the
+    # first moment, < 0.25 s) came before the run was recorded, and every kill that
+    # waited for a run to commit fewer than all its cases landed in the middle of it
+    categories = [category for _, _, category, _ in outcomes]
+    assert "before start_run" in categories, landed
+    assert "mid-run" in categories, landed
+    assert outcomes[0][2] == "before start_run", landed
+    for trigger, value, category, committed in outcomes:
+        if trigger == "cases" and value < n_cases:
+            assert category == "mid-run" and committed >= value, landed
 
     # the next audit, in a real process, completes normally
     done = subprocess.run(

@@ -6,7 +6,7 @@ import time
 
 import pytest
 import sympy as sp
-from hypothesis import HealthCheck, assume, given, settings
+from hypothesis import HealthCheck, assume, event, given, settings
 from hypothesis import strategies as st
 
 from registry import expressions
@@ -315,11 +315,18 @@ LIMIT_CASES = [
 ]
 
 
+#: Seconds after which parsing one text counts as hung. The timing assertions below are
+#: hang bounds, not speed tests: a parse within the limits takes well under a second.
+HANG_BOUND = 10.0
+
+
 @pytest.mark.parametrize(("text", "message"), LIMIT_CASES, ids=range(len(LIMIT_CASES)))
 def test_hostile_input_refused_fast(text, message):
     start = time.perf_counter()
     assert refusal(text) == message
-    assert time.perf_counter() - start < 1.0
+    # a bound against hangs (the limits make these refusals take milliseconds), not a
+    # speed test: generous, so that a loaded CI machine does not fail it
+    assert time.perf_counter() - start < HANG_BOUND
 
 
 @pytest.mark.parametrize(
@@ -338,7 +345,7 @@ def test_hostile_input_refused_fast(text, message):
 def test_within_the_limits(text):
     start = time.perf_counter()
     assert isinstance(parse(text), sp.Expr)
-    assert time.perf_counter() - start < 2.0
+    assert time.perf_counter() - start < HANG_BOUND  # a hang bound, not a speed test
 
 
 def test_limits_are_documented_constants():
@@ -554,7 +561,7 @@ def partial_derivatives(draw) -> sp.Expr:
 LEAVES = st.one_of(
     st.sampled_from(_VARS),
     st.sampled_from([sp.pi, sp.E]),
-    st.fractions(max_denominator=20).filter(lambda q: abs(q) < 50).map(sp.Rational),
+    st.fractions(min_value=-49, max_value=49, max_denominator=20).map(sp.Rational),
     st.sampled_from([f for f, _ in _FUNCS]),
     partial_derivatives(),
 )
@@ -606,17 +613,66 @@ def test_printer_round_trip(expr):
     assert _same(parse(text), expr), text
 
 
+# Grammatical texts of the case-file language, built from its own words (names,
+# numbers, + - * / **, calls of its functions and of diff), so that most of them parse.
+_TEXT_NAMES = st.sampled_from(
+    ["M1", "M2", "M3", "gamma1", "gamma2", "gamma3", "s", "C", "n", "k", "pi", "E"]
+)
+_TEXT_FUNCTIONS = st.sampled_from(
+    ["phi(gamma1, gamma2, gamma3)", "a(s)", "g(gamma1, s)", "chi(M1, M2, M3)"]
+)
+_TEXT_LEAVES = st.one_of(
+    _TEXT_NAMES,  # twice: mostly state variables and parameters, some numbers
+    _TEXT_NAMES,
+    _TEXT_FUNCTIONS,
+    # partial derivatives of the declared functions (printed back as diff calls)
+    st.tuples(_TEXT_FUNCTIONS, st.sampled_from([str(v) for v in STATE])).map(
+        lambda t: f"diff({t[0]}, {t[1]})"
+    ),
+    st.one_of(
+        st.integers(0, 12).map(str),
+        st.tuples(st.integers(-9, 9), st.integers(1, 9)).map(lambda t: f"{t[0]}/{t[1]}"),
+        st.sampled_from(["0.5", "1e-3", "2.25"]),
+    ),
+)
+_TEXT_CALLS = ["sqrt", "exp", "log", "sin", "cos", "tan", "asin", "acos", "atan", "tanh"]
+
+
+def _extend_text(children):
+    return st.one_of(
+        st.tuples(children, st.sampled_from(["+", "-", "*", "/"]), children).map(
+            lambda t: f"({t[0]} {t[1]} {t[2]})"
+        ),
+        st.tuples(children, st.sampled_from(["2", "3", "-1", "(1/2)", "(-3/2)"])).map(
+            lambda t: f"({t[0]})**{t[1]}"
+        ),
+        children.map(lambda x: f"-({x})"),
+        st.tuples(st.sampled_from(_TEXT_CALLS), children).map(lambda t: f"{t[0]}({t[1]})"),
+        st.tuples(children, st.sampled_from([str(v) for v in STATE])).map(
+            lambda t: f"diff({t[0]}, {t[1]})"
+        ),
+    )
+
+
+EXPRESSION_TEXTS = st.recursive(_TEXT_LEAVES, _extend_text, max_leaves=6)
+
+
 @settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])
-@given(st.lists(st.sampled_from(TOKENS[:30]), min_size=1, max_size=25).map(" ".join))
+@given(EXPRESSION_TEXTS)
 def test_parse_print_parse(text):
     try:
         expr = parse(text)
-    except ExpressionError:
-        return
+    except ExpressionError as err:
+        # a grammatical text is refused only for its value (1/0, log(0), ...)
+        assert err.text == text and err.message
+        event("refused by the parser")
+        assume(False)
     try:
         printed = to_text(expr)
     except ValueError:
         # diff of sqrt(x**2) is sign(x), which the language has no word for.
         assert expr.has(sp.sign, sp.DiracDelta, sp.Abs)
-        return
+        event("not printable")
+        assume(False)
+    event("round trip checked")
     assert _same(parse(printed), expr), printed

@@ -1,5 +1,6 @@
 """The optional symengine path and the pure-sympy fallback give the same results."""
 
+from dataclasses import dataclass
 from pathlib import Path
 
 import pytest
@@ -13,12 +14,36 @@ C = sp.Symbol("C", positive=True)
 g1, g2, g3 = mech.AXIS
 
 
+@dataclass
+class Backend:
+    """The backend a test runs on, and how many symengine results came back to sympy."""
+
+    symengine: bool
+    calls: int = 0
+
+    def assert_used(self) -> None:
+        """symengine did the work under the symengine backend, and never under sympy
+        (fast.py falls back to sympy silently, so a result alone cannot tell)."""
+        if self.symengine:
+            assert self.calls > 0, "symengine was never used"
+        else:
+            assert self.calls == 0, "symengine was used with ENABLED = False"
+
+
 @pytest.fixture(params=[True, False], ids=["symengine", "sympy"])
 def backend(request, monkeypatch):
     if request.param and fast.se is None:
         pytest.skip("symengine is not installed")
     monkeypatch.setattr(fast, "ENABLED", request.param)
-    return request.param
+    state = Backend(request.param)
+    original = fast._back
+
+    def counting_back(result, expr):
+        state.calls += 1
+        return original(result, expr)
+
+    monkeypatch.setattr(fast, "_back", counting_back)
+    return state
 
 
 @pytest.mark.parametrize(
@@ -33,17 +58,20 @@ def test_derivatives_and_expansions_agree_with_sympy(backend, expr):
     for v in (g1, g3, mech.s):
         assert sp.simplify(fast.diff(expr, v) - sp.diff(expr, v)) == 0
     assert sp.simplify(fast.expand(expr) - sp.expand(expr)) == 0
+    backend.assert_used()
 
 
 def test_symbols_keep_their_assumptions(backend):
     d = fast.diff(C * g1**2, g1)
     assert d.free_symbols == {C, g1}
     assert next(iter(d.free_symbols - {g1})).is_positive
+    backend.assert_used()
 
 
 def test_families_of_arbitrary_functions_stay_with_sympy(backend):
     phi = sp.Function("phi", real=True)(*mech.AXIS)
     assert fast.diff(phi, g1) == sp.Derivative(phi, g1)
+    assert backend.calls == 0  # not even under symengine
 
 
 @pytest.mark.parametrize(
@@ -60,3 +88,4 @@ def test_verdicts_do_not_depend_on_the_backend(backend, case_id):
     claim = case.claims[0].label
     assert audit.result("casimir", claim).verdict is expected
     assert audit.result("energy").verdict is Verdict.VERIFIED
+    backend.assert_used()

@@ -1214,9 +1214,11 @@ def test_random_bytes_through_load_case(tmp_path_factory, data):
     path.write_bytes(data)
     with no_code_execution():
         try:
-            load_case(path)
+            case = load_case(path)
         except CaseFormatError as err:
             assert err.problems and err.file == str(path)
+        else:
+            assert isinstance(case, registry.Case)
 
 
 EXPRESSION_TEXT = st.lists(

@@ -9,7 +9,7 @@ import sympy as sp
 
 from registry import Verdict, audit_case, load_case
 from registry.expressions import to_text
-from registry.mechanics import M1
+from registry.mechanics import M1, gamma1
 from registry.model import Claim, Expression, System
 
 CASES = Path(__file__).resolve().parents[1] / "data" / "cases"
@@ -47,24 +47,46 @@ def audit_claim(case, claim):
     return audit.result("integral", claim.label), audit.result("casimir", claim.label)
 
 
+def mutate(expr: sp.Expr, mutation: str) -> sp.Expr:
+    """``expr`` with its last non-constant term's sign flipped or coefficient changed.
+
+    When that term is the only one, scaling it would scale the whole claim (and c*I is
+    as conserved as I), so the change is made non-scalar: the term's change is
+    multiplied by (1 + gamma1)."""
+    candidates = non_constant_terms(expr)
+    # the last term, to avoid always mutating the leading s
+    term = candidates[-1]
+    change = -2 * term if mutation == "sign" else term / 3
+    if len(candidates) == 1:
+        change *= 1 + gamma1
+    return expr + change
+
+
 @pytest.mark.parametrize("case_id", TRUE_CASES)
 @pytest.mark.parametrize("mutation", ["sign", "coefficient"])
 def test_changing_a_term_of_a_true_claim_is_refuted(case_id, mutation):
     case = load_case(CASES / f"{case_id}.toml")
     claim = case.claims[0]
-    expr = claim.expression.expr
-    candidates = non_constant_terms(expr)
-    # the last term, to avoid always mutating the leading s
-    term = candidates[-1]
-    changed = expr - 2 * term if mutation == "sign" else expr + term / 3
+    integral, casimir = audit_claim(case, claim)
+    assert (integral.verdict, casimir.verdict) == (Verdict.VERIFIED, Verdict.VERIFIED)
+    changed = mutate(claim.expression.expr, mutation)
+    assert sp.expand(changed - claim.expression.expr) != 0
     integral, casimir = audit_claim(case, with_expression(claim, changed))
-    if len(candidates) == 1:
-        # the change multiplies I by a constant, and c*I is a Casimir too
-        assert casimir.verdict is Verdict.VERIFIED
-        return
     assert casimir.verdict is Verdict.REFUTED
-    assert integral.verdict in (Verdict.REFUTED, Verdict.VERIFIED)  # a sum of integrals may survive
     assert casimir.witness is not None
+    assert integral.verdict is Verdict.REFUTED
+    assert integral.witness is not None
+
+
+def test_a_constant_multiple_of_a_one_term_casimir_stays_a_casimir():
+    case = load_case(CASES / "borisov-mamaev-1997.toml")
+    claim = case.claims[0]
+    expr = claim.expression.expr
+    assert len(non_constant_terms(expr)) == 1
+    for factor in (-1, sp.Rational(4, 3)):
+        integral, casimir = audit_claim(case, with_expression(claim, factor * expr))
+        assert casimir.verdict is Verdict.VERIFIED
+        assert integral.verdict is Verdict.VERIFIED
 
 
 @pytest.mark.parametrize("case_id", TRUE_CASES)

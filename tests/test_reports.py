@@ -6,6 +6,7 @@ shared by the module; the run-diff tests use a second, one-case database.
 
 from __future__ import annotations
 
+import os
 import re
 import shutil
 import subprocess
@@ -72,12 +73,69 @@ def _correction(reg, case_id: str, kind: str):
 # ------------------------------------------------------------------- markdown
 
 
-def test_markdown_names_every_case_and_verdict(markdown):
+def _summary_rows(text: str) -> list[str]:
+    """The rows of the Markdown report's summary table, header and rule excluded."""
+    lines = text.split("## Summary\n", 1)[1].lstrip("\n").splitlines()
+    table = []
+    for line in lines:
+        if not line.startswith("|"):
+            break
+        table.append(line)
+    assert table[:2] == [
+        "| case | claim | kind | integral | casimir | verdict |",
+        "| --- | --- | --- | --- | --- | --- |",
+    ]
+    return table[2:]
+
+
+def _expected_rows(reg) -> list[str]:
+    """One summary row per audited claim, with the audit's own verdicts; the overall
+    verdict is that of the property the claim's kind names."""
+    verdicts = reg.verdicts()
+    per_claim = verdicts[verdicts["claim"].notna()]
+    verdict = {(r.case, r.claim, r.check): r.verdict for r in per_claim.itertuples()}
+    rows = []
+    for c in reg.claims().itertuples():
+        integral, casimir = (
+            verdict[c.case, c.label, "integral"],
+            verdict[c.case, c.label, "casimir"],
+        )
+        overall = integral if c.kind == "integral" else casimir
+        rows.append(f"| {c.case} | {c.label} | {c.kind} | {integral} | {casimir} | {overall} |")
+    return rows
+
+
+def test_markdown_summary_keeps_the_integral_and_casimir_columns_apart(tmp_path):
+    """The Hamiltonian is an integral but no Casimir: its row tells the columns apart
+    (every seed claim has equal integral and casimir verdicts)."""
+    text = (CASES / f"{ZHUKOVSKY}.toml").read_text(encoding="utf-8")
+    text += (
+        '\n[[claims]]\nlabel = "H"\nkind = "integral"\nexpression = '
+        '"M1**2/(2*A) + M2**2/(2*B) + M3**2/(2*C) + xi1*gamma1 + xi2*gamma2 + xi3*gamma3"\n'
+    )
+    path = tmp_path / f"{ZHUKOVSKY}.toml"
+    path.write_text(text, encoding="utf-8")
+    with registry.open(tmp_path / "registry.sqlite") as reg:
+        reg.add(path)
+        reg.audit(jobs=0)
+        report = build_report(reg, fmt="md", plots=False)
+        expected = _expected_rows(reg)
+    assert f"| {ZHUKOVSKY} | H | integral | verified | refuted | verified |" in expected
+    assert sorted(_summary_rows(report)) == sorted(expected)
+
+
+def test_markdown_names_every_case_and_verdict(reg, markdown):
     text, _ = markdown
     for case_id in SEED:
         assert case_id in text
     assert "refuted" in text and "verified" in text
     assert "| case | claim | kind | integral | casimir | verdict |" in text
+    expected = _expected_rows(reg)
+    assert len(expected) == 3
+    assert sorted(_summary_rows(text)) == sorted(expected)
+    # the paper's refuted claim and a classical true one
+    assert f"| {YEHIA_B} | I2 | casimir | refuted | refuted | refuted |" in expected
+    assert f"| {ZHUKOVSKY} | area | casimir | verified | verified | verified |" in expected
 
 
 def test_markdown_shows_the_torque_in_math(reg, markdown):
@@ -208,6 +266,8 @@ def test_tex_fragment_is_well_formed(tex):
 
 def test_tex_fragment_compiles(tex, tmp_path):
     if shutil.which("pdflatex") is None:
+        if os.environ.get("REGISTRY_CI"):
+            pytest.fail("pdflatex is required in CI")
         pytest.skip("no pdflatex")
     _, out = tex
     (out.parent / "wrapper.tex").write_text(

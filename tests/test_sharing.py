@@ -96,11 +96,34 @@ def test_each_format_writes_six_tables_that_round_trip(audited, fmt, tmp_path):
             ], (name, key)
 
 
-def test_the_tables_hold_what_the_registry_holds(audited):
+def _verdict_map(frame: pd.DataFrame) -> dict:
+    """(case, claim, check) -> verdict of a verdicts table (claim None for case checks)."""
+    return {
+        (r.case, None if pd.isna(r.claim) else r.claim, r.check): str(r.verdict)
+        for r in frame.itertuples()
+    }
+
+
+def test_the_tables_hold_what_the_registry_holds(audited, tmp_path):
     t = sharing.tables(audited.reg)
     assert set(t["cases"]["case"]) == {YEHIA_B, ZHUKOVSKY}
     assert len(t["all_results"]) == sum(t["runs"]["n_results"])
     assert set(t["verdicts"]["verdict"]) <= {"verified", "refuted", "inconclusive"}
+    table = _verdict_map(t["verdicts"])
+    assert len(table) == len(t["verdicts"])  # one row per (case, claim, check)
+    assert table == _verdict_map(audited.reg.verdicts())
+    # and what the audit itself found
+    found = {
+        (a.case, r.claim, r.check): str(r.verdict) for a in audited.report.audits for r in a.results
+    }
+    assert table == found
+    assert table[YEHIA_B, "I2", "casimir"] == "refuted"
+    assert table[ZHUKOVSKY, "area", "casimir"] == "verified"
+    # the exported files say the same
+    for fmt in sharing.FORMATS:
+        sharing.export_tables(audited.reg, tmp_path / fmt, fmt)
+        exported = sharing.read_table(tmp_path / fmt / f"verdicts.{fmt}")
+        assert _verdict_map(exported) == table, fmt
     assert len(t["repairs"]) > 0
 
 
@@ -215,26 +238,21 @@ def test_cli_export_help_has_an_example():
 
 
 def test_citation_cff_parses():
+    import yaml  # PyYAML, in the project's ``test`` extra
+
     text = (ROOT / "CITATION.cff").read_text(encoding="utf-8")
-    try:
-        import yaml
-    except ImportError:  # no PyYAML: check the key lines
-        for line in (
-            "cff-version: 1.2.0",
-            'title: "Registry of rigid-body integrability claims"',
-            'version: "0.1.0"',
-            '  - name: "Registry maintainers"',
-            "references:",
-            "      - family-names: Birtea",
-        ):
-            assert line in text.splitlines(), line
-        assert "\t" not in text
-        return
     data = yaml.safe_load(text)
+    assert isinstance(data, dict)
+    # the keys CFF 1.2.0 requires of a citation, and of each of its references
+    for key in ("cff-version", "message", "title", "authors"):
+        assert data.get(key), key
     assert data["cff-version"] == "1.2.0"
+    assert data["title"] == "Registry of rigid-body integrability claims"
     assert data["version"] == "0.1.0"
     assert data["authors"] == [{"name": "Registry maintainers"}]
     (paper,) = data["references"]
+    for key in ("type", "title", "authors"):
+        assert paper.get(key), key
     assert paper["title"].startswith("Hamilton-Poisson formulation")
     assert [a["family-names"] for a in paper["authors"]] == ["Birtea", "Casu", "Comanescu"]
 

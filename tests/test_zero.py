@@ -14,7 +14,9 @@ SPHERE = gamma1**2 + gamma2**2 + gamma3**2 - 1
 
 
 def test_identical_zero_is_verified_without_work():
-    assert decide({"r": sp.Integer(0)}, DOMAIN).method == "identically zero"
+    result = decide({"r": sp.Integer(0)}, DOMAIN)
+    assert result.verdict is Verdict.VERIFIED
+    assert result.method == "identically zero"
 
 
 def test_equal_radicals_written_differently_are_not_refuted():
@@ -77,7 +79,9 @@ def test_witnesses_on_level_sets_lie_on_the_set():
 
 def test_sample_points_respect_nonzero_conditions_and_level_sets():
     domain = Domain(parameters=(k,), nonzero=(gamma3,), on=(SPHERE,))
-    for point in sample_points(domain, 5, seed=3):
+    points = list(sample_points(domain, 5, seed=3))
+    assert len(points) == 5
+    for point in points:
         assert point[gamma3] != 0 and point[k] > 0
         assert sp.simplify(SPHERE.xreplace(point)) == 0
         assert point[s] == sp.expand(S_VALUE.xreplace(point))
