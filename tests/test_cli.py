@@ -181,7 +181,7 @@ def test_user_error_in_a_real_process(tmp_path):
 def test_add_catalog_then_unchanged(tmp_path, monkeypatch):
     monkeypatch.chdir(ROOT)
     db = tmp_path / "r.sqlite"
-    files = sorted(str(p.relative_to(ROOT)) for p in CASES.glob("*.toml"))
+    files = sorted(str(p.relative_to(ROOT)) for p in CASES.rglob("*.toml"))
     assert len(files) >= 3
 
     first = invoke(db, "add", "data/cases")

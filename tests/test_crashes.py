@@ -208,7 +208,7 @@ def audited(tmp_path_factory) -> tuple[Path, int]:
     )
     assert done.returncode == 0, done.stderr
     assert [status for status, _ in runs(db).values()] == ["complete"]
-    n_cases = len(list(CASES.glob("*.toml")))
+    n_cases = len(list(CASES.rglob("*.toml")))
     return db, n_cases
 
 

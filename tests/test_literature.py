@@ -1,0 +1,196 @@
+"""The literature catalog (data/cases/<topic>/): every case loads, is audited, and the
+audit says what the literature says, claim by claim; the catalog's metadata is complete."""
+
+import re
+import unicodedata
+from functools import cache
+from pathlib import Path
+
+import pytest
+
+from registry import Verdict, audit_case, load_case
+
+CASES = Path(__file__).resolve().parents[1] / "data" / "cases"
+TOPICS = {
+    "free rigid body",
+    "heavy top",
+    "gyrostat",
+    "Kirchhoff equations",
+    "gyroscopic torques",
+    "reference paper",
+}
+
+#: case id -> (jacobi, {claim label: (integral, casimir)}). energy, c1 and hamiltonian
+#: hold everywhere. A first integral that is no Casimir is (V, R); a Casimir is (V, V).
+V, R = Verdict.VERIFIED, Verdict.REFUTED
+EXPECTED = {
+    # free rigid body
+    "euler-1765-free-rigid-body": (
+        V,
+        {"T": (V, R), "M2": (V, R), "area": (V, V), "C1": (V, V)},
+    ),
+    "euler-1765-free-rigid-body-symmetric": (V, {"M3": (V, R), "T": (V, R)}),
+    "poinsot-1834-free-rigid-body": (V, {"M2": (V, R), "2T": (V, R), "omega-on-M": (V, R)}),
+    # heavy top
+    "lagrange-1788-heavy-top": (V, {"M3": (V, R), "H": (V, R), "area": (V, V)}),
+    "kovalevskaya-1889-heavy-top": (V, {"K": (V, R), "H": (V, R), "area": (V, V)}),
+    "kovalevskaya-1889-heavy-top-normalised": (V, {"K": (V, R), "H": (V, R)}),
+    "kovalevskaya-1889-heavy-top-equatorial": (V, {"K": (V, R)}),
+    "kovalevskaya-1889-heavy-top-classical-integrals": (
+        V,
+        {"H": (V, R), "area": (V, V), "C1": (V, V)},
+    ),
+    # too broad on purpose: the cubic integral needs s = 0
+    "goryachev-1900-heavy-top-all-s": (V, {"K": (R, R)}),
+    "goryachev-1916-heavy-top": (V, {"K": (V, R)}),
+    "hess-1890-heavy-top": (V, {"hess": (V, R)}),
+    # too broad on purpose: Hess's relation without Hess's condition
+    "hess-1890-heavy-top-unrestricted": (V, {"hess": (R, R)}),
+    "bobylev-1896-heavy-top": (V, {"q-zero": (V, R), "p-const": (V, R)}),
+    # gyrostat
+    "volterra-1899-free-gyrostat": (V, {"T": (V, R), "K2": (V, R), "area": (V, V)}),
+    "zhukovsky-1885-free-gyrostat": (V, {"T": (V, R), "K2": (V, R)}),
+    "yehia-2022-lagrange-gyrostat": (V, {"M3": (V, R), "area": (V, V)}),
+    "sretensky-1963-gyrostat": (V, {"K": (V, R), "area": (V, V)}),
+    "yehia-1986-kovalevskaya-gyrostat": (V, {"K": (V, R), "area": (V, V)}),
+    "komarov-1987-kovalevskaya-gyrostat": (V, {"K": (V, R), "H": (V, R)}),
+    # not admissible on purpose: the gyrostatic moment off the symmetry axis
+    "yehia-1986-kovalevskaya-gyrostat-transverse": (V, {"K": (R, R), "area": (V, V)}),
+    "borisov-2002-goryachev-chaplygin-gyrostat": (V, {"K": (V, R)}),
+    # Kirchhoff equations
+    "kirchhoff-1870-kirchhoff-axisymmetric": (V, {"K3": (V, R), "H": (V, R), "area": (V, V)}),
+    "clebsch-1871-kirchhoff-quadratic": (V, {"F": (V, R), "area": (V, V)}),
+    "clebsch-1871-kirchhoff-quadratic-normalised": (V, {"F": (V, R)}),
+    "brun-1893-quadratic-potential": (V, {"F": (V, R), "area": (V, V)}),
+    "steklov-1893-kirchhoff-affine-torque": (V, {"F": (V, R), "H": (V, R), "area": (V, V)}),
+    "chaplygin-1903-kirchhoff-s0": (V, {"F": (V, R)}),
+    # too broad on purpose: the quartic integral needs K.gamma = 0
+    "chaplygin-1903-kirchhoff-all-s": (V, {"F": (R, R)}),
+    # gyroscopic torques and the reference paper
+    # wrong on purpose: Grioli's torque destroys M.gamma
+    "birtea-2011-grioli-area-lost": (V, {"area": (R, R), "area-corrected": (V, V)}),
+    "birtea-2011-radial-torque": (V, {"area": (V, V)}),
+    "birtea-2011-omega-torque": (R, {"area": (V, R)}),
+    "yehia-2003-cyclic-family": (V, {"cyclic": (V, V)}),
+}
+
+#: Claims on a level set: (case, label) -> verdict of the invariance of the set.
+INVARIANT = {
+    ("goryachev-1916-heavy-top", "K"): V,
+    ("hess-1890-heavy-top", "hess"): V,
+    ("hess-1890-heavy-top-unrestricted", "hess"): R,
+    ("bobylev-1896-heavy-top", "q-zero"): V,
+    ("bobylev-1896-heavy-top", "p-const"): V,
+    ("sretensky-1963-gyrostat", "K"): V,
+    ("borisov-2002-goryachev-chaplygin-gyrostat", "K"): V,
+    ("chaplygin-1903-kirchhoff-s0", "F"): V,
+}
+
+#: The deliberately wrong claims: the parameter values under which they would hold.
+HOLDS_WHEN = {
+    ("goryachev-1900-heavy-top-all-s", "K"): (("a = 0",),),
+    ("yehia-1986-kovalevskaya-gyrostat-transverse", "K"): (("k = 0",),),
+    ("chaplygin-1903-kirchhoff-all-s", "F"): (("k = 0",),),
+}
+
+ID_RULE = re.compile(r"[a-z]+-(\d{4})(-[a-z0-9]+)+")
+#: First-author surnames whose usual English transliteration differs from the printed name.
+TRANSLITERATED = {"kowalevski": "kovalevskaya"}
+
+
+def topic_files():
+    return sorted(p for p in CASES.rglob("*.toml") if p.parent != CASES)
+
+
+def all_files():
+    return sorted(CASES.rglob("*.toml"))
+
+
+@cache
+def audited(path: Path):
+    case = load_case(path)
+    return case, audit_case(case)
+
+
+def surname(author: str) -> str:
+    """The last word of a printed name, lowercase ASCII ('S. Kowalevski' -> 'kowalevski')."""
+    last = author.replace(".", " ").split()[-1]
+    return unicodedata.normalize("NFKD", last).encode("ascii", "ignore").decode().lower()
+
+
+def test_every_case_in_the_subfolders_is_expected_and_every_expected_case_has_a_file():
+    assert {p.stem for p in topic_files()} == set(EXPECTED)
+
+
+def test_catalog_size_and_sources():
+    cases = [load_case(p) for p in all_files()]
+    assert len(cases) >= 40
+    assert len({c.id for c in cases}) == len(cases)
+    assert len({c.source.citation for c in cases}) >= 15
+
+
+@pytest.mark.parametrize("path", all_files(), ids=lambda p: p.stem)
+def test_case_has_authors_year_and_locator(path):
+    case = load_case(path)
+    assert case.source.authors, case.id
+    assert case.source.year, case.id
+    assert case.source.locator, case.id
+    assert case.topic in TOPICS, case.id
+
+
+@pytest.mark.parametrize("path", topic_files(), ids=lambda p: p.stem)
+def test_case_metadata(path):
+    case = load_case(path)
+    source = case.source
+    assert case.id == path.stem
+    match = ID_RULE.fullmatch(case.id)
+    assert match, f"{case.id} does not follow <surname>-<year>-<topic-words>"
+    assert int(match.group(1)) == source.year
+    first = surname(source.authors[0])
+    assert case.id.split("-")[0] == TRANSLITERATED.get(first, first)
+    assert source.title and (source.journal or source.booktitle or source.publisher)
+    assert source.citation and source.locator
+    for claim in case.claims:
+        assert claim.locator, (case.id, claim.label)
+
+
+@pytest.mark.parametrize("path", topic_files(), ids=lambda p: p.stem)
+def test_case_audit_says_what_the_literature_says(path):
+    case, audit = audited(path)
+    for name in ("energy", "c1", "hamiltonian"):
+        assert audit.result(name).verdict is V, name
+    undecided = [r for r in audit.results if r.verdict not in (V, R)]
+    assert not undecided, [(r.check, r.claim, r.verdict, r.reason) for r in undecided]
+    jacobi, claims = EXPECTED[case.id]
+    assert audit.result("jacobi").verdict is jacobi
+    assert {c.label for c in case.claims} == set(claims)
+    for label, (integral, casimir) in claims.items():
+        assert audit.result("integral", label).verdict is integral, label
+        assert audit.result("casimir", label).verdict is casimir, label
+    for claim in case.claims:
+        if claim.on:
+            assert audit.result("invariant", claim.label).verdict is INVARIANT[case.id, claim.label]
+    for r in audit.results:
+        if r.verdict is R:
+            assert r.witness is not None and r.witness.point, r
+            assert r.residual, r
+
+
+@pytest.mark.parametrize("key", sorted(HOLDS_WHEN), ids=lambda k: f"{k[0]}:{k[1]}")
+def test_deliberately_wrong_claims_hold_only_when(key):
+    case_id, label = key
+    (path,) = [p for p in topic_files() if p.stem == case_id]
+    _, audit = audited(path)
+    (conditions,) = [c for c in audit.conditions if c.target == label]
+    assert conditions.branches == HOLDS_WHEN[key]
+
+
+def test_deliberately_wrong_claims_say_so():
+    for path in topic_files():
+        case = load_case(path)
+        _, claims = EXPECTED[case.id]
+        wrong = [label for label, verdicts in claims.items() if R in verdicts[:1]]
+        for label in wrong:
+            claim = case.claim(label)
+            assert claim.notes, (case.id, label)
+            assert "on purpose" in case.notes.lower() + claim.notes.lower(), case.id
