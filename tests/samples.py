@@ -3,6 +3,9 @@
 from pathlib import Path
 
 CASES = Path(__file__).resolve().parents[1] / "data" / "cases"
+#: The seed catalog: the reference paper's cases (and one classical case) at the top of
+#: data/cases; the literature catalog lives in its sub-folders.
+SEED_FILES = sorted(CASES.glob("*.toml"))
 YEHIA_B = "yehia-2003-kovalevskaya-b"
 ZHUKOVSKY = "zhukovsky-gyrostat"
 AFFINE = "affine-nonsymmetric"

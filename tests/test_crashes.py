@@ -29,7 +29,7 @@ from pathlib import Path
 
 import pytest
 from click.testing import CliRunner
-from samples import CASES
+from samples import SEED_FILES
 
 import registry
 from registry.cli import main
@@ -200,7 +200,10 @@ def audited(tmp_path_factory) -> tuple[Path, int]:
     returns (file, number of cases). Tests work on copies of it."""
     db = tmp_path_factory.mktemp("crashes") / "audited.sqlite"
     added = subprocess.run(
-        registry_command(db, "add", str(CASES)), capture_output=True, text=True, timeout=WAIT
+        registry_command(db, "add", *map(str, SEED_FILES)),
+        capture_output=True,
+        text=True,
+        timeout=WAIT,
     )
     assert added.returncode == 0, added.stderr
     done = subprocess.run(
@@ -208,7 +211,7 @@ def audited(tmp_path_factory) -> tuple[Path, int]:
     )
     assert done.returncode == 0, done.stderr
     assert [status for status, _ in runs(db).values()] == ["complete"]
-    n_cases = len(list(CASES.rglob("*.toml")))
+    n_cases = len(SEED_FILES)
     return db, n_cases
 
 
