@@ -39,21 +39,35 @@ if TYPE_CHECKING:
 DEFAULT_DB = Path("data") / "registry.sqlite"
 
 
+def source_digest(folder: Path) -> str:
+    """A digest of every Python source under ``folder``, sub-folders included.
+
+    Each file contributes its path relative to ``folder`` (POSIX form) and its bytes,
+    in sorted order; compiled files (``__pycache__``) are skipped. The migration
+    scripts are Python files under the package, so a schema change counts too.
+    """
+    digest = hashlib.sha256()
+    sources = (p for p in folder.rglob("*.py") if "__pycache__" not in p.parts)
+    for source in sorted(sources, key=lambda p: p.relative_to(folder).as_posix()):
+        data = source.read_bytes()
+        name = source.relative_to(folder).as_posix().encode()
+        digest.update(name + b"\0" + str(len(data)).encode() + b"\0" + data)
+    return digest.hexdigest()
+
+
 @cache
 def code_version() -> str:
     """This package's version and a digest of its sources, recorded with every run.
 
     Stored results are reused only by the same code version, so any change to the
-    code (even without a version bump) makes the next audit recompute.
+    code (even without a version bump, and in any sub-package) makes the next audit
+    recompute.
     """
     try:
         release = metadata.version("rigid-body-registry")
     except metadata.PackageNotFoundError:
         release = "0"
-    digest = hashlib.sha256()
-    for source in sorted(Path(__file__).parent.glob("*.py")):
-        digest.update(source.name.encode() + b"\0" + source.read_bytes())
-    return f"{release}+{digest.hexdigest()[:12]}"
+    return f"{release}+{source_digest(Path(__file__).parent)[:12]}"
 
 
 def _reusable(found: tuple[int, CaseAudit] | None) -> CaseAudit | None:
