@@ -10,7 +10,10 @@ motion symbolically, and query the verdicts with pandas::
     reg.verdicts()
 """
 
-from . import display  # noqa: F401 - installs the Jupyter reprs of cases and audits
+from . import (
+    _moved,
+    display,  # noqa: F401 - installs the Jupyter reprs of cases and audits
+)
 from .api import AddResult, AuditReport, Registry, open_registry
 from .audit import audit_case
 from .casefile import load_case, parse_case_text
@@ -32,6 +35,14 @@ from .errors import (
 from .model import Case, CaseAudit, CheckResult, Claim, ClaimKind, Verdict, Witness
 
 open = open_registry  # noqa: A001 - registry.open(path) reads like sqlite3.connect
+
+_moved.install()  # the modules' old import paths (registry.zero, ...) still import
+
+
+def __getattr__(name: str):
+    """``registry.zero`` and the other old module paths as attributes (see ``_moved``)."""
+    return _moved.old_module(name)
+
 
 __all__ = [
     "AddResult",

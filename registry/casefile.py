@@ -54,7 +54,7 @@ from .expressions import (
     parse_equation,
     parse_expression,
 )
-from .mechanics import MOMENTUM, STATE, s
+from .mathematics.mechanics import MOMENTUM, STATE, s
 from .model import Assumption, Case, Claim, ClaimKind, Equation, Expression, Source, System
 
 # Limits on a case file besides those on its expressions (``registry.expressions``):

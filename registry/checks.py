@@ -16,10 +16,10 @@ from functools import cached_property
 
 import sympy as sp
 
-from . import fast
-from . import mechanics as mech
+from .mathematics import mechanics as mech
+from .mathematics import symengine_bridge
+from .mathematics.zero_test import Domain, ZeroTest, decide
 from .model import Case, CheckResult, Claim, Verdict
-from .zero import Domain, ZeroTest, decide
 
 
 class Mechanics:
@@ -147,7 +147,7 @@ COMBINE_LIMIT = 3000
 
 def readable(expr: sp.Expr) -> sp.Expr:
     """A residual in a form a person can read: s expanded, combined and factored."""
-    expanded = fast.expand(expr.subs(mech.s, mech.S_VALUE))
+    expanded = symengine_bridge.expand(expr.subs(mech.s, mech.S_VALUE))
     size = sp.count_ops(expanded)
     if size > COMBINE_LIMIT:
         return expr

@@ -1,12 +1,12 @@
 """Repairs of failed claims, each re-checked by the same checks before it is reported.
 
 * A corrected Casimir for the case's own torque (where Pi_mu is Poisson): the
-  Casimir of the torque's family (``families``), independent of C1.
+  Casimir of the torque's family (``mathematics.families``), independent of C1.
 * A corrected torque for a claimed Casimir I(gamma, s): by the Casimir condition
   equation (3.4), I is a Casimir of Pi_mu' for mu' = grad_gamma I / d_s I + lambda gamma;
   lambda is chosen so that as many components of mu as possible stay unchanged.
-* Parameter conditions (``conditions``) under which a refuted claim, or a failing
-  Jacobi identity, holds.
+* Parameter conditions (``mathematics.parameter_conditions``) under which a refuted
+  claim, or a failing Jacobi identity, holds.
 """
 
 from __future__ import annotations
@@ -16,12 +16,13 @@ from dataclasses import replace
 
 import sympy as sp
 
-from . import mechanics as mech
 from .checks import Mechanics, casimir, jacobi
-from .conditions import equations_text, parameter_conditions
 from .expressions import to_text
-from .families import Family, recognise
-from .mechanics import AXIS, MOMENTUM
+from .mathematics import mechanics as mech
+from .mathematics.families import Family, recognise
+from .mathematics.mechanics import AXIS, MOMENTUM
+from .mathematics.parameter_conditions import equations_text, parameter_conditions
+from .mathematics.zero_test import decide
 from .model import (
     CheckResult,
     Claim,
@@ -32,7 +33,6 @@ from .model import (
     FamilyRecord,
     Verdict,
 )
-from .zero import decide
 
 
 def corrected_casimir(m: Mechanics, family: Family, claim: str | None = None) -> Correction | None:

@@ -31,7 +31,7 @@ from sympy.core.function import AppliedUndef
 from sympy.printing.str import StrPrinter
 
 from .errors import ExpressionError
-from .mechanics import AXIS, MOMENTUM, STATE, s, total_diff
+from .mathematics.mechanics import AXIS, MOMENTUM, STATE, s, total_diff
 
 # Limits on one expression. Each is checked before the work it bounds is done
 # (on the raw text, on the syntax tree, or before each sympy step), so a hostile
@@ -119,7 +119,7 @@ class Namespace:
     """The names a case declares: parameter symbols and arbitrary functions.
 
     ``functions`` maps a name to its sympy function class and its argument
-    symbols (taken from ``registry.mechanics``), e.g. ``a -> (a, (s,))``.
+    symbols (taken from ``registry.mathematics.mechanics``), e.g. ``a -> (a, (s,))``.
     """
 
     parameters: Mapping[str, sp.Symbol] = field(default_factory=dict)

@@ -14,8 +14,6 @@ from enum import StrEnum
 
 import sympy as sp
 
-from .mechanics import STATE, s
-
 
 class Assumption(StrEnum):
     """What a case file may declare of a parameter (all parameters are real)."""
@@ -186,8 +184,10 @@ class Case:
         raise KeyError(label)
 
 
-#: Names a case file may not use for parameters or functions.
-VARIABLE_NAMES: tuple[str, ...] = tuple(str(v) for v in STATE) + (str(s),)
+#: Names a case file may not use for parameters or functions: the state variables and
+#: ``s`` (the symbols of ``registry.mathematics.mechanics``, written out so that the
+#: domain model depends on nothing else in the package).
+VARIABLE_NAMES: tuple[str, ...] = ("M1", "M2", "M3", "gamma1", "gamma2", "gamma3", "s")
 
 
 @dataclass(frozen=True)

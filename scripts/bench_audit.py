@@ -23,11 +23,11 @@ from pathlib import Path
 import sympy as sp
 
 import registry
-from registry import mechanics as mech
 from registry.audit import audit_case
 from registry.budget import Budget
 from registry.checks import Mechanics
 from registry.expressions import to_text
+from registry.mathematics import mechanics as mech
 from registry.model import Verdict
 from registry.workers import audit_in_workers, default_jobs
 

@@ -22,9 +22,9 @@ from pathlib import Path
 import sympy as sp
 
 import registry
-from registry import mechanics as mech
 from registry.audit import audit_case
 from registry.budget import BudgetExceeded, time_limit
+from registry.mathematics import mechanics as mech
 
 try:
     from poisson.poisson import PoissonGeometry

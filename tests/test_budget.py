@@ -13,7 +13,7 @@ import registry
 from registry import Verdict, audit_case, load_case
 from registry.budget import Budget, BudgetExceeded, time_limit
 from registry.checks import CHECKS, Mechanics
-from registry.families import recognise
+from registry.mathematics.families import recognise
 from registry.model import Expression
 from registry.workers import _torque, audit_in_workers, batches, estimated_cost
 

@@ -10,7 +10,7 @@ import sympy as sp
 from registry import casefile
 from registry.casefile import content_hash, load_case, parse_case_text
 from registry.errors import CaseFormatError, Problem
-from registry.mechanics import AXIS, gamma1, gamma2, gamma3, s
+from registry.mathematics.mechanics import AXIS, gamma1, gamma2, gamma3, s
 from registry.model import Assumption, ClaimKind
 
 FULL = """\

@@ -8,12 +8,13 @@ from pathlib import Path
 import pytest
 import sympy as sp
 
-from registry import Verdict, audit_case, families, load_case, parse_case_text
-from registry import mechanics as mech
+from registry import Verdict, audit_case, load_case, parse_case_text
 from registry.checks import Mechanics
 from registry.expressions import Namespace, parse_expression
-from registry.families import recognise
-from registry.zero import Domain, decide
+from registry.mathematics import families
+from registry.mathematics import mechanics as mech
+from registry.mathematics.families import recognise
+from registry.mathematics.zero_test import Domain, decide
 
 CASES = Path(__file__).resolve().parents[1] / "data" / "cases"
 

@@ -12,7 +12,7 @@ from hypothesis import strategies as st
 from registry import expressions
 from registry.errors import ExpressionError
 from registry.expressions import Namespace, parse_equation, parse_expression, to_text
-from registry.mechanics import AXIS, M1, M2, M3, STATE, gamma1, gamma2, gamma3, s
+from registry.mathematics.mechanics import AXIS, M1, M2, M3, STATE, gamma1, gamma2, gamma3, s
 
 C = sp.Symbol("C", real=True, positive=True)
 n = sp.Symbol("n", real=True)

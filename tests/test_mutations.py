@@ -9,7 +9,7 @@ import sympy as sp
 
 from registry import Verdict, audit_case, load_case
 from registry.expressions import to_text
-from registry.mechanics import M1, gamma1
+from registry.mathematics.mechanics import M1, gamma1
 from registry.model import Claim, Expression, System
 
 CASES = Path(__file__).resolve().parents[1] / "data" / "cases"
@@ -37,7 +37,7 @@ def terms(expr: sp.Expr) -> list[sp.Expr]:
 
 def non_constant_terms(expr: sp.Expr) -> list[sp.Expr]:
     """Terms that depend on the state: changing a constant term changes nothing."""
-    from registry.mechanics import STATE, s
+    from registry.mathematics.mechanics import STATE, s
 
     return [t for t in terms(expr) if t.free_symbols & {*STATE, s}]
 

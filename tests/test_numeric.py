@@ -10,10 +10,10 @@ from click.testing import CliRunner
 
 import registry
 from registry import Verdict, load_case
-from registry import mechanics as mech
 from registry import numeric as numeric_module
 from registry.checks import Mechanics
 from registry.cli import main
+from registry.mathematics import mechanics as mech
 from registry.numeric import DISAGREE_FACTOR, Drift, claim_drift
 
 CASES = Path(__file__).resolve().parents[1] / "data" / "cases"

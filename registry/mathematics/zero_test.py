@@ -3,7 +3,7 @@
 The decision is made in stages, cheapest first, and the stage is recorded:
 
 1. *Exact probes.* Evaluate at random exact points (rational where the
-   case's radicals allow it), with ``certified.evaluate``. A value proven
+   case's radicals allow it), with ``certified_evaluation.evaluate``. A value proven
    nonzero refutes the identity, and the point is the witness.
 2. *Proof.* Put the residual in a normal form that is complete for its class:
    radicals b**(p/q) become new symbols rho with rho**q = b, transcendental
@@ -26,9 +26,9 @@ from fractions import Fraction
 import sympy as sp
 from sympy.core.function import AppliedUndef
 
-from .certified import OutsideDomain, Value, evaluate, exact_root
+from ..model import Verdict, Witness
+from .certified_evaluation import OutsideDomain, Value, evaluate, exact_root
 from .mechanics import AXIS, MOMENTUM, S_VALUE, STATE, s
-from .model import Verdict, Witness
 
 #: Points where every residual must vanish before a proof is attempted.
 PROBES = 4

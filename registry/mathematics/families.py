@@ -27,11 +27,11 @@ from sympy.core.function import AppliedUndef
 from sympy.polys.domains import QQ
 from sympy.polys.matrices import DomainMatrix
 
-from . import fast
+from ..model import Verdict
 from . import mechanics as mech
+from . import symengine_bridge
 from .mechanics import AXIS, MOMENTUM, s
-from .model import Verdict
-from .zero import Domain, decide
+from .zero_test import Domain, decide
 
 Vector = tuple[sp.Expr, sp.Expr, sp.Expr]
 
@@ -133,7 +133,7 @@ def _recognise(mu: Vector, domain: Domain) -> Family:
 def _combined(expr: sp.Expr) -> sp.Expr:
     """One fraction, factored: expanding first (symengine) makes sympy's cancellation
     several times cheaper than cancelling the unexpanded form."""
-    return sp.factor(sp.together(fast.expand(expr)))
+    return sp.factor(sp.together(symengine_bridge.expand(expr)))
 
 
 def _integral(f: sp.Expr, x: sp.Symbol) -> sp.Expr | None:
@@ -337,7 +337,7 @@ def _polynomial_ansatz(nu: Vector, domain: Domain) -> sp.Expr | None:
     monomials, rows, solution = _ansatz_system(degree)
     target = [sp.S.Zero] * len(rows)
     for k, component in enumerate(mech.cross(AXIS, nu)):
-        for exps, coeff in sp.Poly(fast.expand(component), *AXIS).terms():
+        for exps, coeff in sp.Poly(symengine_bridge.expand(component), *AXIS).terms():
             if coeff == 0:
                 continue
             if (k, exps) not in rows:

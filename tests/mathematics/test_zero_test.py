@@ -2,11 +2,11 @@
 
 import sympy as sp
 
-from registry import zero
-from registry.certified import evaluate
-from registry.mechanics import AXIS, S_VALUE, gamma1, gamma2, gamma3, s
+from registry.mathematics import zero_test
+from registry.mathematics.certified_evaluation import evaluate
+from registry.mathematics.mechanics import AXIS, S_VALUE, gamma1, gamma2, gamma3, s
+from registry.mathematics.zero_test import Domain, decide, prove_zero, sample_points
 from registry.model import Verdict
-from registry.zero import Domain, decide, prove_zero, sample_points
 
 k = sp.Symbol("k", positive=True)
 DOMAIN = Domain(parameters=(k,))
@@ -101,7 +101,7 @@ def test_identities_outside_the_normal_forms_fall_back_to_simplify():
 
 
 def test_a_residual_that_only_probes_say_is_zero_is_inconclusive(monkeypatch):
-    monkeypatch.setattr(zero, "SIMPLIFY_LIMIT", 0)  # no last resort
+    monkeypatch.setattr(zero_test, "SIMPLIFY_LIMIT", 0)  # no last resort
     r = sp.sin(gamma1) ** 2 + sp.cos(gamma1) ** 2 - 1
     result = decide({"r": r}, DOMAIN)
     assert result.verdict is Verdict.INCONCLUSIVE

@@ -21,7 +21,7 @@ from itertools import combinations
 
 import sympy as sp
 
-from . import fast
+from . import symengine_bridge
 
 M1, M2, M3 = sp.symbols("M1 M2 M3", real=True)
 gamma1, gamma2, gamma3 = sp.symbols("gamma1 gamma2 gamma3", real=True)
@@ -41,9 +41,9 @@ def total_diff(expr: sp.Expr, var: sp.Symbol) -> sp.Expr:
     if var not in STATE:
         raise ValueError(f"{var} is not a state variable")
     expr = sp.sympify(expr)
-    d = fast.diff(expr, var)
+    d = symengine_bridge.diff(expr, var)
     if expr.has(s):
-        d += sp.diff(S_VALUE, var) * fast.diff(expr, s)
+        d += sp.diff(S_VALUE, var) * symengine_bridge.diff(expr, s)
     return d
 
 

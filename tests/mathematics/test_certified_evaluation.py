@@ -5,7 +5,7 @@ from fractions import Fraction
 import pytest
 import sympy as sp
 
-from registry.certified import OutsideDomain, evaluate
+from registry.mathematics.certified_evaluation import OutsideDomain, evaluate
 
 x, y = sp.symbols("x y", real=True)
 

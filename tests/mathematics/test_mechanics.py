@@ -3,8 +3,8 @@
 import pytest
 import sympy as sp
 
-from registry import mechanics as mech
-from registry.mechanics import AXIS, MOMENTUM, S_VALUE, gamma2, gamma3, s
+from registry.mathematics import mechanics as mech
+from registry.mathematics.mechanics import AXIS, MOMENTUM, S_VALUE, gamma2, gamma3, s
 
 A, B, C = sp.symbols("A B C", positive=True)
 INERTIA = (A, B, C)

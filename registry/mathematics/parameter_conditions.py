@@ -17,9 +17,9 @@ from dataclasses import dataclass, replace
 
 import sympy as sp
 
+from ..model import Verdict
 from .mechanics import STATE, s
-from .model import Verdict
-from .zero import Domain, _Atoms, _numerator, _reduce_radical, decide
+from .zero_test import Domain, _Atoms, _numerator, _reduce_radical, decide
 
 Branch = dict[sp.Symbol, sp.Expr]
 

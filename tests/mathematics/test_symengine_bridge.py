@@ -1,15 +1,15 @@
 """The optional symengine path and the pure-sympy fallback give the same results."""
 
 from dataclasses import dataclass
-from pathlib import Path
 
 import pytest
 import sympy as sp
+from samples import CASES
 
-from registry import Verdict, audit_case, fast, load_case
-from registry import mechanics as mech
+from registry import Verdict, audit_case, load_case
+from registry.mathematics import mechanics as mech
+from registry.mathematics import symengine_bridge
 
-CASES = Path(__file__).resolve().parents[1] / "data" / "cases"
 C = sp.Symbol("C", positive=True)
 g1, g2, g3 = mech.AXIS
 
@@ -23,7 +23,7 @@ class Backend:
 
     def assert_used(self) -> None:
         """symengine did the work under the symengine backend, and never under sympy
-        (fast.py falls back to sympy silently, so a result alone cannot tell)."""
+        (symengine_bridge.py falls back to sympy silently, so a result alone cannot tell)."""
         if self.symengine:
             assert self.calls > 0, "symengine was never used"
         else:
@@ -32,17 +32,17 @@ class Backend:
 
 @pytest.fixture(params=[True, False], ids=["symengine", "sympy"])
 def backend(request, monkeypatch):
-    if request.param and fast.se is None:
+    if request.param and symengine_bridge.se is None:
         pytest.skip("symengine is not installed")
-    monkeypatch.setattr(fast, "ENABLED", request.param)
+    monkeypatch.setattr(symengine_bridge, "ENABLED", request.param)
     state = Backend(request.param)
-    original = fast._back
+    original = symengine_bridge._back
 
     def counting_back(result, expr):
         state.calls += 1
         return original(result, expr)
 
-    monkeypatch.setattr(fast, "_back", counting_back)
+    monkeypatch.setattr(symengine_bridge, "_back", counting_back)
     return state
 
 
@@ -56,13 +56,13 @@ def backend(request, monkeypatch):
 )
 def test_derivatives_and_expansions_agree_with_sympy(backend, expr):
     for v in (g1, g3, mech.s):
-        assert sp.simplify(fast.diff(expr, v) - sp.diff(expr, v)) == 0
-    assert sp.simplify(fast.expand(expr) - sp.expand(expr)) == 0
+        assert sp.simplify(symengine_bridge.diff(expr, v) - sp.diff(expr, v)) == 0
+    assert sp.simplify(symengine_bridge.expand(expr) - sp.expand(expr)) == 0
     backend.assert_used()
 
 
 def test_symbols_keep_their_assumptions(backend):
-    d = fast.diff(C * g1**2, g1)
+    d = symengine_bridge.diff(C * g1**2, g1)
     assert d.free_symbols == {C, g1}
     assert next(iter(d.free_symbols - {g1})).is_positive
     backend.assert_used()
@@ -70,7 +70,7 @@ def test_symbols_keep_their_assumptions(backend):
 
 def test_families_of_arbitrary_functions_stay_with_sympy(backend):
     phi = sp.Function("phi", real=True)(*mech.AXIS)
-    assert fast.diff(phi, g1) == sp.Derivative(phi, g1)
+    assert symengine_bridge.diff(phi, g1) == sp.Derivative(phi, g1)
     assert backend.calls == 0  # not even under symengine
 
 
