@@ -16,7 +16,6 @@ from . import (
 )
 from .api import AddResult, AuditReport, Registry, open_registry
 from .audit import audit_case
-from .casefile import load_case, parse_case_text
 from .errors import (
     CaseFormatError,
     DatabaseFullError,
@@ -32,6 +31,7 @@ from .errors import (
     UnknownCaseError,
     UnknownRunError,
 )
+from .language.casefile import load_case, parse_case_text
 from .model import Case, CaseAudit, CheckResult, Claim, ClaimKind, Verdict, Witness
 
 open = open_registry  # noqa: A001 - registry.open(path) reads like sqlite3.connect

@@ -29,6 +29,9 @@ MOVED: dict[str, tuple[str, ...]] = {
     "registry.zero": ("registry.mathematics.zero_test",),
     "registry.families": ("registry.mathematics.families",),
     "registry.conditions": ("registry.mathematics.parameter_conditions",),
+    "registry.expressions": ("registry.language.parser",),
+    "registry.casefile": ("registry.language.casefile",),
+    "registry.export": ("registry.language.case_writer",),
 }
 
 #: Names that changed on the way: old module path -> {old name: new name}.

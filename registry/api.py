@@ -23,10 +23,10 @@ from typing import TYPE_CHECKING
 
 from .audit import DEFAULT_BUDGET, audit_case, failed_case
 from .budget import Budget
-from .casefile import load_case, parse_case_text
 from .errors import CaseFormatError, RegistryError
-from .export import corrected_case_text
 from .integrity import Verification, verify
+from .language.case_writer import corrected_case_text
+from .language.casefile import load_case, parse_case_text
 from .model import Case, CaseAudit, Verdict
 from .report import audit_document
 from .storage import Store

@@ -14,9 +14,9 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 
 from . import migrate
-from .casefile import parse_case_text
 from .errors import CaseFormatError, ExpressionError
-from .expressions import Namespace, parse_equation, parse_expression
+from .language.casefile import parse_case_text
+from .language.parser import Namespace, parse_equation, parse_expression
 from .model import Case
 from .storage import SCHEMA_VERSION, Store, StoredText
 

@@ -152,7 +152,7 @@ class Case:
     ``parameters`` maps each declared constant to its sympy symbol (which carries
     the assumption); ``functions`` maps each declared arbitrary function to its
     sympy function class and argument symbols. ``text`` is the case file as
-    loaded and ``content_hash`` identifies its content (see ``casefile``).
+    loaded and ``content_hash`` identifies its content (see ``language.casefile``).
     """
 
     id: str

@@ -31,7 +31,7 @@ import numpy as np
 import sympy as sp
 
 from .checks import Mechanics
-from .expressions import FUNCTIONS
+from .language.parser import FUNCTIONS
 from .mathematics import mechanics as mech
 from .mathematics.zero_test import _concrete_functions, _sample_point, _substitute_functions
 from .model import Claim, Evidence, Verdict

@@ -24,9 +24,9 @@ from typing import TYPE_CHECKING
 import pandas as pd
 import sympy as sp
 
-from .casefile import parse_case_text
 from .errors import RegistryError, UnknownRunError
-from .expressions import Namespace, parse_equation, parse_expression
+from .language.casefile import parse_case_text
+from .language.parser import Namespace, parse_equation, parse_expression
 from .model import Case, CaseAudit
 from .report import audit_document
 

@@ -10,7 +10,7 @@ import sympy as sp
 
 from registry import Verdict, audit_case, load_case, parse_case_text
 from registry.checks import Mechanics
-from registry.expressions import Namespace, parse_expression
+from registry.language.parser import Namespace, parse_expression
 from registry.mathematics import families
 from registry.mathematics import mechanics as mech
 from registry.mathematics.families import recognise
@@ -209,7 +209,7 @@ def test_mutated_claims_get_valid_repairs_or_none(case_id):
     claim = case.claims[0]
     expr = claim.expression.expr
     mutated_expr = expr + mech.gamma1 * mech.gamma2 * mech.gamma3  # not a Casimir
-    from registry.expressions import to_text
+    from registry.language.parser import to_text
     from registry.model import Expression
 
     mutated = replace(
@@ -254,7 +254,7 @@ def test_a_claim_no_torque_can_repair_gets_only_the_cases_own_casimir():
 
 
 def test_exported_corrected_case_loads_and_is_verified(tmp_path):
-    from registry.export import corrected_case_text
+    from registry.language.case_writer import corrected_case_text
 
     case, audit = load("yehia-2003-kovalevskaya-b"), None
     audit = audit_case(case)

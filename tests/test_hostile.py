@@ -29,10 +29,10 @@ from hypothesis import strategies as st
 from samples import CASES
 
 import registry
-from registry import casefile, expressions
-from registry.casefile import load_case, parse_case_text
 from registry.cli import main
 from registry.errors import CaseFormatError, ExpressionError
+from registry.language import casefile, parser
+from registry.language.casefile import load_case, parse_case_text
 from registry.model import Case
 
 #: Seconds allowed to refuse one hostile file: generous, to catch hangs, not to benchmark.
@@ -984,8 +984,8 @@ def test_limits_are_documented_constants():
     assert (casefile.MAX_FILE_BYTES, casefile.MAX_TOML_DEPTH) == (1_000_000, 10)
     assert (casefile.MAX_CLAIMS, casefile.MAX_EQUATIONS, casefile.MAX_PARAMETERS) == (200, 20, 100)
     assert casefile.MAX_PROBLEMS == 50
-    assert (expressions.MAX_CASE_PARTS, expressions.MAX_CASE_ROOT_DIGITS) == (5_000, 1_000)
-    assert expressions.MAX_CASE_DIFF_WORK == 10_000
+    assert (parser.MAX_CASE_PARTS, parser.MAX_CASE_ROOT_DIGITS) == (5_000, 1_000)
+    assert parser.MAX_CASE_DIFF_WORK == 10_000
     readme = (Path(__file__).resolve().parents[1] / "README.md").read_text(encoding="utf-8")
     for name in (
         "MAX_FILE_BYTES",
@@ -1023,10 +1023,10 @@ def test_trigonometric_values_stay_as_written():
     """sympy would expand cos(pi/120) into nested radicals, slowly; the value is kept."""
     text = "+".join(f"cos({p}*pi/120)*tan({p}*pi/120)" for p in range(1, 120, 2))
     start = time.perf_counter()
-    value = expressions.parse_expression(text)
+    value = parser.parse_expression(text)
     assert time.perf_counter() - start < TIME_LIMIT
     assert value.has(sympy.cos(sympy.pi / 120, evaluate=False))
-    assert expressions.parse_expression("cos(pi/3)") == sympy.Rational(1, 2)
+    assert parser.parse_expression("cos(pi/3)") == sympy.Rational(1, 2)
 
 
 # -------------------------------------------------------- random and mutated files
@@ -1147,12 +1147,12 @@ def test_mutated_case_files(text):
         check_parse(text)
 
 
-def seed_expressions() -> list[tuple[str, expressions.Namespace]]:
+def seed_expressions() -> list[tuple[str, parser.Namespace]]:
     """Every expression of the seed catalog, with its case's namespace."""
     found = []
     for text in SEEDS:
         seed = parse_case_text(text)
-        ns = expressions.Namespace(seed.parameters, seed.functions)
+        ns = parser.Namespace(seed.parameters, seed.functions)
         system = seed.system
         texts = [e.text for e in (*system.inertia, system.potential, *system.torque)]
         for c in seed.claims:
@@ -1165,7 +1165,7 @@ SEED_EXPRESSIONS = seed_expressions()
 
 
 @st.composite
-def mutated_expressions(draw) -> tuple[str, expressions.Namespace]:
+def mutated_expressions(draw) -> tuple[str, parser.Namespace]:
     """A seed expression after a few character edits and hostile insertions."""
     text, ns = draw(st.sampled_from(SEED_EXPRESSIONS))
     for _ in range(draw(st.integers(1, 3))):
@@ -1192,7 +1192,7 @@ def test_mutated_expressions(mutant):
     start = time.perf_counter()
     with no_code_execution():
         try:
-            value = expressions.parse_expression(text, ns)
+            value = parser.parse_expression(text, ns)
         except ExpressionError as err:
             assert err.text == text and err.message
         else:

@@ -30,6 +30,17 @@ OLD_NAMES = [
         "registry.mathematics.parameter_conditions",
         "parameter_conditions",
     ),
+    ("registry.expressions", "parse_expression", "registry.language.parser", "parse_expression"),
+    ("registry.expressions", "to_text", "registry.language.parser", "to_text"),
+    ("registry.expressions", "MAX_NODES", "registry.language.parser", "MAX_NODES"),
+    ("registry.casefile", "load_case", "registry.language.casefile", "load_case"),
+    ("registry.casefile", "MAX_CLAIMS", "registry.language.casefile", "MAX_CLAIMS"),
+    (
+        "registry.export",
+        "corrected_case_text",
+        "registry.language.case_writer",
+        "corrected_case_text",
+    ),
 ]
 
 

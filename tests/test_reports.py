@@ -21,7 +21,7 @@ from samples import CASES, SEED, YEHIA_B, ZHUKOVSKY
 import registry
 from registry.cli import main
 from registry.errors import UnknownRunError
-from registry.expressions import Namespace, parse_expression
+from registry.language.parser import Namespace, parse_expression
 from registry.plots import drift_plot
 from registry.reports import _Tex, build_report, diff_runs
 

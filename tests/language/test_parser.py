@@ -9,9 +9,9 @@ import sympy as sp
 from hypothesis import HealthCheck, assume, event, given, settings
 from hypothesis import strategies as st
 
-from registry import expressions
 from registry.errors import ExpressionError
-from registry.expressions import Namespace, parse_equation, parse_expression, to_text
+from registry.language import parser
+from registry.language.parser import Namespace, parse_equation, parse_expression, to_text
 from registry.mathematics.mechanics import AXIS, M1, M2, M3, STATE, gamma1, gamma2, gamma3, s
 
 C = sp.Symbol("C", real=True, positive=True)
@@ -349,11 +349,11 @@ def test_within_the_limits(text):
 
 
 def test_limits_are_documented_constants():
-    assert expressions.MAX_LENGTH == 20_000
-    assert expressions.MAX_NODES == 5_000
-    assert expressions.MAX_DEPTH == 100
-    assert expressions.MAX_DIGITS == 100
-    assert expressions.MAX_EXPONENT == 1000
+    assert parser.MAX_LENGTH == 20_000
+    assert parser.MAX_NODES == 5_000
+    assert parser.MAX_DEPTH == 100
+    assert parser.MAX_DIGITS == 100
+    assert parser.MAX_EXPONENT == 1000
 
 
 # ------------------------------------------------------------------ equations

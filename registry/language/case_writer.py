@@ -11,7 +11,7 @@ import tomllib
 
 import tomli_w
 
-from .model import Case, Correction
+from ..model import Case, Correction
 
 
 def corrected_case_text(case: Case, correction: Correction, run: int | None = None) -> str:

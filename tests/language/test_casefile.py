@@ -7,9 +7,9 @@ import re
 import pytest
 import sympy as sp
 
-from registry import casefile
-from registry.casefile import content_hash, load_case, parse_case_text
 from registry.errors import CaseFormatError, Problem
+from registry.language import casefile
+from registry.language.casefile import content_hash, load_case, parse_case_text
 from registry.mathematics.mechanics import AXIS, gamma1, gamma2, gamma3, s
 from registry.model import Assumption, ClaimKind
 
@@ -131,9 +131,9 @@ def test_load_case_drops_a_byte_order_mark(tmp_path):
 
 
 def test_seed_catalog_loads():
-    from pathlib import Path
+    from samples import CASES
 
-    files = sorted((Path(__file__).parent.parent / "data" / "cases").rglob("*.toml"))
+    files = sorted(CASES.rglob("*.toml"))
     assert files, "no case files found in data/cases"
     for path in files:
         assert load_case(path).id == path.stem

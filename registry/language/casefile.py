@@ -3,7 +3,7 @@
 Everything in a file is validated before anything is built, and every problem
 found is reported at once in one ``CaseFormatError`` (up to MAX_PROBLEMS of them),
 each with its field (``claims[2].expression``), what is wrong and the offending
-text. A file is untrusted input: the limits below and in ``registry.expressions``
+text. A file is untrusted input: the limits below and in ``registry.language.parser``
 bound the work any file can cause, and nothing in it is executed.
 
 Examples
@@ -44,8 +44,10 @@ from typing import Any
 
 import sympy as sp
 
-from .errors import CaseFormatError, ExpressionError, Problem
-from .expressions import (
+from ..errors import CaseFormatError, ExpressionError, Problem
+from ..mathematics.mechanics import MOMENTUM, STATE, s
+from ..model import Assumption, Case, Claim, ClaimKind, Equation, Expression, Source, System
+from .parser import (
     MAX_DIGITS,
     RESERVED_NAMES,
     VARIABLES,
@@ -54,10 +56,8 @@ from .expressions import (
     parse_equation,
     parse_expression,
 )
-from .mathematics.mechanics import MOMENTUM, STATE, s
-from .model import Assumption, Case, Claim, ClaimKind, Equation, Expression, Source, System
 
-# Limits on a case file besides those on its expressions (``registry.expressions``):
+# Limits on a case file besides those on its expressions (``registry.language.parser``):
 # each is checked before the work it bounds, so that a hostile file is refused fast.
 
 #: Largest case file, in bytes.

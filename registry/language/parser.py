@@ -30,8 +30,8 @@ import sympy as sp
 from sympy.core.function import AppliedUndef
 from sympy.printing.str import StrPrinter
 
-from .errors import ExpressionError
-from .mathematics.mechanics import AXIS, MOMENTUM, STATE, s, total_diff
+from ..errors import ExpressionError
+from ..mathematics.mechanics import AXIS, MOMENTUM, STATE, s, total_diff
 
 # Limits on one expression. Each is checked before the work it bounds is done
 # (on the raw text, on the syntax tree, or before each sympy step), so a hostile
