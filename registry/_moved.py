@@ -29,13 +29,19 @@ MOVED: dict[str, tuple[str, ...]] = {
     "registry.zero": ("registry.mathematics.zero_test",),
     "registry.families": ("registry.mathematics.families",),
     "registry.conditions": ("registry.mathematics.parameter_conditions",),
-    "registry.expressions": ("registry.language.parser",),
+    "registry.expressions": (
+        "registry.language.parser",
+        "registry.language.printer",
+        "registry.language.limits",
+    ),
     "registry.casefile": ("registry.language.casefile",),
     "registry.export": ("registry.language.case_writer",),
 }
 
 #: Names that changed on the way: old module path -> {old name: new name}.
-RENAMED: dict[str, dict[str, str]] = {}
+RENAMED: dict[str, dict[str, str]] = {
+    "registry.expressions": {"Budget": "ParseBudget"},
+}
 
 
 def new_places(old: str) -> str:

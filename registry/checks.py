@@ -157,7 +157,7 @@ def readable(expr: sp.Expr) -> sp.Expr:
 
 def _text(expr: sp.Expr) -> str:
     """An expression in the case-file language where possible (sympy's form otherwise)."""
-    from .language.parser import to_text
+    from .language.printer import to_text
 
     try:
         return to_text(expr)

@@ -17,7 +17,7 @@ from dataclasses import replace
 import sympy as sp
 
 from .checks import Mechanics, casimir, jacobi
-from .language.parser import to_text
+from .language.printer import to_text
 from .mathematics import mechanics as mech
 from .mathematics.families import Family, recognise
 from .mathematics.mechanics import AXIS, MOMENTUM

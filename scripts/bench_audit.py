@@ -26,7 +26,7 @@ import registry
 from registry.audit import audit_case
 from registry.budget import Budget
 from registry.checks import Mechanics
-from registry.language.parser import to_text
+from registry.language.printer import to_text
 from registry.mathematics import mechanics as mech
 from registry.model import Verdict
 from registry.workers import audit_in_workers, default_jobs

@@ -209,7 +209,7 @@ def test_mutated_claims_get_valid_repairs_or_none(case_id):
     claim = case.claims[0]
     expr = claim.expression.expr
     mutated_expr = expr + mech.gamma1 * mech.gamma2 * mech.gamma3  # not a Casimir
-    from registry.language.parser import to_text
+    from registry.language.printer import to_text
     from registry.model import Expression
 
     mutated = replace(

@@ -31,7 +31,7 @@ from samples import CASES
 import registry
 from registry.cli import main
 from registry.errors import CaseFormatError, ExpressionError
-from registry.language import casefile, parser
+from registry.language import casefile, limits, parser
 from registry.language.casefile import load_case, parse_case_text
 from registry.model import Case
 
@@ -984,8 +984,8 @@ def test_limits_are_documented_constants():
     assert (casefile.MAX_FILE_BYTES, casefile.MAX_TOML_DEPTH) == (1_000_000, 10)
     assert (casefile.MAX_CLAIMS, casefile.MAX_EQUATIONS, casefile.MAX_PARAMETERS) == (200, 20, 100)
     assert casefile.MAX_PROBLEMS == 50
-    assert (parser.MAX_CASE_PARTS, parser.MAX_CASE_ROOT_DIGITS) == (5_000, 1_000)
-    assert parser.MAX_CASE_DIFF_WORK == 10_000
+    assert (limits.MAX_CASE_PARTS, limits.MAX_CASE_ROOT_DIGITS) == (5_000, 1_000)
+    assert limits.MAX_CASE_DIFF_WORK == 10_000
     readme = (Path(__file__).resolve().parents[1] / "README.md").read_text(encoding="utf-8")
     for name in (
         "MAX_FILE_BYTES",

@@ -31,8 +31,9 @@ OLD_NAMES = [
         "parameter_conditions",
     ),
     ("registry.expressions", "parse_expression", "registry.language.parser", "parse_expression"),
-    ("registry.expressions", "to_text", "registry.language.parser", "to_text"),
-    ("registry.expressions", "MAX_NODES", "registry.language.parser", "MAX_NODES"),
+    ("registry.expressions", "to_text", "registry.language.printer", "to_text"),
+    ("registry.expressions", "MAX_NODES", "registry.language.limits", "MAX_NODES"),
+    ("registry.expressions", "Budget", "registry.language.limits", "ParseBudget"),
     ("registry.casefile", "load_case", "registry.language.casefile", "load_case"),
     ("registry.casefile", "MAX_CLAIMS", "registry.language.casefile", "MAX_CLAIMS"),
     (

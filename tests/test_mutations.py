@@ -8,7 +8,7 @@ import pytest
 import sympy as sp
 
 from registry import Verdict, audit_case, load_case
-from registry.language.parser import to_text
+from registry.language.printer import to_text
 from registry.mathematics.mechanics import M1, gamma1
 from registry.model import Claim, Expression, System
 

@@ -3,7 +3,7 @@
 Everything in a file is validated before anything is built, and every problem
 found is reported at once in one ``CaseFormatError`` (up to MAX_PROBLEMS of them),
 each with its field (``claims[2].expression``), what is wrong and the offending
-text. A file is untrusted input: the limits below and in ``registry.language.parser``
+text. A file is untrusted input: the limits below and in ``registry.language.limits``
 bound the work any file can cause, and nothing in it is executed.
 
 Examples
@@ -47,17 +47,16 @@ import sympy as sp
 from ..errors import CaseFormatError, ExpressionError, Problem
 from ..mathematics.mechanics import MOMENTUM, STATE, s
 from ..model import Assumption, Case, Claim, ClaimKind, Equation, Expression, Source, System
+from .limits import MAX_DIGITS, ParseBudget
 from .parser import (
-    MAX_DIGITS,
     RESERVED_NAMES,
     VARIABLES,
-    Budget,
     Namespace,
     parse_equation,
     parse_expression,
 )
 
-# Limits on a case file besides those on its expressions (``registry.language.parser``):
+# Limits on a case file besides those on its expressions (``registry.language.limits``):
 # each is checked before the work it bounds, so that a hostile file is refused fast.
 
 #: Largest case file, in bytes.
@@ -368,7 +367,7 @@ class _Reader:
         self.problems: list[Problem] = []
         self.unlisted = 0
         self.ns = Namespace()
-        self.budget = Budget()
+        self.budget = ParseBudget()
         self.budget_reported = False
 
     def problem(self, field: str, message: str, text: str | None = None) -> None:
@@ -453,7 +452,7 @@ class _Reader:
             return None
 
     def expression_problem(self, field: str, err: ExpressionError) -> None:
-        """Report a refused expression; a case past its Budget is reported once."""
+        """Report a refused expression; a case past its ParseBudget is reported once."""
         if err.message != self.budget.exhausted or not self.budget_reported:
             self.problem(field, err.message, err.text)
         self.budget_reported = self.budget.exhausted is not None

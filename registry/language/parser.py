@@ -1,25 +1,23 @@
-"""The case-file expression language: a safe parser and its printer.
+"""The parser of the case-file expression language: text to sympy, safely.
 
 ``parse_expression`` reads text with ``ast.parse`` and walks the tree against
 a whitelist (numbers, names, ``+ - * / **``, calls of known functions),
 building the sympy expression itself. Nothing is ever evaluated as Python:
-no ``eval``, no ``sympify`` of raw text. ``to_text`` writes a sympy
-expression back in the same language, so that output can be pasted into a
-case file. The language is described in CASE_FORMAT.md, "Expressions".
+no ``eval``, no ``sympify`` of raw text. Every size limit of ``limits`` is
+checked before the work it bounds. ``printer.to_text`` writes an expression
+back in the same language. The language is described in CASE_FORMAT.md,
+"Expressions".
 
 Examples
 --------
 >>> parse_expression("0.5*gamma1**2 + 1e-3")
 gamma1**2/2 + 1/1000
->>> to_text(parse_expression("diff(gamma1*s, M1)"))
-'gamma1**2'
 """
 
 from __future__ import annotations
 
 import ast
 import difflib
-import keyword
 import math
 import re
 from collections.abc import Callable, Mapping
@@ -27,53 +25,11 @@ from dataclasses import dataclass, field
 from types import MappingProxyType
 
 import sympy as sp
-from sympy.core.function import AppliedUndef
-from sympy.printing.str import StrPrinter
 
 from ..errors import ExpressionError
-from ..mathematics.mechanics import AXIS, MOMENTUM, STATE, s, total_diff
-
-# Limits on one expression. Each is checked before the work it bounds is done
-# (on the raw text, on the syntax tree, or before each sympy step), so a hostile
-# text is refused in well under a second whatever its content.
-
-#: Longest expression text, in characters.
-MAX_LENGTH = 20_000
-#: Most expression nodes (names, numbers, operations, calls) in one expression.
-MAX_NODES = 5_000
-#: Deepest nesting (parentheses, calls, powers, unary signs); sums and products
-#: of many terms do not count as nesting.
-MAX_DEPTH = 100
-#: Longest number literal, in characters, and largest decimal exponent in one.
-MAX_DIGITS = 100
-#: Largest |exponent| of ``**`` when the exponent is a number.
-MAX_EXPONENT = 1000
-#: Largest denominator of a rational exponent of ``**``.
-MAX_DENOMINATOR = 100
-#: Most digits a number built by powers and products may reach (Python prints ints
-#: of at most 4300 digits, so every number a parse yields can be printed again).
-MAX_RESULT_DIGITS = 4_000
-#: Most digits of a number whose root is taken (sympy factors it, which takes time).
-MAX_ROOT_DIGITS = 300
-#: Most work that the ``diff`` calls of one expression may do together: the sum,
-#: over the expressions differentiated, of their tree nodes plus the squared
-#: length of each product in them (the product rule makes k terms of k factors).
-MAX_DIFF_WORK = 10_000
-
-# Limits on all the expressions of one case file together (a ``Budget``), so that
-# a file of many expressions, each within the limits above, is refused as fast.
-
-#: Most expression parts (as MAX_NODES counts them) in one case file.
-MAX_CASE_PARTS = 5_000
-#: Most digits of the numbers whose roots the expressions of one case file take
-#: (sympy factors each such number, which takes time even when it is small).
-MAX_CASE_ROOT_DIGITS = 1_000
-#: Most differentiation work (as MAX_DIFF_WORK counts it) in one case file.
-MAX_CASE_DIFF_WORK = 10_000
-#: Largest denominator q of a rational multiple p/q of pi at which sin, cos and tan
-#: are evaluated (sympy writes cos(pi/120) as nested radicals, which takes time);
-#: beyond it they are kept as written, with the same value.
-MAX_TRIG_DENOMINATOR = 12
+from ..mathematics.mechanics import STATE, s, total_diff
+from . import limits
+from .limits import ParseBudget
 
 #: The state variables and ``s``, by name.
 VARIABLES: Mapping[str, sp.Symbol] = MappingProxyType({str(v): v for v in (*STATE, s)})
@@ -107,10 +63,6 @@ RESERVED_NAMES: Mapping[str, str] = MappingProxyType(
 )
 
 _VARIABLE_LIST = "M1, M2, M3, gamma1, gamma2, gamma3 or s"
-#: ds/dv for each state variable v, since s = M . gamma.
-_DS_DV: Mapping[sp.Symbol, sp.Symbol] = MappingProxyType(
-    {**dict(zip(MOMENTUM, AXIS, strict=True)), **dict(zip(AXIS, MOMENTUM, strict=True))}
-)
 _UNDEFINED = (sp.zoo, sp.oo, -sp.oo, sp.nan)
 
 
@@ -135,44 +87,12 @@ class Namespace:
 EMPTY = Namespace()
 
 
-@dataclass
-class Budget:
-    """What the expressions of one case file may still use together.
-
-    Pass the same budget to every ``parse_expression`` of a case; once a limit is
-    passed, ``exhausted`` holds the message and every later parse is refused.
-    """
-
-    parts: int = MAX_CASE_PARTS
-    root_digits: int = MAX_CASE_ROOT_DIGITS
-    diff_work: int = MAX_CASE_DIFF_WORK
-    exhausted: str | None = None
-
-    def spend(self, kind: str, amount: int, text: str) -> None:
-        """Take ``amount`` of ``kind`` ('parts', 'root_digits', 'diff_work'), or refuse
-        ``text`` with ExpressionError once the case's MAX_CASE_* limit is passed."""
-        if self.exhausted is None:
-            left = getattr(self, kind) - amount
-            setattr(self, kind, left)
-            if left >= 0:
-                return
-            self.exhausted = _CASE_LIMITS[kind]
-        raise ExpressionError(self.exhausted, text)
-
-
-_CASE_LIMITS = {
-    "parts": f"the case's expressions are too large together "
-    f"(more than {MAX_CASE_PARTS} parts in all)",
-    "root_digits": f"too many roots of numbers "
-    f"(more than {MAX_CASE_ROOT_DIGITS} digits under roots in all)",
-    "diff_work": "the case's expressions are too large to differentiate together",
-}
-
-
 # --------------------------------------------------------------------------- parsing
 
 
-def parse_expression(text: str, ns: Namespace = EMPTY, budget: Budget | None = None) -> sp.Expr:
+def parse_expression(
+    text: str, ns: Namespace = EMPTY, budget: ParseBudget | None = None
+) -> sp.Expr:
     """The sympy expression that ``text`` denotes in the case-file language.
 
     Raises ``ExpressionError`` (message, text) for anything outside the language.
@@ -180,7 +100,7 @@ def parse_expression(text: str, ns: Namespace = EMPTY, budget: Budget | None = N
     """
     if not isinstance(text, str):
         raise TypeError(f"an expression must be a str, not {type(text).__name__}")
-    budget = Budget() if budget is None else budget
+    budget = ParseBudget() if budget is None else budget
     if budget.exhausted is not None:
         raise ExpressionError(budget.exhausted, text)
     flat = _check_text(text)
@@ -192,7 +112,7 @@ def parse_expression(text: str, ns: Namespace = EMPTY, budget: Budget | None = N
 
 
 def parse_equation(
-    text: str, ns: Namespace = EMPTY, budget: Budget | None = None
+    text: str, ns: Namespace = EMPTY, budget: ParseBudget | None = None
 ) -> tuple[sp.Expr, sp.Expr]:
     """(lhs, rhs) of a level-set equation ``lhs = rhs``.
 
@@ -203,7 +123,7 @@ def parse_equation(
     parts = text.split("=")
     if len(parts) != 2 or parts[0][-1:] in ("<", ">", "!") or not all(p.strip() for p in parts):
         raise ExpressionError("an equation needs the form lhs = rhs", text)
-    budget = Budget() if budget is None else budget
+    budget = ParseBudget() if budget is None else budget
     try:
         return parse_expression(parts[0], ns, budget), parse_expression(parts[1], ns, budget)
     except ExpressionError as err:
@@ -214,9 +134,9 @@ def _check_text(text: str) -> str:
     """Checks on the raw text, before the Python parser sees it; returns it on one line."""
     if not text.strip():
         raise ExpressionError("empty expression", text)
-    if len(text) > MAX_LENGTH:
+    if len(text) > limits.MAX_LENGTH:
         raise ExpressionError(
-            f"expression too long ({len(text)} characters; at most {MAX_LENGTH})", text
+            f"expression too long ({len(text)} characters; at most {limits.MAX_LENGTH})", text
         )
     if not text.isascii():
         # Python would NFKC-normalise look-alike identifiers, so refuse them here.
@@ -229,14 +149,18 @@ def _check_text(text: str) -> str:
         raise ExpressionError(f"control character U+{code:04X} is not allowed", text)
     if "#" in text:
         raise ExpressionError("comments ('#') are not allowed", text)
-    if _count_parts(text) > MAX_NODES:
+    if _count_parts(text) > limits.MAX_NODES:
         # Long chains a + b + ... can exhaust the Python parser's recursion limit.
-        raise ExpressionError(f"expression too large (more than {MAX_NODES} parts)", text)
-    if _bracket_depth(text) > MAX_DEPTH:
-        raise ExpressionError(f"expression nested too deeply (more than {MAX_DEPTH} levels)", text)
+        raise ExpressionError(f"expression too large (more than {limits.MAX_NODES} parts)", text)
+    if _bracket_depth(text) > limits.MAX_DEPTH:
+        raise ExpressionError(
+            f"expression nested too deeply (more than {limits.MAX_DEPTH} levels)", text
+        )
     for token in re.findall(r"[\w.]+", text):
-        if token[0] in "0123456789." and len(token) > MAX_DIGITS:
-            raise ExpressionError(f"number literal too long (more than {MAX_DIGITS} digits)", text)
+        if token[0] in "0123456789." and len(token) > limits.MAX_DIGITS:
+            raise ExpressionError(
+                f"number literal too long (more than {limits.MAX_DIGITS} digits)", text
+            )
     # Line breaks (from multi-line TOML strings) are plain spaces here; the length is kept.
     return text.replace("\r", " ").replace("\n", " ").strip()
 
@@ -264,7 +188,7 @@ def _parse_tree(flat: str, text: str) -> ast.Expression:
         return ast.parse(flat, mode="eval")
     except (RecursionError, MemoryError):
         raise ExpressionError(
-            f"expression nested too deeply (more than {MAX_DEPTH} levels)", text
+            f"expression nested too deeply (more than {limits.MAX_DEPTH} levels)", text
         ) from None
     except (SyntaxError, ValueError):
         raise ExpressionError("not a valid expression", text) from None
@@ -273,8 +197,8 @@ def _parse_tree(flat: str, text: str) -> ast.Expression:
 def _check_node_count(tree: ast.Expression, text: str) -> None:
     """Refuse trees with more than MAX_NODES expression nodes (ast.walk is iterative)."""
     count = sum(1 for node in ast.walk(tree) if isinstance(node, ast.expr))
-    if count > MAX_NODES:
-        raise ExpressionError(f"expression too large (more than {MAX_NODES} parts)", text)
+    if count > limits.MAX_NODES:
+        raise ExpressionError(f"expression too large (more than {limits.MAX_NODES} parts)", text)
 
 
 _REFUSED_NODES: dict[type, str] = {
@@ -327,7 +251,7 @@ class _Builder:
     step checks first that the numbers it would make stay small.
     """
 
-    def __init__(self, flat: str, text: str, ns: Namespace, budget: Budget):
+    def __init__(self, flat: str, text: str, ns: Namespace, budget: ParseBudget):
         self.flat = flat
         self.text = text
         self.ns = ns
@@ -339,8 +263,8 @@ class _Builder:
 
     def build(self, node: ast.AST, depth: int) -> tuple[sp.Expr, int]:
         """Dispatch on the node type; refuse anything not in the whitelist."""
-        if depth > MAX_DEPTH:
-            raise self.fail(f"expression nested too deeply (more than {MAX_DEPTH} levels)")
+        if depth > limits.MAX_DEPTH:
+            raise self.fail(f"expression nested too deeply (more than {limits.MAX_DEPTH} levels)")
         if isinstance(node, ast.Constant):
             return self.constant(node)
         if isinstance(node, ast.Name):
@@ -376,9 +300,9 @@ class _Builder:
 
     def exact_number(self, literal: str) -> sp.Rational:
         """The exact rational a decimal literal denotes: 0.1 -> 1/10, 1e-3 -> 1/1000."""
-        too_long = f"number literal too long (more than {MAX_DIGITS} digits)"
+        too_long = f"number literal too long (more than {limits.MAX_DIGITS} digits)"
         literal = literal.replace("_", "")
-        if len(literal) > MAX_DIGITS:
+        if len(literal) > limits.MAX_DIGITS:
             raise self.fail(too_long)
         if literal[:2].lower() in ("0x", "0o", "0b"):
             return sp.Integer(int(literal, 0))
@@ -386,7 +310,7 @@ class _Builder:
         if match is None:
             raise self.fail("not a valid expression")
         whole, fraction, exponent = match.group(1), match.group(2) or "", match.group(3) or "0"
-        if abs(int(exponent)) > MAX_DIGITS:
+        if abs(int(exponent)) > limits.MAX_DIGITS:
             raise self.fail(too_long)
         mantissa = sp.Integer(int(whole + fraction or "0"))
         return mantissa * sp.Rational(10) ** (int(exponent) - len(fraction))
@@ -489,10 +413,10 @@ class _Builder:
 
         Refuses large exponents, and roots of large numbers (sympy factors those).
         """
-        if abs(exponent.p) > MAX_EXPONENT * exponent.q:
-            raise self.fail(f"exponent too large (at most {MAX_EXPONENT} in absolute value)")
-        if exponent.q > MAX_DENOMINATOR:
-            raise self.fail(f"exponent denominator too large (at most {MAX_DENOMINATOR})")
+        if abs(exponent.p) > limits.MAX_EXPONENT * exponent.q:
+            raise self.fail(f"exponent too large (at most {limits.MAX_EXPONENT} in absolute value)")
+        if exponent.q > limits.MAX_DENOMINATOR:
+            raise self.fail(f"exponent denominator too large (at most {limits.MAX_DENOMINATOR})")
         digits = _number_digits(base)
         if exponent.q > 1:
             self.check_root(digits)
@@ -501,16 +425,17 @@ class _Builder:
 
     def check_root(self, digits: int) -> None:
         """Refuse roots of numbers with more than MAX_ROOT_DIGITS digits."""
-        if digits > MAX_ROOT_DIGITS:
+        if digits > limits.MAX_ROOT_DIGITS:
             raise self.fail(
-                f"number too large for a root (it could have more than {MAX_ROOT_DIGITS} digits)"
+                "number too large for a root "
+                f"(it could have more than {limits.MAX_ROOT_DIGITS} digits)"
             )
 
     def bounded(self, size: int) -> int:
         """``size``, after checking that numbers of that many digits are allowed."""
-        if size > MAX_RESULT_DIGITS:
+        if size > limits.MAX_RESULT_DIGITS:
             raise self.fail(
-                f"number too large (it could have more than {MAX_RESULT_DIGITS} digits)"
+                f"number too large (it could have more than {limits.MAX_RESULT_DIGITS} digits)"
             )
         return size
 
@@ -573,7 +498,7 @@ class _Builder:
             size = max(size, self.exp_log_digits(arg))
         if name in ("sin", "cos", "tan"):
             coeff, rest = arg.as_coeff_Mul()
-            if rest is sp.pi and coeff.is_Rational and coeff.q > MAX_TRIG_DENOMINATOR:
+            if rest is sp.pi and coeff.is_Rational and coeff.q > limits.MAX_TRIG_DENOMINATOR:
                 return FUNCTIONS[name](arg, evaluate=False), size
         return self.checked(FUNCTIONS[name](arg)), size
 
@@ -593,9 +518,9 @@ class _Builder:
         if not (isinstance(var, ast.Name) and var.id in VARIABLES):
             raise self.fail(f"the second argument of diff must be one of {_VARIABLE_LIST}")
         expr, size = self.build(args[0], depth + 1)
-        work = _diff_work(expr, MAX_DIFF_WORK - self.diff_work)
+        work = _diff_work(expr, limits.MAX_DIFF_WORK - self.diff_work)
         self.diff_work += work
-        if self.diff_work > MAX_DIFF_WORK:
+        if self.diff_work > limits.MAX_DIFF_WORK:
             raise self.fail("expression too large to differentiate")
         self.budget.spend("diff_work", work, self.text)
         symbol = VARIABLES[var.id]
@@ -663,109 +588,6 @@ def _suggestion(name: str, candidates: list[str]) -> str:
     return f"did you mean {close[0]!r}?" if close else ""
 
 
-def _is_name(name: str) -> bool:
-    """Whether ``name`` can name a variable or parameter in an expression."""
-    return name.isascii() and name.isidentifier() and not keyword.iskeyword(name)
-
-
 def _show(name: str, limit: int = 40) -> str:
     """A user-written name, quoted and cut to a readable length."""
     return repr(name if len(name) <= limit else name[: limit - 3] + "...")
-
-
-# --------------------------------------------------------------------------- printing
-
-
-def to_text(expr: sp.Expr | int) -> str:
-    """``expr`` written in the case-file language, ready to paste into a case file.
-
-    Derivatives of declared functions (partial, at fixed s) are written with the
-    language's total ``diff``. Raises ValueError for what the language cannot
-    express (I, floats, infinities, Piecewise, functions outside the language, ...).
-    """
-    if isinstance(expr, int):
-        expr = sp.Integer(expr)
-    if not isinstance(expr, sp.Basic):
-        raise TypeError(f"to_text needs a sympy expression, not {type(expr).__name__}")
-    return _Printer().doprint(expr)
-
-
-def _unsupported(expr: sp.Basic) -> ValueError:
-    return ValueError(f"cannot write {type(expr).__name__} in the expression language: {expr}")
-
-
-class _Printer(StrPrinter):
-    """sympy's str printer, restricted to the language and with our ``diff``."""
-
-    def _print(self, expr, **kwargs) -> str:
-        if isinstance(expr, sp.Basic):
-            _check_printable(expr)
-        return super()._print(expr, **kwargs)
-
-    def _print_Symbol(self, expr: sp.Symbol) -> str:
-        return expr.name
-
-    def _print_Abs(self, expr: sp.Abs) -> str:
-        """|x| = sqrt(x**2) for real x; the parser turns it back into Abs(x)."""
-        (arg,) = expr.args
-        if arg.is_extended_real is not True:
-            raise _unsupported(expr)
-        return f"sqrt({self._print(sp.Pow(arg, 2, evaluate=False))})"
-
-    def _print_Derivative(self, expr: sp.Derivative) -> str:
-        """A partial derivative of a declared function, nested ``diff`` calls."""
-        func = expr.expr
-        if not isinstance(func, AppliedUndef):
-            raise _unsupported(expr)
-        args = func.args
-        if not all(a in VARIABLES.values() for a in args) or len(set(args)) != len(args):
-            raise _unsupported(expr)
-        text = self._print(func)
-        for var, count in expr.variable_count:
-            for _ in range(int(count)):
-                text = _partial_text(text, args, var)
-        return text
-
-
-def _partial_text(inner: str, args: tuple[sp.Symbol, ...], var: sp.Symbol) -> str:
-    """The partial derivative d/var (at fixed s) of ``inner``, a function of ``args``.
-
-    With s among the arguments, our diff(., v) is d_v + (ds/dv) d_s, and for a
-    state variable w that is no argument, diff(., w) = (ds/dw) d_s. Hence
-    d_s = diff(., w)/(ds/dw) and d_v = diff(., v) - (ds/dv) diff(., w)/(ds/dw).
-    (diff(., s) itself is only allowed on functions of s alone.)
-    """
-    state_args = [a for a in args if a != s]
-    if s not in args:
-        return f"diff({inner}, {var})"
-    if not state_args:
-        return f"diff({inner}, s)"
-    free = [w for w in STATE if w not in args]
-    if not free:
-        raise ValueError(
-            "cannot write a partial derivative of a function of s and all six variables"
-        )
-    w = free[0]
-    along_s = f"diff({inner}, {w})/{_DS_DV[w]}"
-    if var == s:
-        return f"({along_s})"
-    return f"(diff({inner}, {var}) - {_DS_DV[var]}*{along_s})"
-
-
-_PRINTABLE_FUNCTIONS = tuple(f for f in FUNCTIONS.values() if isinstance(f, sp.FunctionClass))
-
-
-def _check_printable(expr: sp.Basic) -> None:
-    """Raise ValueError unless the node ``expr`` (not its arguments) is in the language."""
-    if isinstance(expr, sp.Symbol):
-        name = expr.name
-        if type(expr) is not sp.Symbol or not _is_name(name) or name in CONSTANTS:
-            raise _unsupported(expr)
-        return
-    if expr.is_Rational or expr in (sp.pi, sp.E):
-        return
-    if isinstance(expr, sp.Add | sp.Mul | sp.Pow | sp.Derivative | sp.Abs | AppliedUndef):
-        return
-    if isinstance(expr, _PRINTABLE_FUNCTIONS):
-        return
-    raise _unsupported(expr)
