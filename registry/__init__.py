@@ -15,7 +15,7 @@ from . import (
     display,  # noqa: F401 - installs the Jupyter reprs of cases and audits
 )
 from .api import AddResult, AuditReport, Registry, open_registry
-from .audit import audit_case
+from .audit.case_audit import audit_case
 from .errors import (
     CaseFormatError,
     DatabaseFullError,

@@ -9,6 +9,10 @@ new modules, in order (several where the old module was split), under its new
 name where it was renamed (``registry.budget.Budget`` is ``TimeBudget``); a name
 found in none of them raises AttributeError saying where the contents went.
 
+One old module, ``registry.audit``, gave its name to a folder: its names
+(``registry.audit.audit_case``, ...) are answered by that package's own
+``__getattr__``, with the same warning (they are in ``audit.case_audit`` now).
+
 The package's own code and tests never use these paths.
 """
 
@@ -36,6 +40,11 @@ MOVED: dict[str, tuple[str, ...]] = {
     ),
     "registry.casefile": ("registry.language.casefile",),
     "registry.export": ("registry.language.case_writer",),
+    "registry.checks": ("registry.audit.checks",),
+    "registry.corrections": ("registry.audit.repairs",),
+    "registry.numeric": ("registry.audit.numeric_evidence",),
+    "registry.budget": ("registry.audit.time_budget",),
+    "registry.workers": ("registry.audit.worker_pool",),
 }
 
 #: Names that changed on the way: old module path -> {old name: new name}.

@@ -20,7 +20,7 @@ from typing import TYPE_CHECKING
 import click
 
 from .api import Registry, default_target, open_registry
-from .audit import DEFAULT_BUDGET
+from .audit.case_audit import DEFAULT_BUDGET
 from .errors import RegistryError, UnknownClaimError, printable
 from .report import disagreements, verdict_table
 from .storage import Store
@@ -415,7 +415,7 @@ def list_checks() -> None:
 
     Example: registry checks
     """
-    from .checks import CHECKS
+    from .audit.checks import CHECKS
 
     for spec in CHECKS.values():
         scope = "per claim" if spec.per_claim else "per case"

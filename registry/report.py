@@ -8,7 +8,7 @@ from __future__ import annotations
 from collections import Counter
 from collections.abc import Mapping, Sequence
 
-from .audit import CASE_CHECKS, claim_verdict
+from .audit.case_audit import CASE_CHECKS, claim_verdict
 from .model import Case, CaseAudit, CheckResult, Verdict
 
 

@@ -23,13 +23,13 @@ from pathlib import Path
 import sympy as sp
 
 import registry
-from registry.audit import audit_case
-from registry.budget import Budget
-from registry.checks import Mechanics
+from registry.audit.case_audit import audit_case
+from registry.audit.checks import Mechanics
+from registry.audit.time_budget import Budget
+from registry.audit.worker_pool import audit_in_workers, default_jobs
 from registry.language.printer import to_text
 from registry.mathematics import mechanics as mech
 from registry.model import Verdict
-from registry.workers import audit_in_workers, default_jobs
 
 ROOT = Path(__file__).resolve().parents[1]
 CHECKS = ["jacobi", "energy", "c1", "hamiltonian", "integral", "casimir"]

@@ -22,8 +22,8 @@ from pathlib import Path
 import sympy as sp
 
 import registry
-from registry.audit import audit_case
-from registry.budget import BudgetExceeded, time_limit
+from registry.audit.case_audit import audit_case
+from registry.audit.time_budget import BudgetExceeded, time_limit
 from registry.mathematics import mechanics as mech
 
 try:

@@ -3,6 +3,10 @@
 from pathlib import Path
 
 CASES = Path(__file__).resolve().parents[1] / "data" / "cases"
+#: The tests' own data: the classical catalog, golden outputs, an old schema dump.
+TEST_DATA = Path(__file__).resolve().parent / "data"
+#: Classical cases whose verdicts the literature settles (tests of numeric evidence).
+CLASSICAL = TEST_DATA / "classical"
 #: The seed catalog: the reference paper's cases (and one classical case) at the top of
 #: data/cases; the literature catalog lives in its sub-folders.
 SEED_FILES = sorted(CASES.glob("*.toml"))

@@ -391,3 +391,30 @@ def test_moving_a_module_changes_the_code_version(tmp_path):
     (copy / "elsewhere").mkdir()
     (copy / "model.py").rename(copy / "elsewhere" / "model.py")
     assert registry.api.source_digest(copy) != before
+
+
+def test_unchanged_cases_are_reused_and_fresh_recomputes(tmp_path):
+    reg = registry.open(tmp_path / "r.sqlite")
+    reg.add(CASES / "yehia-2003-kovalevskaya-b.toml", CASES / "zhukovsky-gyrostat.toml")
+    first = reg.audit(jobs=0)
+    second = reg.audit(jobs=0)
+    third = reg.audit(jobs=0, fresh=True)
+    runs = reg.runs().set_index("run")
+    assert runs.loc[first.run, "n_reused"] == 0
+    assert runs.loc[second.run, "n_reused"] == runs.loc[second.run, "n_results"] > 0
+    assert runs.loc[third.run, "n_reused"] == 0
+    assert first.document()["cases"] == second.document()["cases"]
+    assert _without_timings(third.document()["cases"]) == _without_timings(
+        first.document()["cases"]
+    )
+
+
+def _without_timings(cases):
+    """Timings differ between fresh runs; everything else must be identical."""
+    for case in cases:
+        for detail in case["details"].values():
+            detail.pop("seconds", None)
+        for claim in case["claims"]:
+            for detail in claim["details"].values():
+                detail.pop("seconds", None)
+    return cases

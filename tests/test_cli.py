@@ -517,7 +517,7 @@ def test_export_unknown_case(tmp_path):
 
 
 def test_checks_lists_every_registered_check_with_its_statement():
-    from registry.checks import CHECKS
+    from registry.audit.checks import CHECKS
 
     result = invoke(None, "checks")
     assert result.exit_code == 0

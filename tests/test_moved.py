@@ -42,7 +42,16 @@ OLD_NAMES = [
         "registry.language.case_writer",
         "corrected_case_text",
     ),
+    ("registry.checks", "CHECKS", "registry.audit.checks", "CHECKS"),
+    ("registry.corrections", "repairs", "registry.audit.repairs", "repairs"),
+    ("registry.numeric", "claim_drift", "registry.audit.numeric_evidence", "claim_drift"),
+    ("registry.budget", "time_limit", "registry.audit.time_budget", "time_limit"),
+    ("registry.workers", "audit_in_workers", "registry.audit.worker_pool", "audit_in_workers"),
 ]
+
+
+#: What the module registry.audit held before it became a folder.
+OLD_AUDIT_NAMES = set(registry.audit._OLD_NAMES)
 
 
 def fresh_import(name: str, monkeypatch) -> tuple[object, list[warnings.WarningMessage]]:
@@ -93,6 +102,26 @@ def test_an_old_module_is_an_attribute_of_the_package(monkeypatch):
     assert found is recognise
 
 
+@pytest.mark.parametrize("name", ["audit_case", "failed_case", "DEFAULT_BUDGET", "CASE_CHECKS"])
+def test_the_old_audit_module_s_names_are_found_in_the_audit_package(name):
+    from registry.audit import case_audit
+
+    with pytest.warns(DeprecationWarning, match=rf"registry\.audit\.{name} has moved") as caught:
+        found = getattr(registry.audit, name)
+    assert found is getattr(case_audit, name)
+    assert caught[0].filename == __file__
+    with pytest.warns(DeprecationWarning):
+        exec(f"from registry.audit import {name}", {})
+
+
+def test_the_audit_package_s_own_modules_are_not_old_names():
+    from registry.audit import repairs
+
+    assert repairs.__name__ == "registry.audit.repairs"
+    with pytest.raises(AttributeError, match="has no attribute 'no_such_name'"):
+        registry.audit.no_such_name  # noqa: B018
+
+
 def test_an_unknown_name_says_where_the_contents_went(monkeypatch):
     module, _ = fresh_import("registry.zero", monkeypatch)
     with pytest.raises(AttributeError) as caught:
@@ -136,6 +165,8 @@ def _imported_modules(path: Path) -> set[str]:
                 base = ".".join([*parts, base] if base else parts)
             found.add(base)
             found.update(f"{base}.{alias.name}" for alias in node.names)
+            if base == "registry.audit":  # the old module's names, now in case_audit
+                found.update(a.name for a in node.names if a.name in OLD_AUDIT_NAMES)
     return found
 
 
@@ -150,6 +181,6 @@ def test_the_package_tests_and_scripts_never_use_an_old_path():
         for path in files
         if path.name != "test_moved.py"
         for name in _imported_modules(path)
-        if name in _moved.MOVED
+        if name in _moved.MOVED or name in OLD_AUDIT_NAMES
     }
     assert not users

@@ -12,10 +12,7 @@ import time
 from collections.abc import Iterable
 from dataclasses import replace
 
-from .budget import Budget, BudgetExceeded, time_limit
-from .checks import CHECKS, CheckSpec, Mechanics
-from .corrections import repairs
-from .model import (
+from ..model import (
     Case,
     CaseAudit,
     CheckResult,
@@ -25,7 +22,10 @@ from .model import (
     FamilyRecord,
     Verdict,
 )
-from .numeric import evidence as numeric_evidence
+from .checks import CHECKS, CheckSpec, Mechanics
+from .numeric_evidence import evidence as numeric_evidence
+from .repairs import repairs
+from .time_budget import Budget, BudgetExceeded, time_limit
 
 #: Budgets used when none is given: a few seconds per check.
 DEFAULT_BUDGET = Budget()
@@ -48,7 +48,7 @@ def audit_case(
     repairs of refuted claims and the conditions for failed identities are derived.
     Each check runs under ``budget.check`` seconds and the repairs under
     ``budget.repairs``; one that runs out is ``inconclusive: time budget exceeded``.
-    With ``numeric``, every claim also gets numerical evidence (``numeric``).
+    With ``numeric``, every claim also gets numerical evidence (``numeric_evidence``).
     """
     wanted = set(CHECKS) if checks is None else set(checks)
     unknown = wanted - set(CHECKS)

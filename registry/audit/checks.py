@@ -16,10 +16,10 @@ from functools import cached_property
 
 import sympy as sp
 
-from .mathematics import mechanics as mech
-from .mathematics import symengine_bridge
-from .mathematics.zero_test import Domain, ZeroTest, decide
-from .model import Case, CheckResult, Claim, Verdict
+from ..mathematics import mechanics as mech
+from ..mathematics import symengine_bridge
+from ..mathematics.zero_test import Domain, ZeroTest, decide
+from ..model import Case, CheckResult, Claim, Verdict
 
 
 class Mechanics:
@@ -157,7 +157,7 @@ def readable(expr: sp.Expr) -> sp.Expr:
 
 def _text(expr: sp.Expr) -> str:
     """An expression in the case-file language where possible (sympy's form otherwise)."""
-    from .language.printer import to_text
+    from ..language.printer import to_text
 
     try:
         return to_text(expr)

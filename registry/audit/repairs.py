@@ -16,14 +16,13 @@ from dataclasses import replace
 
 import sympy as sp
 
-from .checks import Mechanics, casimir, jacobi
-from .language.printer import to_text
-from .mathematics import mechanics as mech
-from .mathematics.families import Family, recognise
-from .mathematics.mechanics import AXIS, MOMENTUM
-from .mathematics.parameter_conditions import equations_text, parameter_conditions
-from .mathematics.zero_test import decide
-from .model import (
+from ..language.printer import to_text
+from ..mathematics import mechanics as mech
+from ..mathematics.families import Family, recognise
+from ..mathematics.mechanics import AXIS, MOMENTUM
+from ..mathematics.parameter_conditions import equations_text, parameter_conditions
+from ..mathematics.zero_test import decide
+from ..model import (
     CheckResult,
     Claim,
     ClaimKind,
@@ -33,6 +32,7 @@ from .model import (
     FamilyRecord,
     Verdict,
 )
+from .checks import Mechanics, casimir, jacobi
 
 
 def corrected_casimir(m: Mechanics, family: Family, claim: str | None = None) -> Correction | None:

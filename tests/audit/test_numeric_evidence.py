@@ -2,21 +2,19 @@
 
 import json
 from dataclasses import replace
-from pathlib import Path
 
 import pytest
 import sympy as sp
 from click.testing import CliRunner
+from samples import CASES, CLASSICAL
 
 import registry
 from registry import Verdict, load_case
-from registry import numeric as numeric_module
-from registry.checks import Mechanics
+from registry.audit import numeric_evidence
+from registry.audit.checks import Mechanics
+from registry.audit.numeric_evidence import DISAGREE_FACTOR, Drift, claim_drift
 from registry.cli import main
 from registry.mathematics import mechanics as mech
-from registry.numeric import DISAGREE_FACTOR, Drift, claim_drift
-
-CASES = Path(__file__).resolve().parents[1] / "data" / "cases"
 
 
 def test_yehia_b_I2_drifts_orders_of_magnitude_above_h():
@@ -50,7 +48,7 @@ def test_a_planted_disagreement_is_reported_and_fails_strict(tmp_path, monkeypat
     def lying(m, claim, seed=0, runs=3):  # a "verified" claim that drifts
         return Drift(claim.label, 1.0, 1e-12, runs)
 
-    monkeypatch.setattr(numeric_module, "claim_drift", lying)
+    monkeypatch.setattr(numeric_evidence, "claim_drift", lying)
     db = tmp_path / "r.sqlite"
     with registry.open(db) as reg:
         reg.add(CASES / "zhukovsky-gyrostat.toml")
@@ -98,7 +96,7 @@ def test_plot_command_writes_a_png_and_refuses_unknown_claims(tmp_path):
 
 
 def test_code_is_generated_only_for_state_numbers_and_language_functions():
-    from registry.numeric import _only_numeric
+    from registry.audit.numeric_evidence import _only_numeric
 
     g1, m1 = mech.AXIS[0], mech.MOMENTUM[0]
     _only_numeric([sp.sin(m1) + sp.sqrt(g1) * sp.atan(g1) / 3 + sp.Abs(m1)])
@@ -109,8 +107,6 @@ def test_code_is_generated_only_for_state_numbers_and_language_functions():
 
 
 # --- the comparison rules (issue "evidence that never cries wolf") ---------------------
-
-CLASSICAL = Path(__file__).resolve().parent / "data" / "classical"
 
 
 def classical(name: str) -> registry.Case:

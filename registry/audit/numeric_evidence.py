@@ -30,11 +30,11 @@ from dataclasses import dataclass
 import numpy as np
 import sympy as sp
 
+from ..language.parser import FUNCTIONS
+from ..mathematics import mechanics as mech
+from ..mathematics.zero_test import _concrete_functions, _sample_point, _substitute_functions
+from ..model import Claim, Evidence, Verdict
 from .checks import Mechanics
-from .language.parser import FUNCTIONS
-from .mathematics import mechanics as mech
-from .mathematics.zero_test import _concrete_functions, _sample_point, _substitute_functions
-from .model import Claim, Evidence, Verdict
 
 #: Integration time, tolerances and runs per claim.
 T_END = 5.0

@@ -21,9 +21,9 @@ from multiprocessing.connection import wait
 
 import sympy as sp
 
-from .audit import audit_case, count_checks
-from .budget import Budget
-from .model import Case, CaseAudit, CheckResult, Verdict
+from ..model import Case, CaseAudit, CheckResult, Verdict
+from .case_audit import audit_case, count_checks
+from .time_budget import Budget
 
 
 def default_jobs() -> int:

@@ -1,0 +1,60 @@
+"""Time budgets: the timer interrupts Python code and is lifted afterwards, and a check
+that runs out of time is inconclusive within its budget."""
+
+import signal
+import time
+from dataclasses import replace
+
+import pytest
+import sympy as sp
+from samples import CASES
+
+from registry import Verdict, audit_case, load_case
+from registry.audit.time_budget import Budget, BudgetExceeded, time_limit
+from registry.model import Expression
+
+
+def test_time_limit_interrupts_python_code():
+    started = time.perf_counter()
+    with pytest.raises(BudgetExceeded):
+        with time_limit(0.3):
+            while True:
+                pass
+    assert time.perf_counter() - started < 1.5
+
+
+def test_time_limit_is_lifted_afterwards():
+    handler = signal.getsignal(signal.SIGALRM)
+    with time_limit(5):
+        assert signal.getitimer(signal.ITIMER_REAL)[0] > 0
+    assert signal.getitimer(signal.ITIMER_REAL) == (0.0, 0.0)  # no stray alarm
+    assert signal.getsignal(signal.SIGALRM) is handler
+    # the same after a block that ran out of time
+    with pytest.raises(BudgetExceeded):
+        with time_limit(0.05):
+            assert signal.getitimer(signal.ITIMER_REAL)[0] > 0
+            while True:
+                pass
+    assert signal.getitimer(signal.ITIMER_REAL) == (0.0, 0.0)
+    assert signal.getsignal(signal.SIGALRM) is handler
+
+
+def test_an_expression_crafted_to_take_forever_ends_inconclusive_within_its_budget():
+    case = load_case(CASES / "zhukovsky-gyrostat.toml")
+    g1, g2, g3 = sp.symbols("gamma1 gamma2 gamma3", real=True)
+    k1 = case.parameters["k1"]
+    linear = g1 + g2 + g3 + k1 + 1
+    # identically zero, so no probe refutes it, but a proof must expand two powers
+    # of five-variable polynomials into ~10**5 terms each
+    zero = linear**40 - sp.expand(linear**2) ** 20
+    expr = case.claims[0].expression.expr + zero
+    claim = replace(case.claims[0], expression=Expression("crafted", expr))
+    started = time.perf_counter()
+    audit = audit_case(replace(case, claims=(claim,)), budget=Budget(check=1.0, repairs=1.0))
+    elapsed = time.perf_counter() - started
+    for check in ("integral", "casimir"):
+        result = audit.result(check, claim.label)
+        assert result.verdict is Verdict.INCONCLUSIVE
+        assert result.reason == "time budget exceeded (1 s)"
+        assert result.seconds < 2.0  # stopped within its budget (and a little slack)
+    assert elapsed < 20  # two checks of 1 s, the repairs' 1 s, the cheap checks, a busy machine
