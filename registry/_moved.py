@@ -45,6 +45,9 @@ MOVED: dict[str, tuple[str, ...]] = {
     "registry.numeric": ("registry.audit.numeric_evidence",),
     "registry.budget": ("registry.audit.time_budget",),
     "registry.workers": ("registry.audit.worker_pool",),
+    "registry.storage": ("registry.store.database",),
+    "registry.migrate": ("registry.store.migrate",),
+    "registry.integrity": ("registry.store.integrity",),
 }
 
 #: Names that changed on the way: old module path -> {old name: new name}.

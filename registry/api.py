@@ -25,12 +25,12 @@ from .audit.case_audit import DEFAULT_BUDGET, audit_case, failed_case
 from .audit.time_budget import Budget
 from .audit.worker_pool import audit_in_workers, default_jobs
 from .errors import CaseFormatError, RegistryError
-from .integrity import Verification, verify
 from .language.case_writer import corrected_case_text
 from .language.casefile import load_case, parse_case_text
 from .model import Case, CaseAudit, Verdict
 from .report import audit_document
-from .storage import Store
+from .store.database import Store
+from .store.integrity import Verification, verify
 
 if TYPE_CHECKING:
     import pandas as pd

@@ -23,7 +23,7 @@ from .api import Registry, default_target, open_registry
 from .audit.case_audit import DEFAULT_BUDGET
 from .errors import RegistryError, UnknownClaimError, printable
 from .report import disagreements, verdict_table
-from .storage import Store
+from .store.database import Store
 
 if TYPE_CHECKING:
     import pandas as pd

@@ -20,7 +20,7 @@ from registry.model import (
     Source,
     System,
 )
-from registry.storage import Store
+from registry.store.database import Store
 
 # Property tests draw the same examples on every run (a failure is reproducible, and CI
 # does not fail at random); HYPOTHESIS_PROFILE=explore draws new ones each run.

@@ -22,7 +22,7 @@ from samples import AFFINE, CASES, SEED, UNDECLARED, YEHIA_B, ZHUKOVSKY, case_fi
 
 import registry
 from registry.cli import main
-from registry.storage import Store
+from registry.store.database import Store
 
 ROOT = Path(registry.__file__).resolve().parent.parent
 COMMANDS = ("add", "audit", "cases", "verdicts", "runs", "corrections", "export-case")

@@ -47,6 +47,10 @@ OLD_NAMES = [
     ("registry.numeric", "claim_drift", "registry.audit.numeric_evidence", "claim_drift"),
     ("registry.budget", "time_limit", "registry.audit.time_budget", "time_limit"),
     ("registry.workers", "audit_in_workers", "registry.audit.worker_pool", "audit_in_workers"),
+    ("registry.storage", "Store", "registry.store.database", "Store"),
+    ("registry.storage", "BUSY_TIMEOUT", "registry.store.database", "BUSY_TIMEOUT"),
+    ("registry.migrate", "head", "registry.store.migrate", "head"),
+    ("registry.integrity", "verify", "registry.store.integrity", "verify"),
 ]
 
 

@@ -13,12 +13,12 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 
+from ..errors import CaseFormatError, ExpressionError
+from ..language.casefile import parse_case_text
+from ..language.parser import Namespace, parse_equation, parse_expression
+from ..model import Case
 from . import migrate
-from .errors import CaseFormatError, ExpressionError
-from .language.casefile import parse_case_text
-from .language.parser import Namespace, parse_equation, parse_expression
-from .model import Case
-from .storage import SCHEMA_VERSION, Store, StoredText
+from .database import SCHEMA_VERSION, Store, StoredText
 
 
 @dataclass(frozen=True)

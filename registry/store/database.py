@@ -59,8 +59,7 @@ from sqlalchemy.orm import DeclarativeBase, Mapped, Session, mapped_column
 from sqlalchemy.pool import StaticPool
 from sqlalchemy.types import TypeDecorator
 
-from . import migrate
-from .errors import (
+from ..errors import (
     DatabaseFullError,
     DatabaseLockedError,
     DatabaseMissingError,
@@ -70,7 +69,7 @@ from .errors import (
     UnknownCaseError,
     UnknownRunError,
 )
-from .model import (
+from ..model import (
     Case,
     CaseAudit,
     CheckResult,
@@ -82,6 +81,7 @@ from .model import (
     Verdict,
     Witness,
 )
+from . import migrate
 
 if TYPE_CHECKING:
     import pandas as pd

@@ -1,4 +1,4 @@
-"""Tests of the registry database (registry.storage)."""
+"""Tests of the registry database (registry.store)."""
 
 from __future__ import annotations
 
@@ -11,10 +11,10 @@ from sqlalchemy import func, insert, select, text
 from sqlalchemy.exc import IntegrityError
 from sqlalchemy.orm import Session
 
-from registry import storage
 from registry.errors import StorageError, UnknownCaseError, UnknownRunError
 from registry.model import CaseAudit, CheckResult, Verdict, Witness
-from registry.storage import (
+from registry.store import database
+from registry.store.database import (
     AddOutcome,
     CaseRow,
     ClaimRow,
@@ -67,7 +67,7 @@ def audit_of(case, stored: StoredCase, integral: Verdict = Verdict.VERIFIED) -> 
 def test_memory_store_has_schema_version(memory_store):
     with memory_store.engine.connect() as conn:
         value = conn.scalar(text("SELECT value FROM meta WHERE key = 'schema_version'"))
-    assert value == str(storage.SCHEMA_VERSION) == "3"
+    assert value == str(database.SCHEMA_VERSION) == "3"
 
 
 def test_file_store_uses_wal_and_foreign_keys(file_store, tmp_path):
@@ -76,7 +76,7 @@ def test_file_store_uses_wal_and_foreign_keys(file_store, tmp_path):
         assert conn.exec_driver_sql("PRAGMA journal_mode").scalar() == "wal"
         assert conn.exec_driver_sql("PRAGMA foreign_keys").scalar() == 1
         busy = conn.exec_driver_sql("PRAGMA busy_timeout").scalar()
-        assert busy == storage.BUSY_TIMEOUT * 1000
+        assert busy == database.BUSY_TIMEOUT * 1000
 
 
 def test_reopening_a_file_keeps_its_content(tmp_path, sample_case):
@@ -188,7 +188,7 @@ def test_failed_claim_insert_stores_nothing(store, sample_case, monkeypatch):
     def broken(*args, **kwargs):
         raise RuntimeError("disk on fire")
 
-    monkeypatch.setattr(storage, "_claim_row", broken)
+    monkeypatch.setattr(database, "_claim_row", broken)
     with pytest.raises(RuntimeError, match="disk on fire"):
         store.add_case(sample_case)
     assert {count(store, t) for t in (SourceRow, CaseRow, ClaimRow)} == {0}

@@ -12,15 +12,16 @@ import pytest
 from alembic.autogenerate import compare_metadata
 from alembic.runtime.migration import MigrationContext
 from click.testing import CliRunner
+from samples import TEST_DATA
 from sqlalchemy import create_engine, inspect, text
 
 import registry
-from registry import migrate
 from registry.cli import main
 from registry.errors import NotADatabaseError, SchemaTooNewError
-from registry.storage import SCHEMA_VERSION, Base, Store, latest_verdicts
+from registry.store import migrate
+from registry.store.database import SCHEMA_VERSION, Base, Store, latest_verdicts
 
-FIRST_SCHEMA_DUMP = Path(__file__).parent / "data" / "registry-schema-1.sql"
+FIRST_SCHEMA_DUMP = TEST_DATA / "registry-schema-1.sql"
 
 #: What the first released schema holds in every table (a property of the dump).
 TABLES = ("sources", "cases", "claims", "audit_runs", "check_results", "corrections", "evidence")

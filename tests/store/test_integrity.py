@@ -19,7 +19,6 @@ from samples import CASES, ZHUKOVSKY
 from sqlalchemy import event
 
 import registry
-from registry import storage
 from registry.cli import main
 from registry.errors import (
     DatabaseFullError,
@@ -27,8 +26,9 @@ from registry.errors import (
     DatabaseMissingError,
     DatabaseReadOnlyError,
 )
-from registry.integrity import verify
-from registry.storage import Store
+from registry.store import database
+from registry.store.database import Store
+from registry.store.integrity import verify
 
 YEHIA_B = "yehia-2003-kovalevskaya-b"
 PICK = [ZHUKOVSKY, YEHIA_B, "affine-nonsymmetric"]
@@ -210,8 +210,8 @@ def test_a_full_disk_stores_nothing_of_the_change(db, monkeypatch):
             pages = dbapi_connection.execute("PRAGMA page_count").fetchone()[0]
             dbapi_connection.execute(f"PRAGMA max_page_count={pages + 1}")
 
-    original = storage._configure_sqlite
-    monkeypatch.setattr(storage, "_configure_sqlite", tiny)
+    original = database._configure_sqlite
+    monkeypatch.setattr(database, "_configure_sqlite", tiny)
     reg = registry.open(db)
     before = dict(zip(reg.cases()["case"], reg.cases()["version"], strict=True))
     stored = []  # (case, version) of each add that succeeded before the disk filled up
@@ -231,8 +231,8 @@ def test_a_full_disk_stores_nothing_of_the_change(db, monkeypatch):
 
 
 def test_a_locked_database_is_retried_then_reported(db, monkeypatch):
-    monkeypatch.setattr(storage, "BUSY_TIMEOUT", 0.1)
-    monkeypatch.setattr(storage, "LOCK_ATTEMPTS", 2)
+    monkeypatch.setattr(database, "BUSY_TIMEOUT", 0.1)
+    monkeypatch.setattr(database, "LOCK_ATTEMPTS", 2)
     reg = registry.open(db)
     holder = sqlite3.connect(db, isolation_level=None, check_same_thread=False)
     holder.execute("BEGIN IMMEDIATE")
@@ -244,7 +244,7 @@ def test_a_locked_database_is_retried_then_reported(db, monkeypatch):
             "run the command again when the other registry command has finished"
         )
         # a lock released while the registry retries is waited out
-        monkeypatch.setattr(storage, "LOCK_ATTEMPTS", 20)
+        monkeypatch.setattr(database, "LOCK_ATTEMPTS", 20)
         threading.Timer(0.5, holder.rollback).start()
         assert reg.add(CASES / "axis-torque.toml")[0].status == "added"
     finally:

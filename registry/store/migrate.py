@@ -25,7 +25,7 @@ from alembic.script import ScriptDirectory
 from sqlalchemy import inspect, text
 from sqlalchemy.engine import Connection
 
-from .errors import NotADatabaseError, SchemaTooNewError
+from ..errors import NotADatabaseError, SchemaTooNewError
 
 MIGRATIONS = Path(__file__).parent / "migrations"
 
