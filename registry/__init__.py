@@ -10,10 +10,7 @@ motion symbolically, and query the verdicts with pandas::
     reg.verdicts()
 """
 
-from . import (
-    _moved,
-    display,  # noqa: F401 - installs the Jupyter reprs of cases and audits
-)
+from . import _moved
 from .api import AddResult, AuditReport, Registry, open_registry
 from .audit.case_audit import audit_case
 from .errors import (
@@ -33,6 +30,7 @@ from .errors import (
 )
 from .language.casefile import load_case, parse_case_text
 from .model import Case, CaseAudit, CheckResult, Claim, ClaimKind, Verdict, Witness
+from .presentation import notebook  # noqa: F401 - installs the Jupyter reprs of cases and audits
 
 open = open_registry  # noqa: A001 - registry.open(path) reads like sqlite3.connect
 

@@ -48,6 +48,11 @@ MOVED: dict[str, tuple[str, ...]] = {
     "registry.storage": ("registry.store.database",),
     "registry.migrate": ("registry.store.migrate",),
     "registry.integrity": ("registry.store.integrity",),
+    "registry.report": ("registry.presentation.verdict_table",),
+    "registry.reports": ("registry.presentation.report_writers",),
+    "registry.sharing": ("registry.presentation.data_export",),
+    "registry.plots": ("registry.presentation.plots",),
+    "registry.display": ("registry.presentation.notebook",),
 }
 
 #: Names that changed on the way: old module path -> {old name: new name}.

@@ -28,7 +28,7 @@ from .errors import CaseFormatError, RegistryError
 from .language.case_writer import corrected_case_text
 from .language.casefile import load_case, parse_case_text
 from .model import Case, CaseAudit, Verdict
-from .report import audit_document
+from .presentation.verdict_table import audit_document
 from .store.database import Store
 from .store.integrity import Verification, verify
 

@@ -22,7 +22,7 @@ import click
 from .api import Registry, default_target, open_registry
 from .audit.case_audit import DEFAULT_BUDGET
 from .errors import RegistryError, UnknownClaimError, printable
-from .report import disagreements, verdict_table
+from .presentation.verdict_table import disagreements, verdict_table
 from .store.database import Store
 
 if TYPE_CHECKING:
@@ -335,15 +335,15 @@ def export(fmt: str | None, bibtex: bool, output: str | None) -> None:
     """
     from pathlib import Path
 
-    from . import sharing
+    from .presentation import data_export
 
     if (fmt is None) == (not bibtex):
         raise click.UsageError("give exactly one of --format and --bibtex")
     if fmt is not None:
-        for path in sharing.export_tables(_registry(), Path(output or "export"), fmt):
+        for path in data_export.export_tables(_registry(), Path(output or "export"), fmt):
             click.echo(str(path))
         return
-    text = sharing.bibtex(_registry())
+    text = data_export.bibtex(_registry())
     if output is None:
         click.echo(text, nl=False)
     else:
@@ -400,7 +400,7 @@ def plot(case_id: str, claim: str, output: str | None, seed: int) -> None:
 
     Example: registry plot yehia-2003-kovalevskaya-b I2 -o I2.png
     """
-    from .plots import drift_plot
+    from .presentation.plots import drift_plot
 
     case = _registry().case(case_id)
     if claim not in {c.label for c in case.claims}:
@@ -464,7 +464,7 @@ def report(
     """
     from pathlib import Path
 
-    from .reports import build_report, diff_runs, diff_table
+    from .presentation.report_writers import build_report, diff_runs, diff_table
 
     reg = _registry()
     if diff is not None:

@@ -11,7 +11,7 @@ import sys
 from pathlib import Path
 
 import registry
-from registry.report import verdict_table
+from registry.presentation.verdict_table import verdict_table
 
 ROOT = Path(__file__).resolve().parents[1]
 

@@ -7,6 +7,7 @@ with three seed cases is audited twice per module (fixture ``audited``) and shar
 
 from __future__ import annotations
 
+import io
 import json
 import re
 import shutil
@@ -571,3 +572,64 @@ def test_a_file_that_cannot_be_written_is_one_error_line(tmp_path):
     assert result.stderr.splitlines() == [
         f"Error: cannot use {str(blocker / 'out')!r}: Not a directory"
     ]
+
+
+class _RecordingBar:
+    """Stands in for tqdm: records how it was made and what it was told."""
+
+    made: list[_RecordingBar] = []
+
+    def __init__(self, **kwargs):
+        self.kwargs, self.postfixes, self.updates, self.closed = kwargs, [], 0, False
+        _RecordingBar.made.append(self)
+
+    def set_postfix_str(self, text, refresh=True):
+        self.postfixes.append(text)
+
+    def update(self, n=1):
+        self.updates += n
+
+    def close(self):
+        self.closed = True
+
+
+class _Tty(io.StringIO):
+    def isatty(self) -> bool:
+        return True
+
+
+@pytest.fixture
+def recording_bar(monkeypatch):
+    import tqdm
+
+    _RecordingBar.made = []
+    monkeypatch.setattr(tqdm, "tqdm", _RecordingBar)
+    return _RecordingBar.made
+
+
+def test_audit_json_is_quiet_and_parsable(audited, recording_bar):
+    result = CliRunner().invoke(main, ["--db", str(audited.db), "audit", "--json", "--jobs", "0"])
+    assert result.exit_code == 0, result.output
+    assert json.loads(result.output)["cases"]
+    (bar,) = recording_bar
+    assert bar.kwargs["disable"] is True and bar.closed
+
+
+def test_audit_json_with_the_real_bar_prints_only_json(audited):
+    result = CliRunner().invoke(main, ["--db", str(audited.db), "audit", "--json", "--jobs", "0"])
+    assert result.exit_code == 0, result.output
+    assert json.loads(result.output)["run"] > 0
+    assert result.stderr == ""
+
+
+def test_audit_on_a_terminal_shows_each_case(tmp_path, monkeypatch, recording_bar):
+    db = str(tmp_path / "registry.sqlite")
+    runner = CliRunner()
+    assert runner.invoke(main, ["--db", db, "add", str(CASES / f"{ZHUKOVSKY}.toml")]).exit_code == 0
+    monkeypatch.setattr("registry.cli.sys", SimpleNamespace(stderr=_Tty(), exit=sys.exit))
+    result = runner.invoke(main, ["--db", db, "audit", "--fresh", "--jobs", "0"])
+    assert result.exit_code == 0, result.output
+    (bar,) = recording_bar
+    assert bar.kwargs["disable"] is False and bar.kwargs["total"] == 1
+    assert bar.postfixes == [ZHUKOVSKY] and bar.updates == 1 and bar.closed
+    assert ZHUKOVSKY in result.stdout

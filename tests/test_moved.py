@@ -51,6 +51,12 @@ OLD_NAMES = [
     ("registry.storage", "BUSY_TIMEOUT", "registry.store.database", "BUSY_TIMEOUT"),
     ("registry.migrate", "head", "registry.store.migrate", "head"),
     ("registry.integrity", "verify", "registry.store.integrity", "verify"),
+    ("registry.report", "verdict_table", "registry.presentation.verdict_table", "verdict_table"),
+    ("registry.reports", "build_report", "registry.presentation.report_writers", "build_report"),
+    ("registry.sharing", "read_table", "registry.presentation.data_export", "read_table"),
+    ("registry.sharing", "bibtex", "registry.presentation.data_export", "bibtex"),
+    ("registry.plots", "drift_plot", "registry.presentation.plots", "drift_plot"),
+    ("registry.display", "case_html", "registry.presentation.notebook", "case_html"),
 ]
 
 

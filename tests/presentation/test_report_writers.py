@@ -22,8 +22,8 @@ import registry
 from registry.cli import main
 from registry.errors import UnknownRunError
 from registry.language.parser import Namespace, parse_expression
-from registry.plots import drift_plot
-from registry.reports import _Tex, build_report, diff_runs
+from registry.presentation.plots import drift_plot
+from registry.presentation.report_writers import _Tex, build_report, diff_runs
 
 PNG = b"\x89PNG"
 

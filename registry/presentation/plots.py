@@ -12,9 +12,9 @@ from pathlib import Path
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
-from .audit.checks import Mechanics
-from .audit.numeric_evidence import trajectory
-from .model import Case
+from ..audit.checks import Mechanics
+from ..audit.numeric_evidence import trajectory
+from ..model import Case
 
 
 def _largest(values) -> float:

@@ -11,8 +11,8 @@ from html import escape
 
 import sympy as sp
 
-from .model import Case, CaseAudit, CheckResult, Claim, Verdict, Witness
-from .sharing import latex_escape
+from ..model import Case, CaseAudit, CheckResult, Claim, Verdict, Witness
+from .data_export import latex_escape
 
 #: Colour of each verdict in the audit table.
 COLOURS = {

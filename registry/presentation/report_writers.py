@@ -24,14 +24,14 @@ from typing import TYPE_CHECKING
 import pandas as pd
 import sympy as sp
 
-from .errors import RegistryError, UnknownRunError
-from .language.casefile import parse_case_text
-from .language.parser import Namespace, parse_equation, parse_expression
-from .model import Case, CaseAudit
-from .report import audit_document
+from ..errors import RegistryError, UnknownRunError
+from ..language.casefile import parse_case_text
+from ..language.parser import Namespace, parse_equation, parse_expression
+from ..model import Case, CaseAudit
+from .verdict_table import audit_document
 
 if TYPE_CHECKING:
-    from .api import Registry
+    from ..api import Registry
 
 #: The formats ``build_report`` writes, by name (the name is also the file extension).
 FORMATS = ("md", "html", "tex")

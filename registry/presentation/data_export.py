@@ -21,7 +21,7 @@ from typing import TYPE_CHECKING, Any
 if TYPE_CHECKING:
     import pandas as pd
 
-    from .api import Registry
+    from ..api import Registry
 
 #: The file formats of ``export_tables``.
 FORMATS = ("csv", "json", "parquet")

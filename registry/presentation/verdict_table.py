@@ -8,8 +8,8 @@ from __future__ import annotations
 from collections import Counter
 from collections.abc import Mapping, Sequence
 
-from .audit.case_audit import CASE_CHECKS, claim_verdict
-from .model import Case, CaseAudit, CheckResult, Verdict
+from ..audit.case_audit import CASE_CHECKS, claim_verdict
+from ..model import Case, CaseAudit, CheckResult, Verdict
 
 
 def _detail(result: CheckResult) -> dict:

@@ -1,0 +1,117 @@
+"""The sources of the stored cases as BibTeX (``registry export --bibtex``) and the
+software's own citation (CITATION.cff).
+
+One database with two seed cases is audited once per module (fixture ``audited``).
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+from types import SimpleNamespace
+
+import pytest
+from click.testing import CliRunner
+
+import registry
+from registry.cli import main
+from registry.presentation import data_export
+
+ROOT = Path(registry.__file__).resolve().parent.parent
+CASES = ROOT / "data" / "cases"
+YEHIA_B = "yehia-2003-kovalevskaya-b"
+ZHUKOVSKY = "zhukovsky-gyrostat"
+
+
+@pytest.fixture(scope="module")
+def audited(tmp_path_factory):
+    """A database with two seed cases, audited in this process."""
+    db = tmp_path_factory.mktemp("sharing") / "registry.sqlite"
+    reg = registry.open(db)
+    reg.add(CASES / f"{YEHIA_B}.toml", CASES / f"{ZHUKOVSKY}.toml")
+    report = reg.audit(jobs=0)
+    yield SimpleNamespace(reg=reg, db=db, report=report)
+    reg.close()
+
+
+def _balanced(text: str) -> bool:
+    depth = 0
+    for char in text:
+        depth += {"{": 1, "}": -1}.get(char, 0)
+        if depth < 0:
+            return False
+    return depth == 0
+
+
+def test_bibtex_has_one_entry_per_source_with_unique_keys(audited):
+    text = data_export.bibtex(audited.reg)
+    keys = re.findall(r"^@(\w+)\{([^,]+),", text, flags=re.M)
+    assert len(keys) == audited.reg.cases()["citation"].nunique() == 2
+    assert len({k for _, k in keys}) == len(keys)
+    assert _balanced(text)
+    assert "Yehia" in text and "2003" in text
+    assert ("article", "yehia2003") in keys
+    assert ("book", "moiseyev1968") in keys
+    assert f"Registry cases: {YEHIA_B}" in text
+
+
+def test_bibtex_keys_are_unique_and_fall_back_to_the_case_id(case_factory):
+    reg = registry.open(":memory:")
+    citations = {
+        "demo-a": "A.B. Smith, J. Fun. 1 (1999) 1-2",
+        "demo-b": "A.B. Smith, J. Fun. 2 (1999) 3-4",
+        "demo-c": "Anonymous report on {braces} & 100% of $x_1$",
+    }
+    for i, (case_id, citation) in enumerate(citations.items()):
+        reg.add_case(case_factory(case_id, f'id = "{case_id}" # {i}\n', citation=citation))
+    text = data_export.bibtex(reg)
+    keys = re.findall(r"^@\w+\{([^,]+),", text, flags=re.M)
+    assert sorted(keys) == ["demo-c", "smith1999a", "smith1999b"]
+    assert _balanced(text)
+    assert r"\textbraceleft{}braces\textbraceright{} \& 100\% of \$x\_1\$" in text
+
+
+def test_latex_escape_leaves_no_bare_special():
+    escaped = data_export.latex_escape(r"a_b & c% {d} #e ~f ^g \h $i")
+    assert re.search(r"(?<!\\)[&%#$_]", escaped) is None
+    assert _balanced(escaped)
+
+
+def test_cli_export_bibtex_to_a_file_and_to_stdout(audited, tmp_path):
+    runner = CliRunner()
+    target = tmp_path / "sources.bib"
+    to_file = runner.invoke(
+        main, ["--db", str(audited.db), "export", "--bibtex", "-o", str(target)]
+    )
+    assert to_file.exit_code == 0, to_file.output
+    assert to_file.stdout.strip() == str(target)
+    to_stdout = runner.invoke(main, ["--db", str(audited.db), "export", "--bibtex"])
+    assert to_stdout.exit_code == 0, to_stdout.output
+    assert to_stdout.stdout == target.read_text(encoding="utf-8") == data_export.bibtex(audited.reg)
+
+
+def test_citation_cff_parses():
+    import yaml  # PyYAML, in the project's ``test`` extra
+
+    text = (ROOT / "CITATION.cff").read_text(encoding="utf-8")
+    data = yaml.safe_load(text)
+    assert isinstance(data, dict)
+    # the keys CFF 1.2.0 requires of a citation, and of each of its references
+    for key in ("cff-version", "message", "title", "authors"):
+        assert data.get(key), key
+    assert data["cff-version"] == "1.2.0"
+    assert data["title"] == "Registry of rigid-body integrability claims"
+    assert data["version"] == "0.1.0"
+    assert data["authors"] == [{"name": "Registry maintainers"}]
+    (paper,) = data["references"]
+    for key in ("type", "title", "authors"):
+        assert paper.get(key), key
+    assert paper["title"].startswith("Hamilton-Poisson formulation")
+    assert [a["family-names"] for a in paper["authors"]] == ["Birtea", "Casu", "Comanescu"]
+
+
+def test_citation_version_is_the_package_version():
+    text = (ROOT / "CITATION.cff").read_text(encoding="utf-8")
+    project = (ROOT / "pyproject.toml").read_text(encoding="utf-8")
+    version = re.search(r'^version = "([^"]+)"', project, flags=re.M).group(1)
+    assert f'version: "{version}"' in text
