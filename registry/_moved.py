@@ -30,7 +30,11 @@ MOVED: dict[str, tuple[str, ...]] = {
     "registry.mechanics": ("registry.mathematics.mechanics",),
     "registry.fast": ("registry.mathematics.symengine_bridge",),
     "registry.certified": ("registry.mathematics.certified_evaluation",),
-    "registry.zero": ("registry.mathematics.zero_test",),
+    "registry.zero": (
+        "registry.mathematics.zero_test",
+        "registry.mathematics.sampling",
+        "registry.mathematics.normal_form",
+    ),
     "registry.families": ("registry.mathematics.families",),
     "registry.conditions": ("registry.mathematics.parameter_conditions",),
     "registry.expressions": (
@@ -57,6 +61,15 @@ MOVED: dict[str, tuple[str, ...]] = {
 
 #: Names that changed on the way: old module path -> {old name: new name}.
 RENAMED: dict[str, dict[str, str]] = {
+    "registry.zero": {  # private names other modules imported, public now
+        "_sample_point": "sample_point",
+        "_concrete_functions": "concrete_functions",
+        "_substitute_functions": "substitute_functions",
+        "_radical_bases": "radical_bases",
+        "_Atoms": "Atoms",
+        "_numerator": "numerator",
+        "_reduce_radical": "reduce_radical",
+    },
     "registry.expressions": {"Budget": "ParseBudget"},
 }
 

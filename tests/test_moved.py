@@ -23,6 +23,10 @@ OLD_NAMES = [
     ("registry.certified", "evaluate", "registry.mathematics.certified_evaluation", "evaluate"),
     ("registry.zero", "decide", "registry.mathematics.zero_test", "decide"),
     ("registry.zero", "Domain", "registry.mathematics.zero_test", "Domain"),
+    ("registry.zero", "sample_points", "registry.mathematics.sampling", "sample_points"),
+    ("registry.zero", "_sample_point", "registry.mathematics.sampling", "sample_point"),
+    ("registry.zero", "prove_zero", "registry.mathematics.normal_form", "prove_zero"),
+    ("registry.zero", "_Atoms", "registry.mathematics.normal_form", "Atoms"),
     ("registry.families", "recognise", "registry.mathematics.families", "recognise"),
     (
         "registry.conditions",

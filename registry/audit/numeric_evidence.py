@@ -32,7 +32,7 @@ import sympy as sp
 
 from ..language.parser import FUNCTIONS
 from ..mathematics import mechanics as mech
-from ..mathematics.zero_test import _concrete_functions, _sample_point, _substitute_functions
+from ..mathematics.sampling import concrete_functions, sample_point, substitute_functions
 from ..model import Claim, Evidence, Verdict
 from .checks import Mechanics
 
@@ -88,9 +88,9 @@ def narrowing(m: Mechanics) -> str:
 def _setup(m: Mechanics, claim: Claim, rng: random.Random):
     """Where to start (the set where the symbolic check decided), the concrete functions
     of a family, and the vector field, H and I ready to evaluate."""
-    funcs = _concrete_functions(m.case.functions, rng)
+    funcs = concrete_functions(m.case.functions, rng)
     exprs = [*m.field, m.hamiltonian, claim.expression.expr]
-    exprs = [_substitute_functions(e, funcs).subs(mech.s, mech.S_VALUE) for e in exprs]
+    exprs = [substitute_functions(e, funcs).subs(mech.s, mech.S_VALUE) for e in exprs]
     return m.claim_domain(claim), funcs, exprs
 
 
@@ -102,7 +102,7 @@ def claim_drift(m: Mechanics, claim: Claim, seed: int = 0, runs: int = RUNS) -> 
     attempts = 0
     while len(drifts) < runs and attempts < 4 * runs:
         attempts += 1
-        point = _sample_point(domain, rng, funcs)
+        point = sample_point(domain, rng, funcs)
         if point is None:
             continue
         params = {p: point[p] for p in m.domain.parameters}
@@ -138,7 +138,7 @@ def trajectory(m: Mechanics, claim: Claim, seed: int = 0, t_end: float = T_END) 
     rng = random.Random(seed)
     domain, funcs, exprs = _setup(m, claim, rng)
     for _ in range(4 * RUNS):
-        point = _sample_point(domain, rng, funcs)
+        point = sample_point(domain, rng, funcs)
         if point is None:
             continue
         params = {p: point[p] for p in m.domain.parameters}

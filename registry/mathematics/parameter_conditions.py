@@ -19,7 +19,8 @@ import sympy as sp
 
 from ..model import Verdict
 from .mechanics import STATE, s
-from .zero_test import Domain, _Atoms, _numerator, _reduce_radical, decide
+from .normal_form import Atoms, numerator, reduce_radical
+from .zero_test import Domain, decide
 
 Branch = dict[sp.Symbol, sp.Expr]
 
@@ -66,10 +67,10 @@ def _coefficient_equations(residuals, params: set[sp.Symbol]) -> set[sp.Expr] | 
     equations: set[sp.Expr] = set()
     state = set(STATE) | {s}
     for expr in residuals:
-        atoms = _Atoms()
-        numer = _numerator(atoms.rewrite(expr))
+        atoms = Atoms()
+        numer = numerator(atoms.rewrite(expr))
         for rho, q, base in atoms.relations():
-            numer = _reduce_radical(numer, rho, q, base)
+            numer = reduce_radical(numer, rho, q, base)
         constants = _constant_atoms(atoms, state)
         gens = sorted(numer.free_symbols - params - set(constants), key=str)
         if not gens:
@@ -86,7 +87,7 @@ def _coefficient_equations(residuals, params: set[sp.Symbol]) -> set[sp.Expr] | 
     return equations
 
 
-def _constant_atoms(atoms: _Atoms, state: set) -> dict[sp.Symbol, sp.Expr]:
+def _constant_atoms(atoms: Atoms, state: set) -> dict[sp.Symbol, sp.Expr]:
     """Atom symbols standing for expressions of the parameters alone, with their values."""
     values = {}
     for (base, q), rho in atoms.radicals.items():

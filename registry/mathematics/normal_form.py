@@ -1,0 +1,183 @@
+"""The normal form in which the zero test proves a residual zero.
+
+Radicals b**(p/q) become new symbols rho with rho**q = b, transcendental terms and
+arbitrary functions become new symbols (``Atoms``); the result is a rational
+function whose numerator, reduced modulo the radical relations (and the level-set
+equations, by a Groebner basis), is zero exactly when the residual is: a proof
+(``prove_zero``). The parameter conditions read their polynomial system off the
+same numerator (``numerator``, ``reduce_radical``).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import sympy as sp
+from sympy.core.function import AppliedUndef
+
+from .mechanics import S_VALUE, s
+
+
+class Atoms:
+    """Rewrites an expression as a rational function of new symbols for its
+    radicals (rho**q = base) and its transcendental or arbitrary-function terms."""
+
+    def __init__(self) -> None:
+        self.radicals: dict[tuple[sp.Expr, int], sp.Symbol] = {}
+        self.others: dict[sp.Expr, sp.Symbol] = {}
+        self._memo: dict[sp.Expr, sp.Expr] = {}
+
+    def relations(self) -> list[tuple[sp.Symbol, int, sp.Expr]]:
+        return [(rho, q, base) for (base, q), rho in self.radicals.items()]
+
+    def rewrite(self, expr: sp.Expr) -> sp.Expr:
+        hit = self._memo.get(expr)
+        if hit is None:
+            hit = self._rewrite(expr)
+            self._memo[expr] = hit
+        return hit
+
+    def _key(self, expr: sp.Expr) -> sp.Expr:
+        return sp.expand(self.rewrite(expr).xreplace({s: S_VALUE}))
+
+    def _rewrite(self, expr: sp.Expr) -> sp.Expr:
+        if expr.is_Atom:
+            return expr
+        if isinstance(expr, (AppliedUndef, sp.Derivative, sp.Subs)):
+            return self._symbol_for(expr)
+        if expr.is_Pow:
+            base, exp = expr.base, expr.exp
+            if exp.is_Integer:
+                return self.rewrite(base) ** exp
+            if exp.is_Rational:
+                # (p/q)**e = p**e * q**-e wherever the left side is real
+                num, den = sp.fraction(sp.together(self._key(base)))
+                return self._radical(sp.expand(num), exp) * self._radical(sp.expand(den), -exp)
+            return self._symbol_for(sp.Pow(self._key(base), self._key(exp)))
+        if isinstance(expr, sp.Function):
+            return self._symbol_for(expr.func(*(self._key(a) for a in expr.args)))
+        return expr.func(*(self.rewrite(a) for a in expr.args))
+
+    def _radical(self, base: sp.Expr, exp: sp.Rational) -> sp.Expr:
+        """base**exp as rho**p with rho**q = base (exp = p/q)."""
+        if base == 1 or exp.is_Integer:
+            return base**exp
+        key = (base, int(exp.q))
+        rho = self.radicals.get(key)
+        if rho is None:
+            rho = self.radicals[key] = sp.Dummy(f"rho{len(self.radicals)}")
+        return rho ** int(exp.p)
+
+    def _symbol_for(self, key: sp.Expr) -> sp.Symbol:
+        sym = self.others.get(key)
+        if sym is None:
+            sym = self.others[key] = sp.Dummy(f"tau{len(self.others)}")
+        return sym
+
+
+def prove_zero(expr: sp.Expr, on: Sequence[sp.Expr] = ()) -> str | None:
+    """Prove ``expr`` == 0 (on the level set ``on``); return the method, or None.
+
+    The rewritten residual becomes an element of the field Q(x1, ..., xn) of
+    rational functions in the state variables, parameters and atom symbols
+    (sparse polynomial arithmetic, far cheaper than manipulating expression
+    trees); its numerator is then reduced modulo rho**q - base for every radical.
+    """
+    atoms = Atoms()
+    numer, ring = _numerator_poly(atoms.rewrite(expr), atoms)
+    if not numer:
+        return "rational normal form"
+    relations = [
+        ring(rho) ** q - ring.from_expr(base.xreplace(_CONSTANTS))
+        for rho, q, base in atoms.relations()
+    ]
+    if not on:
+        if relations and not numer.rem(relations):
+            return "algebraic normal form"
+        return None
+    eqs = [numerator(atoms.rewrite(e)).xreplace(_CONSTANTS) for e in on]
+    eqs += [rho**q - base.xreplace(_CONSTANTS) for rho, q, base in atoms.relations()]
+    numer_expr = numer.as_expr()
+    gens = sorted(set().union(*(e.free_symbols for e in [numer_expr, *eqs])), key=str)
+    basis = sp.groebner(eqs, *gens, order="grevlex", domain=sp.QQ)
+    _, remainder = basis.reduce(numer_expr)
+    return "level-set reduction" if remainder == 0 else None
+
+
+def _numerator_poly(rewritten: sp.Expr, atoms: Atoms):
+    """The numerator of the rewritten expression as a sparse polynomial over QQ, with
+    the radical symbols first in a lex order (so rho**q leads its relation)."""
+    expr = rewritten.xreplace({s: S_VALUE, **_CONSTANTS})
+    radicals = list(reversed(atoms.radicals.values()))  # outer radicals before inner ones
+    bases = set().union(*(b.xreplace(_CONSTANTS).free_symbols for b, _ in atoms.radicals))
+    others = sorted((expr.free_symbols | bases) - set(radicals), key=str)
+    ring = sp.polys.rings.PolyRing([*radicals, *others] or [sp.Dummy("x")], sp.QQ, sp.lex)
+    numer, _ = _fraction(expr, ring, {})
+    return numer, ring
+
+
+def _fraction(expr: sp.Expr, ring, cache: dict):
+    """expr as numerator and denominator, the denominator kept as a product of factors
+    {polynomial: exponent} so that no polynomial gcd is ever needed (gcds of many-variable
+    polynomials are what makes ``together`` and rational-function fields slow)."""
+    hit = cache.get(expr)
+    if hit is not None:
+        return hit
+    if expr.is_Rational:
+        value = (ring(expr), {})
+    elif expr.is_Symbol:
+        value = (ring(expr), {})
+    elif expr.is_Add:
+        parts = [_fraction(a, ring, cache) for a in expr.args]
+        common: dict = {}
+        for _, den in parts:
+            for f, e in den.items():
+                common[f] = max(common.get(f, 0), e)
+        total = ring.zero
+        for num, den in parts:
+            for f, e in common.items():
+                if e > den.get(f, 0):
+                    num = num * f ** (e - den.get(f, 0))
+            total += num
+        value = (total, common)
+    elif expr.is_Mul:
+        num, den = ring.one, {}
+        for a in expr.args:
+            n, d = _fraction(a, ring, cache)
+            num = num * n
+            for f, e in d.items():
+                den[f] = den.get(f, 0) + e
+        value = (num, den)
+    elif expr.is_Pow and expr.exp.is_Integer:
+        n, d = _fraction(expr.base, ring, cache)
+        k = int(expr.exp)
+        if k >= 0:
+            value = (n**k, {f: e * k for f, e in d.items()})
+        else:
+            num = ring.one
+            for f, e in d.items():
+                num = num * f ** (-e * k)
+            value = (num, {n: -k})
+    else:
+        raise ValueError(f"not a rational function: {expr}")
+    cache[expr] = value
+    return value
+
+
+#: pi and E as indeterminates: an identity in them holds for their values too.
+_CONSTANTS = {sp.pi: sp.Dummy("pi"), sp.E: sp.Dummy("E")}
+
+
+def numerator(rewritten: sp.Expr) -> sp.Expr:
+    """The expanded numerator of an expression rewritten by ``Atoms`` (s as M . gamma)."""
+    rational = rewritten.xreplace({s: S_VALUE})
+    return sp.expand(sp.numer(sp.together(rational)))
+
+
+def reduce_radical(numer: sp.Expr, rho: sp.Symbol, q: int, base: sp.Expr) -> sp.Expr:
+    """numer modulo rho**q - base: every rho**k becomes base**(k // q) * rho**(k % q)."""
+    if not numer.has(rho):
+        return numer
+    poly = sp.Poly(numer, rho)
+    reduced = sp.Add(*(c * base ** (k // q) * rho ** (k % q) for (k,), c in poly.terms()))
+    return sp.expand(reduced)

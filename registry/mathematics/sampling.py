@@ -1,0 +1,271 @@
+"""Exact random points of a domain, and concrete instances of a family's functions.
+
+The zero test probes residuals at such points (``zero_test``), the numeric evidence
+starts its trajectories there (``audit.numeric_evidence``). A point is exact:
+rational where the case's radicals allow it (|gamma| and one planar radius are made
+rational, so square roots of |gamma|**2 evaluate exactly), placed exactly on a
+claim's level set, with parameters that respect their assumptions, and inside the
+domain (moments of inertia nonzero, the case's expressions defined). A family's
+arbitrary functions become random quadratic polynomials.
+"""
+
+from __future__ import annotations
+
+import itertools
+import random
+from collections.abc import Iterator, Mapping, Sequence
+from fractions import Fraction
+from typing import TYPE_CHECKING
+
+import sympy as sp
+from sympy.core.function import AppliedUndef
+
+from .certified_evaluation import OutsideDomain, evaluate, exact_root
+from .mechanics import AXIS, MOMENTUM, S_VALUE, STATE, s
+
+if TYPE_CHECKING:
+    from .zero_test import Domain
+
+
+def _rational(rng: random.Random, *, positive=False, nonzero=False, integer=False) -> Fraction:
+    """A small random rational (or integer) respecting the assumptions."""
+    while True:
+        if integer:
+            v = Fraction(rng.randint(1 if positive else -6, 6))
+        else:
+            num = rng.randint(1 if positive else -23, 23)
+            v = Fraction(num, rng.randint(1, 11))
+        if v != 0 or not (positive or nonzero):
+            return v
+
+
+def _parameter_value(sym: sp.Symbol, rng: random.Random) -> Fraction:
+    return _rational(
+        rng,
+        positive=bool(sym.is_positive),
+        nonzero=bool(sym.is_nonzero),
+        integer=bool(sym.is_integer),
+    )
+
+
+def _pythagorean(rng: random.Random, radius: Fraction) -> tuple[Fraction, Fraction]:
+    """A rational point on the circle of the given radius."""
+    t = _rational(rng)
+    return radius * (1 - t * t) / (1 + t * t), radius * 2 * t / (1 + t * t)
+
+
+def _axis_points(rng: random.Random) -> list[list[Fraction]]:
+    """Rational gamma with |gamma| and one planar radius rational, so that square roots
+    of |gamma|**2 and of gamma_i**2 + gamma_j**2 evaluate exactly; the three
+    arrangements make each planar radius the rational one in turn."""
+    big = _rational(rng, positive=True)
+    r, third = _pythagorean(rng, big)
+    a, b = _pythagorean(rng, r)
+    if rng.random() < 0.5:
+        a, b = b, a
+    return [[a, b, third], [third, a, b], [a, third, b]]
+
+
+def radical_bases(exprs) -> list[tuple[sp.Expr, int]]:
+    """The bases and root orders of the radicals in ``exprs``."""
+    found = {
+        (p.base, int(p.exp.q))
+        for e in exprs
+        for p in e.atoms(sp.Pow)
+        if p.exp.is_Rational and not p.exp.is_Integer and p.base.free_symbols
+    }
+    return sorted(found, key=str)
+
+
+def _exact_radicals(point: Mapping, bases: Sequence[tuple[sp.Expr, int]]) -> int:
+    """How many of the radicals are rational at the point (higher is better)."""
+    count = 0
+    for base, q in bases:
+        try:
+            value = evaluate(base, point)
+        except (OutsideDomain, ValueError):
+            continue
+        if value.is_exact and value.exact >= 0 and exact_root(value.exact, q) is not None:
+            count += 1
+    return count
+
+
+def sample_point(domain: Domain, rng: random.Random, funcs, bases=()) -> dict | None:
+    """A random exact point of the domain (on the level set), or None.
+
+    Of the candidate arrangements of gamma, the one where most of the ``bases``
+    (radicals of the residuals) are rational is taken, so values stay exact.
+    """
+    point: dict[sp.Symbol, sp.Expr] = {}
+    for sym in domain.parameters:
+        point[sym] = sp.Rational(_parameter_value(sym, rng))
+    for sym in MOMENTUM:
+        point[sym] = sp.Rational(_rational(rng))
+    best, best_score = None, -1
+    for axis in _axis_points(rng):
+        candidate = {**point, **{g: sp.Rational(v) for g, v in zip(AXIS, axis, strict=True)}}
+        candidate[s] = sp.expand(S_VALUE.xreplace(candidate))
+        score = _exact_radicals(candidate, bases) if bases else 0
+        if score > best_score:
+            best, best_score = candidate, score
+    point = best
+    if domain.on:
+        del point[s]
+        if not _place_on_set(point, domain.on, rng, funcs):
+            return None
+        point[s] = sp.expand(S_VALUE.xreplace(point))
+    try:
+        if not all(evaluate(e, point).certainly_nonzero() for e in domain.nonzero):
+            return None
+        for expr in domain.defined:
+            evaluate(substitute_functions(expr, funcs), point)
+    except OutsideDomain:
+        return None
+    return point
+
+
+def _place_on_set(point: dict, equations: Sequence[sp.Expr], rng, funcs) -> bool:
+    """Move ``point`` onto the level set, solving the equations one variable at a time.
+
+    Each equation pins unpinned state variables: linearly, by scaling a homogeneous
+    group (M or gamma), or by a real root of a quadratic. Orders are tried until the
+    exact point satisfies every equation.
+    """
+    eqs = [substitute_functions(e, funcs).xreplace({s: S_VALUE}) for e in equations]
+    start = dict(point)
+    for order in itertools.islice(itertools.permutations(eqs), 6):
+        point.clear()
+        point.update(start)
+        pinned: set[sp.Symbol] = set()
+        if all(_pin(eq, point, pinned, rng) for eq in order) and _on_set(point, eqs):
+            return True
+    return False
+
+
+def _pin(eq: sp.Expr, point: dict, pinned: set, rng: random.Random) -> bool:
+    free = [v for v in STATE if v not in pinned and eq.has(v)]
+    if not free:
+        return False
+    known = {k: v for k, v in point.items() if k not in free}
+    reduced = sp.together(eq.xreplace(known))
+    numer = sp.numer(reduced)
+    for v in free:  # linear in one variable: a rational solution
+        fixed = {k: point[k] for k in free if k != v}
+        expr = numer.xreplace(fixed)
+        if not expr.is_polynomial(v):
+            continue
+        poly = sp.Poly(expr, v)
+        if poly.degree() == 1 and poly.nth(1) != 0:
+            point[v] = sp.expand(-poly.nth(0) / poly.nth(1))
+            pinned.add(v)
+            return True
+    for group in (AXIS, MOMENTUM):  # homogeneous in a group: scale the group
+        if _scale_group(numer, group, free, point, pinned):
+            return True
+    for v in free:  # quadratic (or higher) in one variable: a real root
+        fixed = {k: point[k] for k in free if k != v}
+        expr = numer.xreplace(fixed)
+        if not expr.is_polynomial(v):
+            continue
+        poly = sp.Poly(expr, v)
+        if poly.degree() > 2:  # roots would be CRootOf, which the evaluator cannot certify
+            continue
+        roots = [r for r in poly.all_roots() if r.is_real]
+        if roots:
+            point[v] = rng.choice(roots)
+            pinned.add(v)
+            return True
+    return False
+
+
+def _scale_group(numer, group, free, point, pinned) -> bool:
+    if not all(g in free for g in group):
+        return False
+    lam = sp.Dummy("lam", positive=True)
+    others = {k: point[k] for k in free if k not in group}
+    scaled = sp.expand(numer.xreplace(others).xreplace({g: lam * point[g] for g in group}))
+    if not scaled.is_polynomial(lam):
+        return False
+    poly = sp.Poly(scaled, lam)
+    terms = [(m[0], c) for m, c in poly.terms() if c != 0]
+    if len(terms) != 2 or min(d for d, _ in terms) != 0:
+        return False
+    (d, a), (_, c) = sorted(terms, reverse=True)
+    ratio = -c / a
+    if not (ratio.is_positive):
+        return False
+    factor = ratio ** sp.Rational(1, d)
+    for g in group:
+        point[g] = point[g] * factor
+        pinned.add(g)
+    return True
+
+
+def _on_set(point: dict, eqs: Sequence[sp.Expr]) -> bool:
+    """Exact check that the point satisfies the equations."""
+    for eq in eqs:
+        value = eq.xreplace(point)
+        if sp.simplify(value) != 0:
+            return False
+    return True
+
+
+# --- arbitrary functions: concrete choices for probes -----------------------
+
+
+def concrete_functions(functions, rng: random.Random) -> dict[str, sp.Lambda]:
+    """A random quadratic polynomial for each declared function (a family's instance)."""
+    chosen = {}
+    for name, (_, args) in functions.items():
+        terms = [sp.Rational(_rational(rng, nonzero=True))]
+        terms += [sp.Rational(_rational(rng)) * a for a in args]
+        terms += [
+            sp.Rational(_rational(rng)) / 2 * a * b
+            for a, b in itertools.combinations_with_replacement(args, 2)
+        ]
+        chosen[name] = sp.Lambda(args, sp.Add(*terms))
+    return chosen
+
+
+def substitute_functions(expr: sp.Expr, funcs: Mapping[str, sp.Lambda]) -> sp.Expr:
+    """Replace each declared function by its concrete choice and its derivatives by the
+    derivatives of that choice (one substitution; ``replace`` + ``doit`` where other
+    structures such as Subs appear)."""
+    if not funcs or not expr.has(AppliedUndef):
+        return expr
+    if expr.has(sp.Subs):
+
+        def concrete(e) -> bool:
+            return isinstance(e, AppliedUndef) and e.func.__name__ in funcs
+
+        return expr.replace(concrete, lambda e: funcs[e.func.__name__](*e.args)).doit()
+    mapping: dict[sp.Expr, sp.Expr] = {}
+    for f in expr.atoms(AppliedUndef):
+        if f.func.__name__ in funcs:
+            mapping[f] = funcs[f.func.__name__](*f.args)
+    for d in expr.atoms(sp.Derivative):
+        if d.expr in mapping:
+            mapping[d] = _derivative(mapping[d.expr], d.variable_count)
+    return expr.xreplace(mapping)
+
+
+def _derivative(value: sp.Expr, variable_count) -> sp.Expr:
+    """A derivative of a concrete function (a polynomial): through Poly, which skips the
+    assumption queries of ``sp.diff`` (most of the cost of probing a family)."""
+    variables = [v for v, _ in variable_count]
+    if all(isinstance(v, sp.Symbol) for v in variables) and value.is_polynomial(*variables):
+        poly = sp.Poly(value, *variables)
+        return poly.diff(*((v, int(n)) for v, n in variable_count)).as_expr()
+    return sp.diff(value, *variable_count)
+
+
+def sample_points(domain: Domain, count: int, seed: int = 0) -> Iterator[dict]:
+    """Exact random points of the domain (used by tests and numeric evidence)."""
+    rng = random.Random(seed)
+    funcs = concrete_functions(domain.functions, rng)
+    produced = 0
+    while produced < count:
+        point = sample_point(domain, rng, funcs)
+        if point is not None:
+            produced += 1
+            yield point
