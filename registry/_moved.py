@@ -35,7 +35,7 @@ MOVED: dict[str, tuple[str, ...]] = {
         "registry.mathematics.sampling",
         "registry.mathematics.normal_form",
     ),
-    "registry.families": ("registry.mathematics.families",),
+    "registry.families": ("registry.mathematics.families", "registry.mathematics.potentials"),
     "registry.conditions": ("registry.mathematics.parameter_conditions",),
     "registry.expressions": (
         "registry.language.parser",

@@ -29,6 +29,12 @@ OLD_NAMES = [
     ("registry.zero", "_Atoms", "registry.mathematics.normal_form", "Atoms"),
     ("registry.families", "recognise", "registry.mathematics.families", "recognise"),
     (
+        "registry.families",
+        "tangential_potential",
+        "registry.mathematics.potentials",
+        "tangential_potential",
+    ),
+    (
         "registry.conditions",
         "parameter_conditions",
         "registry.mathematics.parameter_conditions",

@@ -1,19 +1,15 @@
 """Recognising a torque's family in the paper's classification, with its functions; each
 Casimir found is re-checked here independently (50-digit evaluation at random points)."""
 
-import random
-
 import pytest
-import sympy as sp
 from independent_checks import casimir_residual, vanishes_numerically
 from samples import CASES, case_file
 
 from registry import Verdict, load_case
 from registry.audit.checks import Mechanics
-from registry.mathematics import families
 from registry.mathematics import mechanics as mech
 from registry.mathematics.families import recognise
-from registry.mathematics.zero_test import Domain, decide
+from registry.mathematics.zero_test import decide
 
 
 def load(case_id):
@@ -65,36 +61,3 @@ def test_families_are_recognised_with_a_casimir_where_poisson(case_id, name):
     if not case.functions:
         assert vanishes_numerically(case, casimir_residual(case, m.mu, family.casimir))
         assert not vanishes_numerically(case, [mech.total_diff(family.casimir, mech.M1)])
-
-
-def _random_polynomial(rng: random.Random, degree: int) -> sp.Expr:
-    g, p = mech.AXIS, sp.Symbol("p", real=True)
-    return sp.Add(
-        *(
-            sp.Rational(rng.randint(-7, 7), rng.randint(1, 4))
-            * (p if rng.random() < 0.3 else 1)
-            * sp.Mul(*(rng.choice(g) for _ in range(rng.randint(0, degree))))
-            for _ in range(6)
-        )
-    )
-
-
-@pytest.mark.parametrize("seed", range(8))
-def test_polynomial_ansatz_finds_phi_of_a_random_psi_gamma_plus_grad_phi(seed):
-    rng = random.Random(seed)
-    phi, psi = _random_polynomial(rng, 4), _random_polynomial(rng, 2)
-    nu = tuple(sp.expand(psi * g + sp.diff(phi, g)) for g in mech.AXIS)
-    found = families._polynomial_ansatz(nu, Domain())
-    assert found is not None
-    # the tangential parts agree: gamma x (nu - grad found) = 0 identically
-    tangential = [n - sp.diff(found, g) for n, g in zip(nu, mech.AXIS, strict=True)]
-    rest = mech.cross(mech.AXIS, tangential)
-    assert all(sp.expand(r) == 0 for r in rest)
-
-
-def test_a_rotation_field_has_no_tangential_potential():
-    g1, g2, g3 = mech.AXIS
-    k = sp.Symbol("k", positive=True)
-    domain = Domain(parameters=(k,))
-    assert families.tangential_potential((-k * g2, k * g1, sp.Integer(0)), domain) is None
-    assert families.tangential_potential((g3 - g2, g1, g1 * g2), domain) is None
