@@ -44,7 +44,7 @@ MOVED: dict[str, tuple[str, ...]] = {
     ),
     "registry.casefile": ("registry.language.casefile",),
     "registry.export": ("registry.language.case_writer",),
-    "registry.checks": ("registry.audit.checks",),
+    "registry.checks": ("registry.audit.checks", "registry.mathematics.case_mechanics"),
     "registry.corrections": ("registry.audit.repairs",),
     "registry.numeric": ("registry.audit.numeric_evidence",),
     "registry.budget": ("registry.audit.time_budget",),
@@ -71,6 +71,7 @@ RENAMED: dict[str, dict[str, str]] = {
         "_reduce_radical": "reduce_radical",
     },
     "registry.expressions": {"Budget": "ParseBudget"},
+    "registry.checks": {"Mechanics": "CaseMechanics"},
 }
 
 

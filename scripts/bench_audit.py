@@ -24,11 +24,11 @@ import sympy as sp
 
 import registry
 from registry.audit.case_audit import audit_case
-from registry.audit.checks import Mechanics
 from registry.audit.time_budget import Budget
 from registry.audit.worker_pool import audit_in_workers, default_jobs
 from registry.language.printer import to_text
 from registry.mathematics import mechanics as mech
+from registry.mathematics.case_mechanics import CaseMechanics
 from registry.model import Verdict
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -39,7 +39,7 @@ CHECKS = ["jacobi", "energy", "c1", "hamiltonian", "integral", "casimir"]
 
 
 def naive_residuals(case) -> dict[tuple[str, str | None], list[sp.Expr]]:
-    m = Mechanics(case)
+    m = CaseMechanics(case)
     out = {
         ("jacobi", None): list(m.jacobiator.values()),
         ("energy", None): [mech.time_derivative(m.hamiltonian, m.field)],

@@ -53,6 +53,7 @@ OLD_NAMES = [
         "corrected_case_text",
     ),
     ("registry.checks", "CHECKS", "registry.audit.checks", "CHECKS"),
+    ("registry.checks", "Mechanics", "registry.mathematics.case_mechanics", "CaseMechanics"),
     ("registry.corrections", "repairs", "registry.audit.repairs", "repairs"),
     ("registry.numeric", "claim_drift", "registry.audit.numeric_evidence", "claim_drift"),
     ("registry.budget", "time_limit", "registry.audit.time_budget", "time_limit"),

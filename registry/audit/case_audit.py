@@ -12,6 +12,7 @@ import time
 from collections.abc import Iterable
 from dataclasses import replace
 
+from ..mathematics.case_mechanics import CaseMechanics
 from ..model import (
     Case,
     CaseAudit,
@@ -22,7 +23,7 @@ from ..model import (
     FamilyRecord,
     Verdict,
 )
-from .checks import CHECKS, CheckSpec, Mechanics
+from .checks import CHECKS, CheckSpec
 from .numeric_evidence import evidence as numeric_evidence
 from .repairs import repairs
 from .time_budget import Budget, BudgetExceeded, time_limit
@@ -54,40 +55,40 @@ def audit_case(
     unknown = wanted - set(CHECKS)
     if unknown:
         raise ValueError(f"unknown check(s): {', '.join(sorted(unknown))}")
-    mech = Mechanics(case)
+    m = CaseMechanics(case)
     results: list[CheckResult] = []
     for spec in CHECKS.values():
         if spec.name not in wanted:
             continue
         seconds = budget.check if budget else None
         if not spec.per_claim:
-            results.append(_run(spec, mech, seconds=seconds))
+            results.append(_run(spec, m, seconds=seconds))
             continue
         for claim in case.claims:
             if spec.applies(claim):
-                results.append(_run(spec, mech, claim, seconds=seconds))
+                results.append(_run(spec, m, claim, seconds=seconds))
     audit = CaseAudit(case.id, case.content_hash, tuple(results))
     if repair if repair is not None else checks is None:
-        audit = _with_repairs(audit, mech, budget.repairs if budget else None)
+        audit = _with_repairs(audit, m, budget.repairs if budget else None)
     if numeric:
-        audit = _with_evidence(audit, mech, budget.repairs if budget else None)
+        audit = _with_evidence(audit, m, budget.repairs if budget else None)
     return audit
 
 
-def _with_evidence(audit: CaseAudit, mech: Mechanics, seconds: float | None) -> CaseAudit:
+def _with_evidence(audit: CaseAudit, m: CaseMechanics, seconds: float | None) -> CaseAudit:
     integral = {r.claim: r.verdict for r in audit.results if r.check == "integral"}
     try:
         with time_limit(seconds):
-            found = numeric_evidence(mech, integral)
+            found = numeric_evidence(m, integral)
     except BudgetExceeded:
         found = tuple(
             Evidence(c.label, math.nan, math.nan, 0, note="time budget exceeded")
-            for c in mech.case.claims
+            for c in m.case.claims
         )
     except Exception as exc:  # evidence must not lose the verdicts
         found = tuple(
             Evidence(c.label, math.nan, math.nan, 0, note=f"{type(exc).__name__}: {exc}")
-            for c in mech.case.claims
+            for c in m.case.claims
         )
     return replace(audit, evidence=found)
 
@@ -100,10 +101,10 @@ def count_checks(case: Case) -> int:
     )
 
 
-def _with_repairs(audit: CaseAudit, mech: Mechanics, seconds: float | None) -> CaseAudit:
+def _with_repairs(audit: CaseAudit, m: CaseMechanics, seconds: float | None) -> CaseAudit:
     try:
         with time_limit(seconds):
-            family, corrections, conditions = repairs(mech, audit.results)
+            family, corrections, conditions = repairs(m, audit.results)
     except BudgetExceeded:
         family = FamilyRecord("none", reason=f"repairs: time budget exceeded ({seconds:g} s)")
         corrections, conditions = (), ()
@@ -114,13 +115,13 @@ def _with_repairs(audit: CaseAudit, mech: Mechanics, seconds: float | None) -> C
 
 
 def _run(
-    spec: CheckSpec, mech: Mechanics, claim: Claim | None = None, *, seconds: float | None
+    spec: CheckSpec, m: CaseMechanics, claim: Claim | None = None, *, seconds: float | None
 ) -> CheckResult:
     started = time.perf_counter()
     label = None if claim is None else claim.label
     try:
         with time_limit(seconds):
-            return spec.run(mech) if claim is None else spec.run(mech, claim)
+            return spec.run(m) if claim is None else spec.run(m, claim)
     except BudgetExceeded:
         return CheckResult(
             check=spec.name,

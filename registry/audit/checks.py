@@ -1,88 +1,25 @@
 """The checks: each a small function stating one mathematical claim about a case.
 
 A check returns a ``CheckResult`` (verdict, method, witness, time), never a
-bare bool. Case checks take the case's ``Mechanics``; claim checks also take
-the claim. The symbolic objects (Pi_mu, the vector field, H) are built once
-per case in ``Mechanics`` and shared by every check.
+bare bool. Case checks take the case's ``CaseMechanics``; claim checks also take
+the claim. The symbolic objects (Pi_mu, the vector field, H) and the residuals are
+built once per case in ``CaseMechanics`` and shared by every check and repair.
+A new check is one more decorated function here (``@check``).
 """
 
 from __future__ import annotations
 
 import time
-import zlib
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
-from functools import cached_property
 
 import sympy as sp
 
 from ..mathematics import mechanics as mech
 from ..mathematics import symengine_bridge
-from ..mathematics.zero_test import Domain, ZeroTest, decide
-from ..model import Case, CheckResult, Claim, Verdict
-
-
-class Mechanics:
-    """The symbolic objects of one case, computed once: Pi_mu, X, H and the domain."""
-
-    def __init__(self, case: Case):
-        self.case = case
-        self.inertia = case.system.inertia_exprs
-        self.potential = case.system.potential.expr
-        self.mu = case.system.torque_exprs
-        self._memo: dict[tuple, CheckResult] = {}
-
-    @cached_property
-    def domain(self) -> Domain:
-        return Domain(
-            parameters=tuple(self.case.parameters.values()),
-            functions=dict(self.case.functions),
-            nonzero=tuple(self.inertia),
-            defined=(self.potential, *self.mu),
-        )
-
-    @cached_property
-    def pi(self) -> sp.Matrix:
-        return mech.poisson_tensor(self.mu)
-
-    @cached_property
-    def field(self) -> tuple[sp.Expr, ...]:
-        return mech.vector_field(self.inertia, self.potential, self.mu)
-
-    @cached_property
-    def hamiltonian(self) -> sp.Expr:
-        return mech.hamiltonian(self.inertia, self.potential)
-
-    @cached_property
-    def jacobiator(self) -> dict[str, sp.Expr]:
-        """The 20 components of the Jacobi identity for Pi_mu, by index triple."""
-        names = [str(v) for v in mech.STATE]
-        return {
-            f"J[{names[i]},{names[j]},{names[k]}]": value
-            for (i, j, k), value in mech.jacobiator(self.pi).items()
-        }
-
-    def claim_domain(self, claim: Claim) -> Domain:
-        """Where a claim is decided: the case's domain on the claim's level set (its ``on``
-        equations, nothing added), at points where the claimed expression is defined."""
-        return self.domain.restricted([eq.expr for eq in claim.on]).requiring(
-            [claim.expression.expr]
-        )
-
-    def casimir_residual(self, expr: sp.Expr) -> dict[str, sp.Expr]:
-        """Pi_mu nabla f, by component (row of Pi_mu)."""
-        values = self.pi * sp.Matrix(mech.gradient(expr))
-        return {f"Pi grad[{v}]": values[i] for i, v in enumerate(mech.STATE)}
-
-    def once(self, key: tuple, compute: Callable[[], CheckResult]) -> CheckResult:
-        """Compute a result once per case (e.g. a level set's invariance, used twice)."""
-        if key not in self._memo:
-            self._memo[key] = compute()
-        return self._memo[key]
-
-    def seed(self, check: str, claim: str | None = None) -> int:
-        """A stable seed per case and check, so verdicts and witnesses reproduce."""
-        return zlib.crc32(f"{self.case.id}/{check}/{claim or ''}".encode())
+from ..mathematics.case_mechanics import CaseMechanics
+from ..mathematics.zero_test import ZeroTest, decide
+from ..model import CheckResult, Claim, Verdict
 
 
 @dataclass(frozen=True)
@@ -165,7 +102,7 @@ def _text(expr: sp.Expr) -> str:
         return sp.sstr(expr)
 
 
-def _decide(m: Mechanics, name: str, residuals, claim: Claim | None = None) -> ZeroTest:
+def _decide(m: CaseMechanics, name: str, residuals, claim: Claim | None = None) -> ZeroTest:
     """The zero test on the case's domain, or on the claim's level set where the claim
     itself must be defined."""
     domain = m.domain if claim is None else m.claim_domain(claim)
@@ -173,7 +110,7 @@ def _decide(m: Mechanics, name: str, residuals, claim: Claim | None = None) -> Z
 
 
 @check("jacobi", cost="expensive")
-def jacobi(m: Mechanics) -> CheckResult:
+def jacobi(m: CaseMechanics) -> CheckResult:
     """Pi_mu satisfies the Jacobi identity, i.e. it is a Poisson tensor (all 20 components)."""
     started = time.perf_counter()
     residuals = m.jacobiator
@@ -181,7 +118,7 @@ def jacobi(m: Mechanics) -> CheckResult:
 
 
 @check("energy")
-def energy(m: Mechanics) -> CheckResult:
+def energy(m: CaseMechanics) -> CheckResult:
     """The Hamiltonian H = M.I^-1 M/2 + U is conserved: dH/dt = 0 along (2.2)."""
     started = time.perf_counter()
     residuals = {"dH/dt": mech.time_derivative(m.hamiltonian, m.field)}
@@ -189,7 +126,7 @@ def energy(m: Mechanics) -> CheckResult:
 
 
 @check("c1")
-def c1(m: Mechanics) -> CheckResult:
+def c1(m: CaseMechanics) -> CheckResult:
     """C1 = |gamma|^2/2 is a Casimir of Pi_mu: Pi_mu grad C1 = 0."""
     started = time.perf_counter()
     residuals = m.casimir_residual(mech.C1)
@@ -197,7 +134,7 @@ def c1(m: Mechanics) -> CheckResult:
 
 
 @check("hamiltonian")
-def hamiltonian(m: Mechanics) -> CheckResult:
+def hamiltonian(m: CaseMechanics) -> CheckResult:
     """System (2.2) is Hamiltonian for Pi_mu: its vector field equals Pi_mu grad H."""
     started = time.perf_counter()
     generated = mech.hamiltonian_vector_field(m.pi, m.hamiltonian)
@@ -208,7 +145,7 @@ def hamiltonian(m: Mechanics) -> CheckResult:
 
 
 @check("invariant", per_claim=True, applies=lambda claim: bool(claim.on))
-def invariant(m: Mechanics, claim: Claim) -> CheckResult:
+def invariant(m: CaseMechanics, claim: Claim) -> CheckResult:
     """The claim's level set is invariant under the flow: dg/dt = 0 where every g = 0."""
 
     def compute() -> CheckResult:
@@ -221,10 +158,10 @@ def invariant(m: Mechanics, claim: Claim) -> CheckResult:
 
 
 @check("integral", per_claim=True)
-def integral(m: Mechanics, claim: Claim) -> CheckResult:
+def integral(m: CaseMechanics, claim: Claim) -> CheckResult:
     """The claimed expression I is conserved: dI/dt = 0 along (2.2) (on its level set)."""
     started = time.perf_counter()
-    residuals = {"dI/dt": mech.time_derivative(claim.expression.expr, m.field)}
+    residuals = m.integral_residual(claim.expression.expr)
     test = _decide(m, "integral", residuals, claim)
     reason = None
     if test.verdict is Verdict.VERIFIED and claim.on:
@@ -241,7 +178,7 @@ def integral(m: Mechanics, claim: Claim) -> CheckResult:
 
 
 @check("casimir", per_claim=True)
-def casimir(m: Mechanics, claim: Claim) -> CheckResult:
+def casimir(m: CaseMechanics, claim: Claim) -> CheckResult:
     """The claimed expression I is a Casimir of Pi_mu: Pi_mu grad I = 0 (on its level set)."""
     started = time.perf_counter()
     residuals = m.casimir_residual(claim.expression.expr)

@@ -32,9 +32,9 @@ import sympy as sp
 
 from ..language.parser import FUNCTIONS
 from ..mathematics import mechanics as mech
+from ..mathematics.case_mechanics import CaseMechanics
 from ..mathematics.sampling import concrete_functions, sample_point, substitute_functions
 from ..model import Claim, Evidence, Verdict
-from .checks import Mechanics
 
 #: Integration time, tolerances and runs per claim.
 T_END = 5.0
@@ -77,7 +77,7 @@ class Drift:
         return {"drift": self.drift, "floor": self.floor, "runs": self.runs, "note": self.note}
 
 
-def narrowing(m: Mechanics) -> str:
+def narrowing(m: CaseMechanics) -> str:
     """Why the numbers of this case stand on a smaller set than its claims' (or "")."""
     if m.case.functions:
         names = ", ".join(m.case.functions)
@@ -85,7 +85,7 @@ def narrowing(m: Mechanics) -> str:
     return ""
 
 
-def _setup(m: Mechanics, claim: Claim, rng: random.Random):
+def _setup(m: CaseMechanics, claim: Claim, rng: random.Random):
     """Where to start (the set where the symbolic check decided), the concrete functions
     of a family, and the vector field, H and I ready to evaluate."""
     funcs = concrete_functions(m.case.functions, rng)
@@ -94,7 +94,7 @@ def _setup(m: Mechanics, claim: Claim, rng: random.Random):
     return m.claim_domain(claim), funcs, exprs
 
 
-def claim_drift(m: Mechanics, claim: Claim, seed: int = 0, runs: int = RUNS) -> Drift:
+def claim_drift(m: CaseMechanics, claim: Claim, seed: int = 0, runs: int = RUNS) -> Drift:
     """Integrate from ``runs`` random points of the claim's level set; measure the drifts."""
     rng = random.Random(seed)
     domain, funcs, exprs = _setup(m, claim, rng)
@@ -130,7 +130,7 @@ class Trajectory:
     start: dict[str, float]
 
 
-def trajectory(m: Mechanics, claim: Claim, seed: int = 0, t_end: float = T_END) -> Trajectory:
+def trajectory(m: CaseMechanics, claim: Claim, seed: int = 0, t_end: float = T_END) -> Trajectory:
     """The first trajectory ``claim_drift`` would integrate (same seed, same start), in full.
 
     Raises ValueError when no trajectory could be integrated.
@@ -209,7 +209,7 @@ def _relative(values: np.ndarray) -> float:
     return float(np.max(np.abs(values - values[0])) / max(1.0, abs(values[0])))
 
 
-def evidence(m: Mechanics, integral: dict[str, Verdict], seed: int = 0) -> tuple[Evidence, ...]:
+def evidence(m: CaseMechanics, integral: dict[str, Verdict], seed: int = 0) -> tuple[Evidence, ...]:
     """Evidence for every claim, compared with its ``integral`` verdict (label -> verdict)."""
     out = []
     for claim in m.case.claims:

@@ -18,6 +18,7 @@ import sympy as sp
 
 from ..language.printer import to_text
 from ..mathematics import mechanics as mech
+from ..mathematics.case_mechanics import CaseMechanics
 from ..mathematics.families import Family, recognise
 from ..mathematics.mechanics import AXIS, MOMENTUM
 from ..mathematics.parameter_conditions import equations_text, parameter_conditions
@@ -32,10 +33,12 @@ from ..model import (
     FamilyRecord,
     Verdict,
 )
-from .checks import Mechanics, casimir, jacobi
+from .checks import casimir, jacobi
 
 
-def corrected_casimir(m: Mechanics, family: Family, claim: str | None = None) -> Correction | None:
+def corrected_casimir(
+    m: CaseMechanics, family: Family, claim: str | None = None
+) -> Correction | None:
     """The family's Casimir C(gamma, s), if Pi_mu is Poisson and C re-checks as a Casimir
     that is independent of C1 (grad_M C is not identically zero)."""
     if family.casimir is None:
@@ -64,7 +67,7 @@ def _prettier(expr: sp.Expr) -> sp.Expr:
     return expr
 
 
-def corrected_torque(m: Mechanics, claim: Claim) -> Correction | None:
+def corrected_torque(m: CaseMechanics, claim: Claim) -> Correction | None:
     """mu' under which the claimed I is a Casimir, changing as few components as it can.
 
     Needs I = I(gamma, s) with d_s I != 0. The result is reported only if Pi_mu'
@@ -92,7 +95,7 @@ def corrected_torque(m: Mechanics, claim: Claim) -> Correction | None:
         for k in range(3)
     )
     changed = tuple(k for k in range(3) if k not in kept)
-    repaired = Mechanics(replace(m.case, system=replace(m.case.system, torque=torque)))
+    repaired = CaseMechanics(replace(m.case, system=replace(m.case.system, torque=torque)))
     poisson = jacobi(repaired)
     holds = casimir(repaired, claim)
     if poisson.verdict is not Verdict.VERIFIED or holds.verdict is not Verdict.VERIFIED:
@@ -111,7 +114,7 @@ def _expression(expr: sp.Expr) -> Expression:
     return Expression(to_text(expr), expr)
 
 
-def _best_lambda(m: Mechanics, w: list[sp.Expr]) -> tuple[sp.Expr, set[int]]:
+def _best_lambda(m: CaseMechanics, w: list[sp.Expr]) -> tuple[sp.Expr, set[int]]:
     """lambda making the most components of mu' equal to those of mu, and which ones.
 
     Component k stays unchanged for lambda_k = (mu_k - w_k)/gamma_k; components whose
@@ -156,7 +159,7 @@ def _irrational_parts(term: sp.Expr) -> frozenset:
     )
 
 
-def holds_when(residuals, m: Mechanics, target: str) -> Conditions:
+def holds_when(residuals, m: CaseMechanics, target: str) -> Conditions:
     """The parameter conditions under which ``residuals`` vanish, as case-file equations."""
     found = parameter_conditions(residuals, m.domain, m.inertia)
     branches = tuple(tuple(equations_text(b, to_text)) for b in found.branches)
@@ -181,7 +184,7 @@ def family_record(family: Family) -> FamilyRecord:
 
 
 def repairs(
-    m: Mechanics, results: Sequence[CheckResult]
+    m: CaseMechanics, results: Sequence[CheckResult]
 ) -> tuple[FamilyRecord, tuple[Correction, ...], tuple[Conditions, ...]]:
     """The family of the torque, the repairs of every refuted claim and the conditions
     under which failed identities hold, for an audited case."""
@@ -208,8 +211,9 @@ def repairs(
         if claim.on:
             conditions.append(Conditions(claim.label, reason="not sought on level sets"))
             continue
+        # the residual its check decided on (memoized by CaseMechanics, not recomputed)
         if claim.kind is ClaimKind.INTEGRAL:
-            residuals = {"dI/dt": mech.time_derivative(claim.expression.expr, m.field)}
+            residuals = m.integral_residual(claim.expression.expr)
         else:
             residuals = m.casimir_residual(claim.expression.expr)
         conditions.append(holds_when(residuals, m, claim.label))

@@ -12,8 +12,8 @@ from pathlib import Path
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
-from ..audit.checks import Mechanics
 from ..audit.numeric_evidence import trajectory
+from ..mathematics.case_mechanics import CaseMechanics
 from ..model import Case
 
 
@@ -29,7 +29,7 @@ def drift_plot(case: Case, claim_label: str, path: str | os.PathLike, seed: int 
     Raises KeyError for an unknown claim, ValueError when nothing could be integrated.
     """
     claim = case.claim(claim_label)
-    run = trajectory(Mechanics(case), claim, seed)
+    run = trajectory(CaseMechanics(case), claim, seed)
     fig = Figure(figsize=(6.4, 3.6), dpi=100, layout="constrained")
     FigureCanvasAgg(fig)
     ax = fig.add_subplot()

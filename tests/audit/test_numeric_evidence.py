@@ -11,15 +11,15 @@ from samples import CASES, CLASSICAL
 import registry
 from registry import Verdict, load_case
 from registry.audit import numeric_evidence
-from registry.audit.checks import Mechanics
 from registry.audit.numeric_evidence import DISAGREE_FACTOR, Drift, claim_drift
 from registry.cli import main
 from registry.mathematics import mechanics as mech
+from registry.mathematics.case_mechanics import CaseMechanics
 
 
 def test_yehia_b_I2_drifts_orders_of_magnitude_above_h():
     case = load_case(CASES / "yehia-2003-kovalevskaya-b.toml")
-    d = claim_drift(Mechanics(case), case.claim("I2"))
+    d = claim_drift(CaseMechanics(case), case.claim("I2"))
     assert d.runs >= 2
     assert d.drift > 1e3 * d.floor
     assert d.drift > 1e-2
@@ -38,7 +38,7 @@ def test_yehia_b_I2_drifts_orders_of_magnitude_above_h():
 )
 def test_true_claims_stay_at_the_noise_floor(case_id):
     case = load_case(CASES / f"{case_id}.toml")
-    d = claim_drift(Mechanics(case), case.claims[0])
+    d = claim_drift(CaseMechanics(case), case.claims[0])
     assert d.runs >= 2
     assert d.drift < 1e-7
     assert not d.contradicts(Verdict.VERIFIED)
@@ -195,13 +195,13 @@ def test_a_claim_in_unit_sphere_form_on_s_zero_is_refuted_there_and_the_numbers_
     # been taken there (the old default), a flat drift would have contradicted "refuted"
     on_sphere = case.claim("K-sphere-form-on-sphere")
     assert sp.simplify(on_sphere.expression.expr - claim.expression.expr) == 0
-    flat = claim_drift(Mechanics(case), on_sphere)
+    flat = claim_drift(CaseMechanics(case), on_sphere)
     assert flat.drift < 1e-7 and flat.contradicts(Verdict.REFUTED)
 
 
 def test_numbers_on_one_instance_of_a_family_cannot_contradict_a_refutation():
     case = load_case(CASES / "bcc-family-psi-grad-phi.toml")
-    d = claim_drift(Mechanics(case), case.claims[0])
+    d = claim_drift(CaseMechanics(case), case.claims[0])
     assert "one instance of the family's arbitrary functions" in d.narrowed
     assert d.drift < 1e-7  # the family's Casimir is conserved for this instance
     assert not d.contradicts(Verdict.REFUTED)  # refuted elsewhere is still possible

@@ -6,8 +6,8 @@ from independent_checks import casimir_residual, vanishes_numerically
 from samples import CASES, case_file
 
 from registry import Verdict, load_case
-from registry.audit.checks import Mechanics
 from registry.mathematics import mechanics as mech
+from registry.mathematics.case_mechanics import CaseMechanics
 from registry.mathematics.families import recognise
 from registry.mathematics.zero_test import decide
 
@@ -18,10 +18,10 @@ def load(case_id):
 
 def test_recognising_a_torque_twice_reuses_the_first_result():
     case = load_case(CASES / "yehia-2003-kovalevskaya-a.toml")
-    m = Mechanics(case)
+    m = CaseMechanics(case)
     first = recognise(m.mu, m.domain)
     assert recognise(m.mu, m.domain) is first
-    other = Mechanics(load_case(CASES / "yehia-2003-cyclic.toml"))
+    other = CaseMechanics(load_case(CASES / "yehia-2003-cyclic.toml"))
     assert recognise(other.mu, other.domain) is not first
 
 
@@ -45,7 +45,7 @@ EXPECTED_FAMILIES = {
 @pytest.mark.parametrize("case_id, name", EXPECTED_FAMILIES.items())
 def test_families_are_recognised_with_a_casimir_where_poisson(case_id, name):
     case = load(case_id)
-    m = Mechanics(case)
+    m = CaseMechanics(case)
     family = recognise(m.mu, m.domain)
     assert family.name == name
     if case_id == "affine-nonsymmetric":

@@ -1,0 +1,108 @@
+"""The symbolic objects of one case, computed once and shared by its checks and repairs.
+
+``CaseMechanics(case)`` holds Pi_mu, the vector field of (2.2), H, the components of
+the Jacobi identity and the domain where the case's residuals live. The residuals
+of a claimed expression (dI/dt along the flow, Pi_mu grad I) are memoized per
+expression: the repairs of a refuted claim read the residual its check computed.
+"""
+
+from __future__ import annotations
+
+import zlib
+from collections.abc import Callable, Mapping
+from functools import cached_property
+from types import MappingProxyType
+
+import sympy as sp
+
+from ..model import Case, CheckResult, Claim
+from . import mechanics as mech
+from .zero_test import Domain
+
+#: Residuals by component name; read-only, since every check and repair shares them.
+Residuals = Mapping[str, sp.Expr]
+
+
+class CaseMechanics:
+    """The symbolic objects of one case, computed once: Pi_mu, X, H, the domain and the
+    residuals of the expressions checked on it."""
+
+    def __init__(self, case: Case):
+        self.case = case
+        self.inertia = case.system.inertia_exprs
+        self.potential = case.system.potential.expr
+        self.mu = case.system.torque_exprs
+        self._memo: dict[tuple, CheckResult] = {}
+        self._residuals: dict[tuple[str, sp.Expr], Residuals] = {}
+
+    @cached_property
+    def domain(self) -> Domain:
+        return Domain(
+            parameters=tuple(self.case.parameters.values()),
+            functions=dict(self.case.functions),
+            nonzero=tuple(self.inertia),
+            defined=(self.potential, *self.mu),
+        )
+
+    @cached_property
+    def pi(self) -> sp.Matrix:
+        return mech.poisson_tensor(self.mu)
+
+    @cached_property
+    def field(self) -> tuple[sp.Expr, ...]:
+        return mech.vector_field(self.inertia, self.potential, self.mu)
+
+    @cached_property
+    def hamiltonian(self) -> sp.Expr:
+        return mech.hamiltonian(self.inertia, self.potential)
+
+    @cached_property
+    def jacobiator(self) -> dict[str, sp.Expr]:
+        """The 20 components of the Jacobi identity for Pi_mu, by index triple."""
+        names = [str(v) for v in mech.STATE]
+        return {
+            f"J[{names[i]},{names[j]},{names[k]}]": value
+            for (i, j, k), value in mech.jacobiator(self.pi).items()
+        }
+
+    def claim_domain(self, claim: Claim) -> Domain:
+        """Where a claim is decided: the case's domain on the claim's level set (its ``on``
+        equations, nothing added), at points where the claimed expression is defined."""
+        return self.domain.restricted([eq.expr for eq in claim.on]).requiring(
+            [claim.expression.expr]
+        )
+
+    def integral_residual(self, expr: sp.Expr) -> Residuals:
+        """dI/dt = grad I . X along the flow of (2.2), as the one component ``dI/dt``
+        (computed once per expression)."""
+        return self._residual(
+            "integral", expr, lambda: {"dI/dt": mech.time_derivative(expr, self.field)}
+        )
+
+    def casimir_residual(self, expr: sp.Expr) -> Residuals:
+        """Pi_mu nabla f, by component (row of Pi_mu; computed once per expression)."""
+
+        def compute() -> dict[str, sp.Expr]:
+            values = self.pi * sp.Matrix(mech.gradient(expr))
+            return {f"Pi grad[{v}]": values[i] for i, v in enumerate(mech.STATE)}
+
+        return self._residual("casimir", expr, compute)
+
+    def _residual(
+        self, kind: str, expr: sp.Expr, compute: Callable[[], dict[str, sp.Expr]]
+    ) -> Residuals:
+        key = (kind, sp.sympify(expr))
+        found = self._residuals.get(key)
+        if found is None:
+            found = self._residuals[key] = MappingProxyType(compute())
+        return found
+
+    def once(self, key: tuple, compute: Callable[[], CheckResult]) -> CheckResult:
+        """Compute a result once per case (e.g. a level set's invariance, used twice)."""
+        if key not in self._memo:
+            self._memo[key] = compute()
+        return self._memo[key]
+
+    def seed(self, check: str, claim: str | None = None) -> int:
+        """A stable seed per case and check, so verdicts and witnesses reproduce."""
+        return zlib.crc32(f"{self.case.id}/{check}/{claim or ''}".encode())
