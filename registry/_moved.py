@@ -72,6 +72,7 @@ RENAMED: dict[str, dict[str, str]] = {
     },
     "registry.expressions": {"Budget": "ParseBudget"},
     "registry.checks": {"Mechanics": "CaseMechanics"},
+    "registry.budget": {"Budget": "TimeBudget"},
 }
 
 

@@ -22,7 +22,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from .audit.case_audit import DEFAULT_BUDGET, audit_case, failed_case
-from .audit.time_budget import Budget
+from .audit.time_budget import TimeBudget
 from .audit.worker_pool import audit_in_workers, default_jobs
 from .errors import CaseFormatError, RegistryError
 from .language.case_writer import corrected_case_text
@@ -158,7 +158,7 @@ class Registry:
         *,
         fresh: bool = False,
         jobs: int | None = None,
-        budget: Budget | None = None,
+        budget: TimeBudget | None = None,
         numeric: bool = False,
         progress: Callable[[str], None] | None = None,
     ) -> AuditReport:

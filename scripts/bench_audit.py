@@ -24,7 +24,7 @@ import sympy as sp
 
 import registry
 from registry.audit.case_audit import audit_case
-from registry.audit.time_budget import Budget
+from registry.audit.time_budget import TimeBudget
 from registry.audit.worker_pool import audit_in_workers, default_jobs
 from registry.language.printer import to_text
 from registry.mathematics import mechanics as mech
@@ -90,7 +90,7 @@ def naive_audit(cases) -> tuple[float, dict]:
 def our_audit(cases, jobs: int = 0) -> tuple[float, dict]:
     started = time.perf_counter()
     if jobs:
-        audits = [a for _, a in audit_in_workers(cases, jobs, Budget())]
+        audits = [a for _, a in audit_in_workers(cases, jobs, TimeBudget())]
     else:
         audits = [audit_case(c, checks=CHECKS, repair=False) for c in cases]
     elapsed = time.perf_counter() - started
@@ -181,7 +181,7 @@ def main() -> None:
     seed = [registry.load_case(p) for p in sorted((ROOT / "data" / "cases").glob("*.toml"))]
     print(f"== seed catalog: {len(seed)} cases, {args.jobs} workers")
     started = time.perf_counter()
-    full = dict(audit_in_workers(seed, args.jobs, Budget()))
+    full = dict(audit_in_workers(seed, args.jobs, TimeBudget()))
     wall = time.perf_counter() - started
     print(f"fresh audit, all checks and repairs: {wall:.2f} s wall (target < 3 s)")
     refuted = sum(r.verdict is Verdict.REFUTED for a in full.values() for r in a.results)
@@ -220,7 +220,7 @@ def main() -> None:
     for n in args.sizes:
         cases = stress_catalog(n)
         started = time.perf_counter()
-        audits = dict(audit_in_workers(cases, args.jobs, Budget()))
+        audits = dict(audit_in_workers(cases, args.jobs, TimeBudget()))
         wall = time.perf_counter() - started
         inconclusive = sum(
             r.verdict is Verdict.INCONCLUSIVE for a in audits.values() for r in a.results

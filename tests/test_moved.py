@@ -57,6 +57,7 @@ OLD_NAMES = [
     ("registry.corrections", "repairs", "registry.audit.repairs", "repairs"),
     ("registry.numeric", "claim_drift", "registry.audit.numeric_evidence", "claim_drift"),
     ("registry.budget", "time_limit", "registry.audit.time_budget", "time_limit"),
+    ("registry.budget", "Budget", "registry.audit.time_budget", "TimeBudget"),
     ("registry.workers", "audit_in_workers", "registry.audit.worker_pool", "audit_in_workers"),
     ("registry.storage", "Store", "registry.store.database", "Store"),
     ("registry.storage", "BUSY_TIMEOUT", "registry.store.database", "BUSY_TIMEOUT"),

@@ -26,10 +26,10 @@ from ..model import (
 from .checks import CHECKS, CheckSpec
 from .numeric_evidence import evidence as numeric_evidence
 from .repairs import repairs
-from .time_budget import Budget, BudgetExceeded, time_limit
+from .time_budget import BudgetExceeded, TimeBudget, time_limit
 
 #: Budgets used when none is given: a few seconds per check.
-DEFAULT_BUDGET = Budget()
+DEFAULT_BUDGET = TimeBudget()
 
 #: The case-level checks whose verdicts appear under ``checks`` in the JSON output.
 CASE_CHECKS = tuple(name for name, spec in CHECKS.items() if not spec.per_claim)
@@ -40,7 +40,7 @@ def audit_case(
     checks: Iterable[str] | None = None,
     *,
     repair: bool | None = None,
-    budget: Budget | None = DEFAULT_BUDGET,
+    budget: TimeBudget | None = DEFAULT_BUDGET,
     numeric: bool = False,
 ) -> CaseAudit:
     """Run the named checks (default: all) on ``case``; a crash becomes an ``error`` result.

@@ -24,7 +24,7 @@ class BudgetExceeded(BaseException):
 
 
 @dataclass(frozen=True)
-class Budget:
+class TimeBudget:
     """Seconds allowed to one check, to the repairs of one case, and the margin a
     worker gets before it is killed."""
 

@@ -23,7 +23,7 @@ import sympy as sp
 
 from ..model import Case, CaseAudit, CheckResult, Verdict
 from .case_audit import audit_case, count_checks
-from .time_budget import Budget
+from .time_budget import TimeBudget
 
 
 def default_jobs() -> int:
@@ -77,7 +77,7 @@ def die_with_parent(parent: int) -> None:
     threading.Thread(target=watch, name="parent-watchdog", daemon=True).start()
 
 
-def _serve(conn, budget: Budget, numeric: bool, parent: int) -> None:
+def _serve(conn, budget: TimeBudget, numeric: bool, parent: int) -> None:
     """A worker: audit each batch of cases received, sending each audit (or the
     exception) as it finishes, until told to stop (None).
 
@@ -104,7 +104,7 @@ def _serve(conn, budget: Budget, numeric: bool, parent: int) -> None:
 class _Worker:
     """A long-lived audit process (its sympy caches stay warm from case to case)."""
 
-    def __init__(self, ctx, budget: Budget, numeric: bool):
+    def __init__(self, ctx, budget: TimeBudget, numeric: bool):
         self.conn, child = ctx.Pipe()
         self.proc = ctx.Process(
             target=_serve, args=(child, budget, numeric, os.getpid()), daemon=True
@@ -115,12 +115,12 @@ class _Worker:
         self.deadline = 0.0  # for the case it is auditing now
         self.seconds = 0.0
 
-    def give(self, batch: list[tuple[int, Case]], budget: Budget) -> None:
+    def give(self, batch: list[tuple[int, Case]], budget: TimeBudget) -> None:
         self.conn.send([case for _, case in batch])
         self.batch = list(batch)
         self.start_clock(budget)
 
-    def start_clock(self, budget: Budget) -> None:
+    def start_clock(self, budget: TimeBudget) -> None:
         """Start the deadline of the next case of its batch."""
         self.seconds = budget.case_deadline(count_checks(self.batch[0][1]))
         self.deadline = time.monotonic() + self.seconds
@@ -177,7 +177,7 @@ def crashed(case: Case, why: str) -> CaseAudit:
 def audit_in_workers(
     cases: Sequence[Case],
     jobs: int,
-    budget: Budget,
+    budget: TimeBudget,
     started: Callable[[Case], None] | None = None,
     numeric: bool = False,
 ) -> Iterator[tuple[int, CaseAudit]]:

@@ -10,7 +10,7 @@ import sympy as sp
 from samples import CASES
 
 from registry import Verdict, audit_case, load_case
-from registry.audit.time_budget import Budget, BudgetExceeded, time_limit
+from registry.audit.time_budget import BudgetExceeded, TimeBudget, time_limit
 from registry.model import Expression
 
 
@@ -50,7 +50,7 @@ def test_an_expression_crafted_to_take_forever_ends_inconclusive_within_its_budg
     expr = case.claims[0].expression.expr + zero
     claim = replace(case.claims[0], expression=Expression("crafted", expr))
     started = time.perf_counter()
-    audit = audit_case(replace(case, claims=(claim,)), budget=Budget(check=1.0, repairs=1.0))
+    audit = audit_case(replace(case, claims=(claim,)), budget=TimeBudget(check=1.0, repairs=1.0))
     elapsed = time.perf_counter() - started
     for check in ("integral", "casimir"):
         result = audit.result(check, claim.label)
@@ -58,3 +58,9 @@ def test_an_expression_crafted_to_take_forever_ends_inconclusive_within_its_budg
         assert result.reason == "time budget exceeded (1 s)"
         assert result.seconds < 2.0  # stopped within its budget (and a little slack)
     assert elapsed < 20  # two checks of 1 s, the repairs' 1 s, the cheap checks, a busy machine
+
+
+def test_a_workers_deadline_covers_every_check_the_repairs_and_a_margin():
+    budget = TimeBudget(check=2.0, repairs=5.0, margin=1.0)
+    assert budget.case_deadline(10) == 2.0 * 10 + 5.0 + 1.0
+    assert TimeBudget() == TimeBudget(check=5.0, repairs=20.0, margin=10.0)

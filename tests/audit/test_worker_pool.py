@@ -10,7 +10,7 @@ from samples import CASES
 
 from registry import Verdict, audit_case, load_case
 from registry.audit.checks import CHECKS
-from registry.audit.time_budget import Budget
+from registry.audit.time_budget import TimeBudget
 from registry.audit.worker_pool import _torque, audit_in_workers, batches, estimated_cost
 
 
@@ -27,7 +27,7 @@ def test_a_worker_stuck_where_the_timer_cannot_reach_is_killed_and_replaced(monk
         load_case(CASES / "zhukovsky-gyrostat.toml"),
         load_case(CASES / "borisov-mamaev-1997.toml"),
     ]
-    budget = Budget(check=0.5, repairs=0.5, margin=0.5)
+    budget = TimeBudget(check=0.5, repairs=0.5, margin=0.5)
     started = time.perf_counter()
     results = dict(audit_in_workers(cases, 1, budget))
     assert time.perf_counter() - started < 30
@@ -44,7 +44,7 @@ def test_workers_give_the_same_verdicts_as_in_process():
         load_case(CASES / f"{n}.toml")
         for n in ("zhukovsky-gyrostat", "affine-nonsymmetric", "borisov-mamaev-1997")
     ]
-    parallel = dict(audit_in_workers(cases, 2, Budget()))
+    parallel = dict(audit_in_workers(cases, 2, TimeBudget()))
     for index, case in enumerate(cases):
         here = audit_case(case)
         there = parallel[index]
@@ -88,6 +88,6 @@ def test_the_rest_of_a_killed_workers_batch_is_still_audited(monkeypatch):
     stuck = replace(zhukovsky, id="stuck-variant", claims=(claim,) * 3)
     cases = [zhukovsky, stuck]
     assert len(batches(cases)) == 1 and batches(cases)[0][0][1].id == "stuck-variant"
-    results = dict(audit_in_workers(cases, 1, Budget(check=0.5, repairs=0.5, margin=0.5)))
+    results = dict(audit_in_workers(cases, 1, TimeBudget(check=0.5, repairs=0.5, margin=0.5)))
     assert "worker killed" in results[1].results[0].reason
     assert {r.verdict for r in results[0].results} == {Verdict.VERIFIED}
