@@ -49,7 +49,15 @@ MOVED: dict[str, tuple[str, ...]] = {
     "registry.numeric": ("registry.audit.numeric_evidence",),
     "registry.budget": ("registry.audit.time_budget",),
     "registry.workers": ("registry.audit.worker_pool",),
-    "registry.storage": ("registry.store.database",),
+    "registry.storage": (
+        "registry.store.database",
+        "registry.store.tables",
+        "registry.store.conversions",
+        "registry.store.engine",
+        "registry.store.frames",
+        "registry.store.integrity",
+        "registry.store.processes",
+    ),
     "registry.migrate": ("registry.store.migrate",),
     "registry.integrity": ("registry.store.integrity",),
     "registry.report": ("registry.presentation.verdict_table",),
@@ -73,6 +81,16 @@ RENAMED: dict[str, dict[str, str]] = {
     "registry.expressions": {"Budget": "ParseBudget"},
     "registry.checks": {"Mechanics": "CaseMechanics"},
     "registry.budget": {"Budget": "TimeBudget"},
+    "registry.storage": {
+        "_configure_sqlite": "configure_sqlite",
+        "_guarded": "guarded",
+        "_resolve": "resolve",
+        "_case_row": "case_row",
+        "_claim_row": "claim_row",
+        "_newest_versions": "newest_versions",
+        "_process_started": "process_started",
+        "_process_gone": "process_gone",
+    },
 }
 
 

@@ -29,6 +29,7 @@ from .language.case_writer import corrected_case_text
 from .language.casefile import load_case, parse_case_text
 from .model import Case, CaseAudit, Verdict
 from .presentation.verdict_table import audit_document
+from .store import frames
 from .store.database import Store
 from .store.integrity import Verification, verify
 
@@ -241,19 +242,19 @@ class Registry:
 
     def cases(self) -> pd.DataFrame:
         """One row per case (its latest version)."""
-        return self.store.cases_frame()
+        return frames.cases_frame(self.store)
 
     def claims(self) -> pd.DataFrame:
         """One row per claim of the latest case versions."""
-        return self.store.claims_frame()
+        return frames.claims_frame(self.store)
 
     def verdicts(self, run: int | None = None) -> pd.DataFrame:
         """The newest verdict of every check and claim (or those of one run)."""
-        return self.store.verdicts_frame(run)
+        return frames.verdicts_frame(self.store, run)
 
     def corrections(self, run: int | None = None) -> pd.DataFrame:
         """Families, re-checked repairs and parameter conditions of a run (default: newest)."""
-        return self.store.corrections_frame(run)
+        return frames.corrections_frame(self.store, run)
 
     def export_case(self, case_id: str, claim: str | None = None, kind: str = "torque") -> str:
         """A corrected case file (TOML text) from the newest audit of ``case_id``.
@@ -279,7 +280,7 @@ class Registry:
 
     def runs(self) -> pd.DataFrame:
         """One row per audit run: when, status, code and sympy versions."""
-        return self.store.runs_frame()
+        return frames.runs_frame(self.store)
 
     def check(self) -> Verification:
         """Verify the database itself (``registry check``): schema, integrity, foreign

@@ -25,7 +25,7 @@ from samples import CASES
 
 import registry
 from registry.cli import main
-from registry.store.database import RUN_STATUSES
+from registry.store.tables import RUN_STATUSES
 
 #: Seconds a process may take before the test calls it a hang.
 WAIT = 180.0

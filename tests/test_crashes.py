@@ -387,7 +387,7 @@ import os, signal, sys
 from sqlalchemy import event
 from sqlalchemy.orm import Session
 from registry.cli import main
-from registry.store.database import ResultRow
+from registry.store.tables import ResultRow
 
 sent = []
 

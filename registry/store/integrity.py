@@ -1,11 +1,11 @@
 """Verifying a registry database: what ``registry check`` reports.
 
-The database engine's own checks and the table relations come from ``storage``
-(no algebra there); here every stored case version is parsed again from its
-text, its content hash recomputed, its columns compared with the parse, and
-every stored expression (claims, derived Casimirs and torques, parameter
-conditions) parsed again in its case's names. A clean report means that every
-stored result still refers to exactly the case text it was computed from.
+The database engine's own checks and the table relations (no algebra there), then
+every stored case version parsed again from its text, its content hash recomputed,
+its columns compared with the parse, and every stored expression (claims, derived
+Casimirs and torques, parameter conditions) parsed again in its case's names. A
+clean report means that every stored result still refers to exactly the case text
+it was computed from. The reads only this check needs live here too.
 """
 
 from __future__ import annotations
@@ -13,12 +13,26 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 
+from sqlalchemy import func, select
+
 from ..errors import CaseFormatError, ExpressionError
 from ..language.casefile import parse_case_text
 from ..language.parser import Namespace, parse_equation, parse_expression
-from ..model import Case
+from ..model import Case, Verdict
 from . import migrate
-from .database import SCHEMA_VERSION, Store, StoredText
+from .database import Store
+from .engine import guarded
+from .tables import (
+    RUN_STATUSES,
+    SCHEMA_VERSION,
+    CaseRow,
+    ClaimRow,
+    CorrectionRow,
+    EvidenceRow,
+    MetaRow,
+    ResultRow,
+    RunRow,
+)
 
 
 @dataclass(frozen=True)
@@ -37,13 +51,13 @@ class Verification:
 
 def verify(store: Store) -> Verification:
     """Check a registry database end to end (see the module docstring)."""
-    revision, version = store.schema_revision()
+    revision, version = schema_revision(store)
     problems = []
     if revision != migrate.head():
         problems.append(f"schema revision {revision}, expected {migrate.head()}")
     if version != str(SCHEMA_VERSION):
         problems.append(f"meta.schema_version is {version!r}, expected '{SCHEMA_VERSION}'")
-    problems += store.database_problems()
+    problems += database_problems(store)
 
     cases: dict[int, Case] = {}
     names: dict[int, str] = {}
@@ -60,7 +74,7 @@ def verify(store: Store) -> Verification:
             problems.append(f"{name}: the stored text has id {case.id!r}")
         cases[stored.pk] = case
 
-    texts = store.stored_expressions()
+    texts = stored_expressions(store)
     for pk, case in cases.items():
         mine = [t for t in texts if t.case_pk == pk]
         problems += [f"{names[pk]}: {p}" for p in _columns_agree(case, mine)]
@@ -74,9 +88,127 @@ def verify(store: Store) -> Verification:
 
     notes = tuple(
         f"run {run} is still running (process {pid} on {host})"
-        for run, host, pid in store.running_runs()
+        for run, host, pid in running_runs(store)
     )
-    return Verification(revision, store.counts(), tuple(problems), notes)
+    return Verification(revision, counts(store), tuple(problems), notes)
+
+
+# ----------------------------------------------------------- integrity-only reads
+
+
+@dataclass(frozen=True)
+class StoredText:
+    """One expression (or ``lhs = rhs`` equation) kept in the database, and where."""
+
+    case_pk: int
+    place: str
+    text: str
+    equation: bool = False
+
+
+@guarded
+def schema_revision(store: Store) -> tuple[str | None, str | None]:
+    """(Alembic revision, ``meta.schema_version``) as stored."""
+    with store.connect() as conn:
+        revision = migrate.inspect_schema(conn, store.location).revision
+        return revision, conn.scalar(select(MetaRow.value).where(MetaRow.key == "schema_version"))
+
+
+@guarded
+def database_problems(store: Store) -> list[str]:
+    """What the database engine and the table relations find wrong (no algebra):
+    SQLite's integrity and foreign-key checks, results tied to a claim of another
+    case version, and verdicts or run states outside their sets."""
+    problems = []
+    with store.connect() as conn:
+        if conn.dialect.name == "sqlite":
+            found = [r[0] for r in conn.exec_driver_sql("PRAGMA integrity_check")]
+            problems += [f"SQLite integrity check: {r}" for r in found if r != "ok"]
+            problems += [
+                f"foreign key: row {row} of {table} points to a missing row of {parent}"
+                for table, row, parent, _ in conn.exec_driver_sql("PRAGMA foreign_key_check")
+            ]
+        claims = ClaimRow.__table__
+        for table in (ResultRow.__table__, CorrectionRow.__table__, EvidenceRow.__table__):
+            crossed = conn.execute(
+                select(table.c.id)
+                .join(claims, claims.c.id == table.c.claim_id)
+                .where(claims.c.case_pk != table.c.case_pk)
+            ).scalars()
+            problems += [
+                f"{table.name} row {i}: its claim belongs to another case version" for i in crossed
+            ]
+        verdicts = [str(v) for v in Verdict]
+        odd = conn.execute(
+            select(ResultRow.id, ResultRow.verdict).where(ResultRow.verdict.not_in(verdicts))
+        )
+        problems += [f"check_results row {i}: unknown verdict {v!r}" for i, v in odd]
+        odd = conn.execute(
+            select(CorrectionRow.id, CorrectionRow.verdict).where(
+                CorrectionRow.verdict.is_not(None), CorrectionRow.verdict.not_in(verdicts)
+            )
+        )
+        problems += [f"corrections row {i}: unknown verdict {v!r}" for i, v in odd]
+        odd = conn.execute(
+            select(RunRow.id, RunRow.status).where(RunRow.status.not_in(RUN_STATUSES))
+        )
+        problems += [f"audit run {i}: unknown status {v!r}" for i, v in odd]
+    return problems
+
+
+@guarded
+def counts(store: Store) -> dict[str, int]:
+    """How many rows each table holds."""
+    tables = {
+        "case versions": CaseRow,
+        "claims": ClaimRow,
+        "runs": RunRow,
+        "results": ResultRow,
+        "corrections": CorrectionRow,
+    }
+    with store.read() as session:
+        return {
+            name: session.scalar(select(func.count()).select_from(row)) or 0
+            for name, row in tables.items()
+        }
+
+
+@guarded
+def running_runs(store: Store) -> list[tuple[int, str | None, int | None]]:
+    """(run, host, pid) of the runs still marked ``running``."""
+    with store.read() as session:
+        stmt = select(RunRow.id, RunRow.host, RunRow.pid).where(RunRow.status == "running")
+        return [tuple(r) for r in session.execute(stmt)]
+
+
+@guarded
+def stored_expressions(store: Store) -> list[StoredText]:
+    """Every expression and equation the database keeps, with its place, so that
+    ``registry check`` can parse each again: the case columns, the claims, and the
+    derived Casimirs, torques and parameter conditions of every run."""
+    out: list[StoredText] = []
+    with store.read() as session:
+        cases = {r.id: r for r in session.scalars(select(CaseRow))}
+        for r in cases.values():
+            out.append(StoredText(r.id, "potential", r.potential))
+            out += [StoredText(r.id, f"torque[{i}]", t) for i, t in enumerate(r.torque)]
+            out += [StoredText(r.id, f"inertia[{i}]", t) for i, t in enumerate(r.inertia)]
+        for c in session.scalars(select(ClaimRow)):
+            where = f"claim {c.label!r}"
+            out.append(StoredText(c.case_pk, f"{where} expression", c.expression))
+            out += [
+                StoredText(c.case_pk, f"{where} on[{i}]", e, equation=True)
+                for i, e in enumerate(c.on)
+            ]
+        for row in session.scalars(select(CorrectionRow)):
+            where = f"run {row.run_id}, {row.kind} (corrections row {row.id})"
+            if row.expression:
+                out.append(StoredText(row.case_pk, where, row.expression))
+            for i, t in enumerate(row.payload.get("torque") or ()):
+                out.append(StoredText(row.case_pk, f"{where} torque[{i}]", t))
+            for branch in row.payload.get("branches") or ():
+                out += [StoredText(row.case_pk, where, e, equation=True) for e in branch]
+    return out
 
 
 def _reparse(stored: StoredText, ns: Namespace) -> str | None:

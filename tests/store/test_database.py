@@ -5,25 +5,16 @@ from __future__ import annotations
 from dataclasses import replace
 from datetime import datetime
 
-import pandas as pd
 import pytest
-from sqlalchemy import func, insert, select, text
+from sqlalchemy import func, select
 from sqlalchemy.exc import IntegrityError
 from sqlalchemy.orm import Session
 
-from registry.errors import StorageError, UnknownCaseError, UnknownRunError
+from registry.errors import UnknownCaseError, UnknownRunError
 from registry.model import CaseAudit, CheckResult, Verdict, Witness
-from registry.store import database
-from registry.store.database import (
-    AddOutcome,
-    CaseRow,
-    ClaimRow,
-    ResultRow,
-    RunRow,
-    SourceRow,
-    Store,
-    StoredCase,
-)
+from registry.store import database, frames
+from registry.store.database import AddOutcome, Store, StoredCase
+from registry.store.tables import CaseRow, ClaimRow, ResultRow, SourceRow
 
 
 def count(store: Store, row: type) -> int:
@@ -64,21 +55,6 @@ def audit_of(case, stored: StoredCase, integral: Verdict = Verdict.VERIFIED) -> 
 # -------------------------------------------------------------------- opening
 
 
-def test_memory_store_has_schema_version(memory_store):
-    with memory_store.engine.connect() as conn:
-        value = conn.scalar(text("SELECT value FROM meta WHERE key = 'schema_version'"))
-    assert value == str(database.SCHEMA_VERSION) == "3"
-
-
-def test_file_store_uses_wal_and_foreign_keys(file_store, tmp_path):
-    assert (tmp_path / "db" / "registry.sqlite").exists()  # parent folder created
-    with file_store.engine.connect() as conn:
-        assert conn.exec_driver_sql("PRAGMA journal_mode").scalar() == "wal"
-        assert conn.exec_driver_sql("PRAGMA foreign_keys").scalar() == 1
-        busy = conn.exec_driver_sql("PRAGMA busy_timeout").scalar()
-        assert busy == database.BUSY_TIMEOUT * 1000
-
-
 def test_reopening_a_file_keeps_its_content(tmp_path, sample_case):
     path = str(tmp_path / "registry.sqlite")
     with Store(path) as store:
@@ -86,34 +62,6 @@ def test_reopening_a_file_keeps_its_content(tmp_path, sample_case):
     with Store(f"sqlite:///{path}") as store:
         assert store.case_ids() == [sample_case.id]
         assert store.add_case(sample_case).status == "unchanged"
-
-
-def test_directory_path_is_a_storage_error(tmp_path):
-    with pytest.raises(StorageError) as info:
-        Store(tmp_path)
-    expected = f"{str(tmp_path)!r} is not a usable registry database (it is a folder)"
-    assert str(info.value) == expected
-    assert "\n" not in str(info.value)
-
-
-def test_file_that_is_not_a_database_is_a_storage_error(tmp_path):
-    junk = tmp_path / "notes.sqlite"
-    junk.write_bytes(b"this is not a database\n" * 100)
-    with pytest.raises(StorageError, match="not a database") as info:
-        Store(junk)
-    assert str(junk) in str(info.value)
-
-
-def test_bad_url_is_a_storage_error():
-    with pytest.raises(StorageError):
-        Store("nosuchdialect://host/db")
-
-
-def test_database_failure_after_opening_is_a_storage_error(memory_store):
-    with memory_store.engine.begin() as conn:
-        conn.execute(text("DROP VIEW latest_verdicts"))
-    with pytest.raises(StorageError, match="no such table: latest_verdicts"):
-        memory_store.verdicts_frame()
 
 
 # ---------------------------------------------------------------------- cases
@@ -188,7 +136,7 @@ def test_failed_claim_insert_stores_nothing(store, sample_case, monkeypatch):
     def broken(*args, **kwargs):
         raise RuntimeError("disk on fire")
 
-    monkeypatch.setattr(database, "_claim_row", broken)
+    monkeypatch.setattr(database, "claim_row", broken)
     with pytest.raises(RuntimeError, match="disk on fire"):
         store.add_case(sample_case)
     assert {count(store, t) for t in (SourceRow, CaseRow, ClaimRow)} == {0}
@@ -225,27 +173,6 @@ def test_unknown_case_id(store, sample_case):
     assert "did you mean" in str(info.value)
 
 
-def test_cases_and_claims_frames(store, sample_case, other_case, case_factory):
-    store.add_case(sample_case)
-    store.add_case(other_case)
-    store.add_case(case_factory(text="v2"))
-    cases = store.cases_frame()
-    assert list(cases.columns) == [
-        "case", "version", "title", "citation", "locator", "doi", "content_hash", "n_claims",
-        "added_at",
-    ]  # fmt: skip
-    assert cases.set_index("case")["version"].to_dict() == {other_case.id: 1, sample_case.id: 2}
-    assert cases.set_index("case")["n_claims"].to_dict() == {other_case.id: 0, sample_case.id: 2}
-
-    claims = store.claims_frame()
-    assert list(claims.columns) == [
-        "case", "version", "label", "kind", "expression", "on", "locator",
-    ]  # fmt: skip
-    assert claims["label"].tolist() == ["I1", "I2"]
-    assert set(claims["version"]) == {2}
-    assert claims["on"].tolist()[1] == ["gamma1**2 + gamma2**2 + gamma3**2 = 1"]
-
-
 # ----------------------------------------------------------------------- runs
 
 
@@ -263,7 +190,7 @@ def test_run_round_trip(store, sample_case):
     assert store.stored_audit(stored.pk) == (run, audit)
     assert store.stored_audit(stored.pk, code_version="other") is None
 
-    runs = store.runs_frame()
+    runs = frames.runs_frame(store)
     assert len(runs) == 1
     row = runs.iloc[0]
     assert (row["run"], row["status"], row["code_version"]) == (run, "complete", "abc123")
@@ -278,18 +205,18 @@ def test_run_status_and_errors(store, sample_case):
     store.add_case(sample_case)
     (stored,) = store.case_versions()
     run = store.start_run({}, code_version="x")
-    assert store.runs_frame().iloc[0]["status"] == "running"
-    assert store.runs_frame().iloc[0]["finished_at"] is None
+    assert frames.runs_frame(store).iloc[0]["status"] == "running"
+    assert frames.runs_frame(store).iloc[0]["finished_at"] is None
     with pytest.raises(ValueError, match="cannot finish"):
         store.finish_run(run, "running")
     store.finish_run(run, "interrupted")
-    assert store.runs_frame().iloc[0]["status"] == "interrupted"
+    assert frames.runs_frame(store).iloc[0]["status"] == "interrupted"
     with pytest.raises(ValueError, match="interrupted"):
         store.record_case(run, stored.pk, audit_of(sample_case, stored))
     for call in (
         lambda: store.finish_run(99),
         lambda: store.run_results(99),
-        lambda: store.verdicts_frame(99),
+        lambda: frames.verdicts_frame(store, 99),
         lambda: store.record_case(99, stored.pk, audit_of(sample_case, stored)),
     ):
         with pytest.raises(UnknownRunError, match="99"):
@@ -322,80 +249,4 @@ def test_claim_results_belong_to_the_audited_version(store, sample_case, case_fa
             )
         ).all()
     assert pairs and all(result == claim == v1.pk for result, claim in pairs)
-    assert set(store.verdicts_frame(run)["version"]) == {1}
-
-
-def test_latest_verdicts_follow_the_newest_run_and_keep_history(store, sample_case):
-    store.add_case(sample_case)
-    (stored,) = store.case_versions()
-    first = store.start_run({}, code_version="x")
-    store.record_case(first, stored.pk, audit_of(sample_case, stored, Verdict.VERIFIED))
-    store.finish_run(first)
-    second = store.start_run({}, code_version="x")
-    store.record_case(
-        second, stored.pk, audit_of(sample_case, stored, Verdict.REFUTED), reused=False
-    )
-    store.finish_run(second)
-
-    latest = store.verdicts_frame()
-    assert list(latest.columns)[:10] == [
-        "case", "version", "claim", "check", "verdict", "method", "reason", "run", "seconds",
-        "witness",
-    ]  # fmt: skip
-    # one row per (case, claim or none, check): NULL claims form one partition per check
-    assert len(latest) == 4
-    assert set(latest["run"]) == {second}
-    # missing labels are None or, with pandas' string dtype, NaN
-    by_key = {(None if pd.isna(r.claim) else r.claim, r.check): r for r in latest.itertuples()}
-    assert by_key[("I1", "integral")].verdict == "refuted"
-    assert by_key[("I1", "integral")].witness["point"] == {"gamma1": "1", "N": "1/2"}
-    assert by_key[(None, "jacobi")].verdict == "verified"
-    assert by_key[(None, "jacobi")].witness is None
-
-    assert count(store, ResultRow) == 8  # both runs kept
-    assert store.verdicts_frame(first)["verdict"].tolist() == ["verified"] * 4
-    history = store.runs_frame()
-    assert history["n_refuted"].tolist() == [0, 2]
-
-
-def test_latest_verdicts_span_case_versions(store, sample_case, case_factory):
-    store.add_case(sample_case)
-    (v1,) = store.case_versions()
-    run1 = store.start_run({}, code_version="x")
-    store.record_case(run1, v1.pk, audit_of(sample_case, v1))
-    v2_case = case_factory(text="v2")
-    store.add_case(v2_case)
-    (v2,) = store.case_versions()
-    run2 = store.start_run({}, code_version="x")
-    store.record_case(run2, v2.pk, audit_of(v2_case, v2, Verdict.REFUTED), reused=True)
-    latest = store.verdicts_frame()
-    assert set(zip(latest["version"], latest["run"], strict=True)) == {(2, run2)}
-    assert latest["reused"].all()
-    assert store.runs_frame()["n_reused"].tolist() == [0, 4]
-
-
-def test_foreign_keys_are_enforced(store, sample_case):
-    store.add_case(sample_case)
-    (stored,) = store.case_versions()
-    with pytest.raises(IntegrityError), store.engine.begin() as conn:
-        conn.execute(
-            insert(ResultRow).values(
-                run_id=12345, case_pk=stored.pk, check="jacobi", verdict="verified",
-                method="m", reason="", seconds=0.0,
-            )
-        )  # fmt: skip
-    assert count(store, ResultRow) == 0
-    assert count(store, RunRow) == 0
-
-
-def test_view_is_queryable_with_plain_sql(file_store, sample_case):
-    file_store.add_case(sample_case)
-    (stored,) = file_store.case_versions()
-    run = file_store.start_run({}, code_version="x")
-    file_store.record_case(run, stored.pk, audit_of(sample_case, stored))
-    with file_store.engine.connect() as conn:
-        rows = conn.execute(
-            text('SELECT "case", claim, "check", verdict FROM latest_verdicts ORDER BY result')
-        ).all()
-    assert rows[0] == (sample_case.id, None, "jacobi", "verified")
-    assert rows[-1] == (sample_case.id, "I2", "integral", "verified")
+    assert set(frames.verdicts_frame(store, run)["version"]) == {1}

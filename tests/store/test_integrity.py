@@ -26,7 +26,7 @@ from registry.errors import (
     DatabaseMissingError,
     DatabaseReadOnlyError,
 )
-from registry.store import database
+from registry.store import engine
 from registry.store.database import Store
 from registry.store.integrity import verify
 
@@ -202,16 +202,16 @@ def test_a_read_only_database_is_read_but_not_written(db):
 
 
 def test_a_full_disk_stores_nothing_of_the_change(db, monkeypatch):
-    def tiny(engine, file_db):
-        original(engine, file_db)
+    def tiny(sa_engine, file_db):
+        original(sa_engine, file_db)
 
-        @event.listens_for(engine, "connect")
+        @event.listens_for(sa_engine, "connect")
         def _limit(dbapi_connection, _record):
             pages = dbapi_connection.execute("PRAGMA page_count").fetchone()[0]
             dbapi_connection.execute(f"PRAGMA max_page_count={pages + 1}")
 
-    original = database._configure_sqlite
-    monkeypatch.setattr(database, "_configure_sqlite", tiny)
+    original = engine.configure_sqlite
+    monkeypatch.setattr(engine, "configure_sqlite", tiny)
     reg = registry.open(db)
     before = dict(zip(reg.cases()["case"], reg.cases()["version"], strict=True))
     stored = []  # (case, version) of each add that succeeded before the disk filled up
@@ -231,8 +231,8 @@ def test_a_full_disk_stores_nothing_of_the_change(db, monkeypatch):
 
 
 def test_a_locked_database_is_retried_then_reported(db, monkeypatch):
-    monkeypatch.setattr(database, "BUSY_TIMEOUT", 0.1)
-    monkeypatch.setattr(database, "LOCK_ATTEMPTS", 2)
+    monkeypatch.setattr(engine, "BUSY_TIMEOUT", 0.1)
+    monkeypatch.setattr(engine, "LOCK_ATTEMPTS", 2)
     reg = registry.open(db)
     holder = sqlite3.connect(db, isolation_level=None, check_same_thread=False)
     holder.execute("BEGIN IMMEDIATE")
@@ -244,7 +244,7 @@ def test_a_locked_database_is_retried_then_reported(db, monkeypatch):
             "run the command again when the other registry command has finished"
         )
         # a lock released while the registry retries is waited out
-        monkeypatch.setattr(database, "LOCK_ATTEMPTS", 20)
+        monkeypatch.setattr(engine, "LOCK_ATTEMPTS", 20)
         threading.Timer(0.5, holder.rollback).start()
         assert reg.add(CASES / "axis-torque.toml")[0].status == "added"
     finally:
@@ -307,7 +307,7 @@ def test_a_signal_during_a_database_session_waits_for_its_end(tmp_path):
     store = Store(tmp_path / "r.sqlite")
     finished = False
     with pytest.raises(KeyboardInterrupt), _interruptible(store):
-        with store._write():
+        with store.write():
             os.kill(os.getpid(), signal.SIGTERM)
             time.sleep(0.05)  # the handler runs here: it must not break the transaction
             finished = True

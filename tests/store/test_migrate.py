@@ -19,7 +19,8 @@ import registry
 from registry.cli import main
 from registry.errors import NotADatabaseError, SchemaTooNewError
 from registry.store import migrate
-from registry.store.database import SCHEMA_VERSION, Base, Store, latest_verdicts
+from registry.store.database import Store
+from registry.store.tables import SCHEMA_VERSION, Base, latest_verdicts
 
 FIRST_SCHEMA_DUMP = TEST_DATA / "registry-schema-1.sql"
 

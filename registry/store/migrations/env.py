@@ -3,7 +3,7 @@ inside its write transaction, with batch mode so that SQLite can alter tables.""
 
 from alembic import context
 
-from registry.store.database import Base
+from registry.store.tables import Base
 
 context.configure(
     connection=context.config.attributes["connection"],

@@ -1,0 +1,223 @@
+"""Rows to domain objects and back: the one place where the store meets ``model``.
+
+Each function turns one domain object into its row (or rows), or a row back into
+its domain object; nothing else in the package builds or reads a row's fields.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+from typing import Any
+
+from ..model import (
+    Case,
+    CaseAudit,
+    CheckResult,
+    Claim,
+    Conditions,
+    Correction,
+    Evidence,
+    FamilyRecord,
+    Verdict,
+    Witness,
+)
+from .tables import CaseRow, ClaimRow, CorrectionRow, EvidenceRow, ResultRow, now
+
+
+def case_row(case: Case, version: int, source_id: int) -> CaseRow:
+    """The row of one case version (claims are separate rows)."""
+    names = list(case.parameters) + [n for n in case.assumptions if n not in case.parameters]
+    return CaseRow(
+        case_id=case.id,
+        version=version,
+        title=case.title,
+        source_id=source_id,
+        locator=case.source.locator,
+        notes=case.notes,
+        content_hash=case.content_hash,
+        text=case.text,
+        path=case.path,
+        inertia=[e.text for e in case.system.inertia],
+        potential=case.system.potential.text,
+        torque=[e.text for e in case.system.torque],
+        parameters={n: str(case.assumptions.get(n, "real")) for n in names},
+        functions={name: [str(a) for a in args] for name, (_, args) in case.functions.items()},
+        added_at=now(),
+    )
+
+
+def claim_row(claim: Claim, case_pk: int, position: int) -> ClaimRow:
+    """The row of one claim of a stored case version."""
+    return ClaimRow(
+        case_pk=case_pk,
+        position=position,
+        label=claim.label,
+        kind=str(claim.kind),
+        expression=claim.expression.text,
+        on=[eq.text for eq in claim.on],
+        locator=claim.locator,
+    )
+
+
+def witness(data: dict[str, Any] | None) -> Witness | None:
+    """A Witness from its ``as_dict`` form (None stays None)."""
+    if data is None:
+        return None
+    return Witness(
+        point=data.get("point", {}),
+        value=data.get("value", ""),
+        approx=data.get("approx", ""),
+        component=data.get("component", ""),
+        functions=data.get("functions", {}),
+    )
+
+
+def check_result(row: ResultRow, label: str | None) -> CheckResult:
+    """A CheckResult from its row and its claim's label."""
+    return CheckResult(
+        check=row.check,
+        verdict=Verdict(row.verdict),
+        method=row.method,
+        claim=label,
+        reason=row.reason,
+        residual=row.residual,
+        witness=witness(row.witness),
+        seconds=row.seconds,
+    )
+
+
+def correction_rows(
+    run_id: int, case_pk: int, audit: CaseAudit, claim_ids: dict[str, int]
+) -> list[CorrectionRow]:
+    """The family, repairs and conditions of an audit, as rows."""
+    rows = []
+    if audit.family is not None:
+        rows.append(
+            CorrectionRow(
+                run_id=run_id,
+                case_pk=case_pk,
+                kind="family",
+                expression=audit.family.casimir,
+                method=audit.family.method,
+                # a family's Casimir is reported only once it re-checks
+                verdict=None if audit.family.casimir is None else str(Verdict.VERIFIED),
+                payload=audit.family.as_dict(),
+            )
+        )
+    for c in audit.corrections:
+        verdict = str(Verdict.combined(Verdict(v) for v in c.checks.values()))
+        rows.append(
+            CorrectionRow(
+                run_id=run_id,
+                case_pk=case_pk,
+                claim_id=claim_ids.get(c.claim) if c.claim else None,
+                kind=c.kind,
+                expression=c.expression,
+                method=c.method,
+                verdict=verdict,
+                payload={**c.as_dict(), "claim": c.claim},
+            )
+        )
+    for cond in audit.conditions:
+        payload = {
+            "target": cond.target,
+            "branches": [list(b) for b in cond.branches],
+            "reason": cond.reason,
+        }
+        claim_id = None if cond.target == "jacobi" else claim_ids.get(cond.target)
+        rows.append(
+            CorrectionRow(
+                run_id=run_id,
+                case_pk=case_pk,
+                claim_id=claim_id,
+                kind="conditions",
+                # every branch is re-checked before it is reported
+                verdict=str(Verdict.VERIFIED) if cond.branches else None,
+                payload=payload,
+            )
+        )
+    return rows
+
+
+def result_row(
+    run_id: int, case_pk: int, claim_id: int | None, result: CheckResult, reused: bool
+) -> ResultRow:
+    """The row of one check result (of the claim ``claim_id``, or of the case)."""
+    return ResultRow(
+        run_id=run_id,
+        case_pk=case_pk,
+        claim_id=claim_id,
+        check=result.check,
+        verdict=str(result.verdict),
+        method=result.method,
+        reason=result.reason,
+        residual=result.residual,
+        witness=None if result.witness is None else result.witness.as_dict(),
+        seconds=float(result.seconds),
+        reused=reused,
+    )
+
+
+def evidence_row(run_id: int, case_pk: int, claim_id: int, found: Evidence) -> EvidenceRow:
+    """The row of the numerical evidence for one claim."""
+    return EvidenceRow(
+        run_id=run_id,
+        case_pk=case_pk,
+        claim_id=claim_id,
+        drift=_finite(found.drift),
+        floor=_finite(found.floor),
+        runs=found.runs,
+        contradicts=found.contradicts,
+        note=found.note,
+        compared_with=found.compared_with,
+        narrowed=found.narrowed,
+    )
+
+
+def evidence(row: EvidenceRow, label: str) -> Evidence:
+    """Numerical evidence from its row and its claim's label."""
+    return Evidence(
+        label,
+        _nan(row.drift),
+        _nan(row.floor),
+        row.runs,
+        row.contradicts,
+        row.note,
+        row.compared_with,
+        row.narrowed,
+    )
+
+
+def _nan(x: float | None) -> float:
+    return float("nan") if x is None else x
+
+
+def _finite(x: float) -> float | None:
+    """NaN (no run) is stored as NULL."""
+    return None if x != x else float(x)
+
+
+def derived(rows: Iterable[CorrectionRow]) -> dict:
+    """CaseAudit fields rebuilt from correction rows."""
+    family, corrections, conditions = None, [], []
+    for row in rows:
+        p = row.payload
+        if row.kind == "family":
+            family = FamilyRecord(**p)
+        elif row.kind == "conditions":
+            conditions.append(
+                Conditions(p["target"], tuple(tuple(b) for b in p["branches"]), p.get("reason", ""))
+            )
+        else:
+            corrections.append(
+                Correction(
+                    kind=row.kind,
+                    claim=p.get("claim"),
+                    expression=p.get("expression"),
+                    torque=tuple(p["torque"]) if p.get("torque") else None,
+                    changed=tuple(k - 1 for k in p.get("changed", [])),
+                    method=p.get("method", ""),
+                    checks=p.get("checks", {}),
+                )
+            )
+    return {"family": family, "corrections": tuple(corrections), "conditions": tuple(conditions)}

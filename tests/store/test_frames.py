@@ -1,0 +1,81 @@
+"""The registry as DataFrames: cases, claims and verdicts (the newest per check and
+claim, or one run's), across runs and case versions."""
+
+from __future__ import annotations
+
+import pandas as pd
+from test_database import audit_of, count
+
+from registry.model import Verdict
+from registry.store import frames
+from registry.store.tables import ResultRow
+
+
+def test_cases_and_claims_frames(store, sample_case, other_case, case_factory):
+    store.add_case(sample_case)
+    store.add_case(other_case)
+    store.add_case(case_factory(text="v2"))
+    cases = frames.cases_frame(store)
+    assert list(cases.columns) == [
+        "case", "version", "title", "citation", "locator", "doi", "content_hash", "n_claims",
+        "added_at",
+    ]  # fmt: skip
+    assert cases.set_index("case")["version"].to_dict() == {other_case.id: 1, sample_case.id: 2}
+    assert cases.set_index("case")["n_claims"].to_dict() == {other_case.id: 0, sample_case.id: 2}
+
+    claims = frames.claims_frame(store)
+    assert list(claims.columns) == [
+        "case", "version", "label", "kind", "expression", "on", "locator",
+    ]  # fmt: skip
+    assert claims["label"].tolist() == ["I1", "I2"]
+    assert set(claims["version"]) == {2}
+    assert claims["on"].tolist()[1] == ["gamma1**2 + gamma2**2 + gamma3**2 = 1"]
+
+
+def test_latest_verdicts_follow_the_newest_run_and_keep_history(store, sample_case):
+    store.add_case(sample_case)
+    (stored,) = store.case_versions()
+    first = store.start_run({}, code_version="x")
+    store.record_case(first, stored.pk, audit_of(sample_case, stored, Verdict.VERIFIED))
+    store.finish_run(first)
+    second = store.start_run({}, code_version="x")
+    store.record_case(
+        second, stored.pk, audit_of(sample_case, stored, Verdict.REFUTED), reused=False
+    )
+    store.finish_run(second)
+
+    latest = frames.verdicts_frame(store)
+    assert list(latest.columns)[:10] == [
+        "case", "version", "claim", "check", "verdict", "method", "reason", "run", "seconds",
+        "witness",
+    ]  # fmt: skip
+    # one row per (case, claim or none, check): NULL claims form one partition per check
+    assert len(latest) == 4
+    assert set(latest["run"]) == {second}
+    # missing labels are None or, with pandas' string dtype, NaN
+    by_key = {(None if pd.isna(r.claim) else r.claim, r.check): r for r in latest.itertuples()}
+    assert by_key[("I1", "integral")].verdict == "refuted"
+    assert by_key[("I1", "integral")].witness["point"] == {"gamma1": "1", "N": "1/2"}
+    assert by_key[(None, "jacobi")].verdict == "verified"
+    assert by_key[(None, "jacobi")].witness is None
+
+    assert count(store, ResultRow) == 8  # both runs kept
+    assert frames.verdicts_frame(store, first)["verdict"].tolist() == ["verified"] * 4
+    history = frames.runs_frame(store)
+    assert history["n_refuted"].tolist() == [0, 2]
+
+
+def test_latest_verdicts_span_case_versions(store, sample_case, case_factory):
+    store.add_case(sample_case)
+    (v1,) = store.case_versions()
+    run1 = store.start_run({}, code_version="x")
+    store.record_case(run1, v1.pk, audit_of(sample_case, v1))
+    v2_case = case_factory(text="v2")
+    store.add_case(v2_case)
+    (v2,) = store.case_versions()
+    run2 = store.start_run({}, code_version="x")
+    store.record_case(run2, v2.pk, audit_of(v2_case, v2, Verdict.REFUTED), reused=True)
+    latest = frames.verdicts_frame(store)
+    assert set(zip(latest["version"], latest["run"], strict=True)) == {(2, run2)}
+    assert latest["reused"].all()
+    assert frames.runs_frame(store)["n_reused"].tolist() == [0, 4]

@@ -1,0 +1,69 @@
+"""The tables and the view: the schema version they record, foreign keys enforced by
+the database, and the ``latest_verdicts`` view usable from plain SQL."""
+
+from __future__ import annotations
+
+import pytest
+from sqlalchemy import insert, text
+from sqlalchemy.exc import IntegrityError
+from sqlalchemy.orm import Session
+from test_database import audit_of, count
+
+from registry.store import tables
+from registry.store.tables import ResultRow, RunRow
+
+
+def test_memory_store_has_schema_version(memory_store):
+    with memory_store.engine.connect() as conn:
+        value = conn.scalar(text("SELECT value FROM meta WHERE key = 'schema_version'"))
+    assert value == str(tables.SCHEMA_VERSION) == "3"
+
+
+def test_foreign_keys_are_enforced(store, sample_case):
+    store.add_case(sample_case)
+    (stored,) = store.case_versions()
+    with pytest.raises(IntegrityError), store.engine.begin() as conn:
+        conn.execute(
+            insert(ResultRow).values(
+                run_id=12345, case_pk=stored.pk, check="jacobi", verdict="verified",
+                method="m", reason="", seconds=0.0,
+            )
+        )  # fmt: skip
+    assert count(store, ResultRow) == 0
+    assert count(store, RunRow) == 0
+
+
+def test_view_is_queryable_with_plain_sql(file_store, sample_case):
+    file_store.add_case(sample_case)
+    (stored,) = file_store.case_versions()
+    run = file_store.start_run({}, code_version="x")
+    file_store.record_case(run, stored.pk, audit_of(sample_case, stored))
+    with file_store.engine.connect() as conn:
+        rows = conn.execute(
+            text('SELECT "case", claim, "check", verdict FROM latest_verdicts ORDER BY result')
+        ).all()
+    assert rows[0] == (sample_case.id, None, "jacobi", "verified")
+    assert rows[-1] == (sample_case.id, "I2", "integral", "verified")
+
+
+def test_the_orm_tables_are_the_registry_tables():
+    names = set(tables.Base.metadata.tables)
+    assert names == {
+        "meta",
+        "sources",
+        "cases",
+        "claims",
+        "audit_runs",
+        "check_results",
+        "corrections",
+        "evidence",
+    }
+    assert tables.latest_verdicts.name == tables.VIEW_NAME == "latest_verdicts"
+    assert tables.RUN_STATUSES[0] == "running"
+
+
+def test_times_are_stored_aware_in_utc(store, sample_case):
+    run = store.start_run({}, code_version="x")
+    with Session(store.engine) as session:
+        started = session.get(RunRow, run).started_at
+    assert started.tzinfo is not None and started.utcoffset().total_seconds() == 0
