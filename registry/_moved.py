@@ -18,6 +18,7 @@ The package's own code and tests never use these paths.
 
 from __future__ import annotations
 
+import functools
 import importlib
 import importlib.abc
 import importlib.machinery
@@ -62,7 +63,7 @@ MOVED: dict[str, tuple[str, ...]] = {
     "registry.integrity": ("registry.store.integrity",),
     "registry.report": ("registry.presentation.verdict_table",),
     "registry.reports": ("registry.presentation.report_writers",),
-    "registry.sharing": ("registry.presentation.data_export",),
+    "registry.sharing": ("registry.presentation.data_export", "registry.presentation.bibtex"),
     "registry.plots": ("registry.presentation.plots",),
     "registry.display": ("registry.presentation.notebook",),
 }
@@ -94,6 +95,17 @@ RENAMED: dict[str, dict[str, str]] = {
 }
 
 
+#: Old names whose behaviour is now an option of a new function:
+#: (old module path, name) -> (new module, function, its keyword arguments).
+OPTIONS: dict[tuple[str, str], tuple[str, str, dict]] = {
+    ("registry.sharing", "latex_escape"): (
+        "registry.presentation.latex",
+        "escape",
+        {"balanced": True},
+    ),
+}
+
+
 def new_places(old: str) -> str:
     """Where the contents of the old module ``old`` went, for messages."""
     places = MOVED[old]
@@ -115,6 +127,9 @@ class MovedModule(types.ModuleType):
             return sorted({n for m in self._modules() for n in _public(m)} | set(self.__renamed__))
         if attr.startswith("__") and attr.endswith("__"):
             raise AttributeError(attr)
+        if (self.__name__, attr) in OPTIONS:
+            module, function, options = OPTIONS[self.__name__, attr]
+            return functools.partial(getattr(importlib.import_module(module), function), **options)
         wanted = self.__renamed__.get(attr, attr)
         for module in self._modules():
             if hasattr(module, wanted):

@@ -336,6 +336,7 @@ def export(fmt: str | None, bibtex: bool, output: str | None) -> None:
     from pathlib import Path
 
     from .presentation import data_export
+    from .presentation.bibtex import bibtex as sources_as_bibtex
 
     if (fmt is None) == (not bibtex):
         raise click.UsageError("give exactly one of --format and --bibtex")
@@ -343,7 +344,7 @@ def export(fmt: str | None, bibtex: bool, output: str | None) -> None:
         for path in data_export.export_tables(_registry(), Path(output or "export"), fmt):
             click.echo(str(path))
         return
-    text = data_export.bibtex(_registry())
+    text = sources_as_bibtex(_registry())
     if output is None:
         click.echo(text, nl=False)
     else:

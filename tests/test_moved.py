@@ -69,7 +69,7 @@ OLD_NAMES = [
     ("registry.report", "verdict_table", "registry.presentation.verdict_table", "verdict_table"),
     ("registry.reports", "build_report", "registry.presentation.report_writers", "build_report"),
     ("registry.sharing", "read_table", "registry.presentation.data_export", "read_table"),
-    ("registry.sharing", "bibtex", "registry.presentation.data_export", "bibtex"),
+    ("registry.sharing", "bibtex", "registry.presentation.bibtex", "bibtex"),
     ("registry.plots", "drift_plot", "registry.presentation.plots", "drift_plot"),
     ("registry.display", "case_html", "registry.presentation.notebook", "case_html"),
 ]
@@ -145,6 +145,14 @@ def test_the_audit_package_s_own_modules_are_not_old_names():
     assert repairs.__name__ == "registry.audit.repairs"
     with pytest.raises(AttributeError, match="has no attribute 'no_such_name'"):
         registry.audit.no_such_name  # noqa: B018
+
+
+def test_an_old_function_that_became_an_option_keeps_its_behaviour(monkeypatch):
+    module, _ = fresh_import("registry.sharing", monkeypatch)
+    from registry.presentation import latex
+
+    assert module.latex_escape("{x}_1") == latex.escape("{x}_1", balanced=True)
+    assert module.latex_escape("{x}") == r"\textbraceleft{}x\textbraceright{}"
 
 
 def test_an_unknown_name_says_where_the_contents_went(monkeypatch):

@@ -12,7 +12,7 @@ from html import escape
 import sympy as sp
 
 from ..model import Case, CaseAudit, CheckResult, Claim, Verdict, Witness
-from .data_export import latex_escape
+from . import latex
 
 #: Colour of each verdict in the audit table.
 COLOURS = {
@@ -114,7 +114,7 @@ def _vector(exprs: Iterable[sp.Expr]) -> str:
 
 
 def _text(text: str) -> str:
-    return r"\text{" + latex_escape(text) + "}"
+    return r"\text{" + latex.escape(text, balanced=True) + "}"
 
 
 def _claim_tex(claim: Claim) -> tuple[str, str]:
@@ -130,7 +130,7 @@ def case_latex(case: Case) -> str:
     """A case as a LaTeX array in math mode, expressions typeset by ``sympy.latex``."""
     system = case.system
     rows = [
-        (r"\textbf{" + latex_escape(case.title) + "}", _text(case.id)),
+        (r"\textbf{" + latex.escape(case.title, balanced=True) + "}", _text(case.id)),
         (_text("source"), _text(case.source.citation)),
         ("(A, B, C)", _vector(system.inertia_exprs)),
         ("U", _tex(system.potential.expr)),

@@ -28,6 +28,8 @@ from ..errors import RegistryError, UnknownRunError
 from ..language.casefile import parse_case_text
 from ..language.parser import Namespace, parse_equation, parse_expression
 from ..model import Case, CaseAudit
+from . import latex
+from .text_table import text_table
 from .verdict_table import audit_document
 
 if TYPE_CHECKING:
@@ -173,15 +175,10 @@ code { background: #f3f3f3; overflow-wrap: anywhere; }
 class _Tex(_Writer):
     """A LaTeX fragment to \\input (needs amsmath and graphicx); plots next to the file."""
 
-    _SPECIAL = {
-        "\\": r"\textbackslash{}", "{": r"\{", "}": r"\}", "$": r"\$", "&": r"\&",
-        "%": r"\%", "#": r"\#", "_": r"\_", "^": r"\textasciicircum{}", "~": r"\textasciitilde{}",
-        "<": r"\textless{}", ">": r"\textgreater{}", "|": r"\textbar{}",
-    }  # fmt: skip
     _HEADINGS = {1: "section", 2: "subsection", 3: "subsubsection"}
 
     def escape(self, text: str) -> str:
-        return "".join(self._SPECIAL.get(ch, ch) for ch in text)
+        return latex.escape(text)
 
     def math(self, latex: str) -> str:
         return f"${latex}$"
@@ -581,10 +578,5 @@ def diff_table(changes: list[dict], run_a: int, run_b: int) -> str:
     if not changes:
         return f"no changes between run {run_a} and run {run_b}"
     header = ("case", "claim", "check", f"run {run_a}", f"run {run_b}")
-    rows = [header] + [
-        (c["case"], c["claim"] or "-", c["check"], c["before"], c["after"]) for c in changes
-    ]
-    widths = [max(len(r[i]) for r in rows) for i in range(len(header))]
-    lines = ["  ".join(c.ljust(w) for c, w in zip(r, widths, strict=True)).rstrip() for r in rows]
-    lines.insert(1, "  ".join("-" * w for w in widths))
-    return "\n".join(lines)
+    rows = [(c["case"], c["claim"] or "-", c["check"], c["before"], c["after"]) for c in changes]
+    return text_table(header, rows)

@@ -10,6 +10,7 @@ from collections.abc import Mapping, Sequence
 
 from ..audit.case_audit import CASE_CHECKS, claim_verdict
 from ..model import Case, CaseAudit, CheckResult, Verdict
+from .text_table import text_table
 
 
 def _detail(result: CheckResult) -> dict:
@@ -168,12 +169,7 @@ def verdict_table(document: dict) -> str:
                         f"{case['case']}/{claim['label']}: {prop} {detail['verdict']}: "
                         f"{detail.get('reason', '')}"
                     )
-    widths = [max(len(str(r[i])) for r in [header, *rows]) for i in range(len(header))]
-    lines = [
-        "  ".join(str(c).ljust(w) for c, w in zip(row, widths, strict=True)).rstrip()
-        for row in [header, *rows]
-    ]
-    lines.insert(1, "  ".join("-" * w for w in widths))
+    lines = [text_table(header, rows)]
     counts = Counter(c["verdict"] for case in document["cases"] for c in case["claims"])
     n_cases = len(document["cases"])
     summary = ", ".join(f"{n} {v}" for v, n in sorted(counts.items()))

@@ -15,7 +15,7 @@ from click.testing import CliRunner
 
 import registry
 from registry.cli import main
-from registry.presentation import data_export
+from registry.presentation.bibtex import bibtex
 
 ROOT = Path(registry.__file__).resolve().parent.parent
 CASES = ROOT / "data" / "cases"
@@ -44,7 +44,7 @@ def _balanced(text: str) -> bool:
 
 
 def test_bibtex_has_one_entry_per_source_with_unique_keys(audited):
-    text = data_export.bibtex(audited.reg)
+    text = bibtex(audited.reg)
     keys = re.findall(r"^@(\w+)\{([^,]+),", text, flags=re.M)
     assert len(keys) == audited.reg.cases()["citation"].nunique() == 2
     assert len({k for _, k in keys}) == len(keys)
@@ -64,17 +64,11 @@ def test_bibtex_keys_are_unique_and_fall_back_to_the_case_id(case_factory):
     }
     for i, (case_id, citation) in enumerate(citations.items()):
         reg.add_case(case_factory(case_id, f'id = "{case_id}" # {i}\n', citation=citation))
-    text = data_export.bibtex(reg)
+    text = bibtex(reg)
     keys = re.findall(r"^@\w+\{([^,]+),", text, flags=re.M)
     assert sorted(keys) == ["demo-c", "smith1999a", "smith1999b"]
     assert _balanced(text)
     assert r"\textbraceleft{}braces\textbraceright{} \& 100\% of \$x\_1\$" in text
-
-
-def test_latex_escape_leaves_no_bare_special():
-    escaped = data_export.latex_escape(r"a_b & c% {d} #e ~f ^g \h $i")
-    assert re.search(r"(?<!\\)[&%#$_]", escaped) is None
-    assert _balanced(escaped)
 
 
 def test_cli_export_bibtex_to_a_file_and_to_stdout(audited, tmp_path):
@@ -87,7 +81,7 @@ def test_cli_export_bibtex_to_a_file_and_to_stdout(audited, tmp_path):
     assert to_file.stdout.strip() == str(target)
     to_stdout = runner.invoke(main, ["--db", str(audited.db), "export", "--bibtex"])
     assert to_stdout.exit_code == 0, to_stdout.output
-    assert to_stdout.stdout == target.read_text(encoding="utf-8") == data_export.bibtex(audited.reg)
+    assert to_stdout.stdout == target.read_text(encoding="utf-8") == bibtex(audited.reg)
 
 
 def test_citation_cff_parses():
