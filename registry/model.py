@@ -239,6 +239,17 @@ class CheckResult:
     seconds: float = 0.0
 
 
+def component_number(index: int) -> int:
+    """The number people read (mu1, mu2, mu3; JSON, tables, reports) of the torque
+    component with 0-based ``index``; ``component_index`` is its inverse."""
+    return index + 1
+
+
+def component_index(number: int) -> int:
+    """The 0-based index of the torque component people number ``number`` (1, 2 or 3)."""
+    return number - 1
+
+
 @dataclass(frozen=True)
 class Correction:
     """A repair, re-checked before it is reported (``checks``: check name -> verdict).
@@ -256,10 +267,21 @@ class Correction:
     torque: tuple[str, str, str] | None = None
     changed: tuple[int, ...] = ()
     method: str = ""
-    checks: Mapping[str, str] = field(default_factory=dict)
+    checks: Mapping[str, Verdict] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "checks", _frozen(self.checks))
+
+    @property
+    def changed_components(self) -> tuple[tuple[int, str], ...]:
+        """(number, repaired expression) of each changed torque component, mu_number'."""
+        torque = self.torque or ()
+        return tuple((component_number(k), torque[k]) for k in self.changed)
+
+    @property
+    def kept_components(self) -> tuple[int, ...]:
+        """The numbers of the torque components the repair keeps as they were."""
+        return tuple(component_number(k) for k in range(3) if k not in self.changed)
 
     def as_dict(self) -> dict:
         out: dict = {"kind": self.kind}
@@ -267,9 +289,9 @@ class Correction:
             out["expression"] = self.expression
         if self.torque is not None:
             out["torque"] = list(self.torque)
-            out["changed"] = [k + 1 for k in self.changed]
+            out["changed"] = [number for number, _ in self.changed_components]
         out["method"] = self.method
-        out["checks"] = dict(self.checks)
+        out["checks"] = {name: str(verdict) for name, verdict in self.checks.items()}
         return out
 
 
@@ -300,6 +322,17 @@ class FamilyRecord:
         return {k: v for k, v in self.__dict__.items() if v not in (None, "")}
 
 
+def nan_to_none(x: float) -> float | None:
+    """A number that may not exist (NaN: nothing was integrated) as None, the form JSON
+    and SQL (NULL) give it; ``none_to_nan`` is its inverse."""
+    return None if x != x else float(x)
+
+
+def none_to_nan(x: float | None) -> float:
+    """A number read back from JSON or SQL: None (NULL) becomes NaN again."""
+    return float("nan") if x is None else x
+
+
 @dataclass(frozen=True)
 class Evidence:
     """Numerical evidence for a claim: the largest relative drift of I along integrated
@@ -318,12 +351,9 @@ class Evidence:
     narrowed: str = ""
 
     def as_dict(self) -> dict:
-        def number(x: float) -> float | None:
-            return None if x != x else x  # NaN (no run) is not JSON
-
         return {
-            "drift": number(self.drift),
-            "floor": number(self.floor),
+            "drift": nan_to_none(self.drift),
+            "floor": nan_to_none(self.floor),
             "runs": self.runs,
             "agrees": not self.contradicts,
             "compared_with": self.compared_with,

@@ -54,7 +54,7 @@ def corrected_casimir(
         claim=claim,
         expression=to_text(expr),
         method=f"{family.name}: {family.method}",
-        checks={"casimir": str(check.verdict)},
+        checks={"casimir": check.verdict},
     )
 
 
@@ -106,7 +106,7 @@ def corrected_torque(m: CaseMechanics, claim: Claim) -> Correction | None:
         torque=tuple(e.text for e in torque),
         changed=changed,
         method="mu' = grad_gamma I / d_s I + lambda gamma",
-        checks={"jacobi": str(poisson.verdict), "casimir": str(holds.verdict)},
+        checks={"jacobi": poisson.verdict, "casimir": holds.verdict},
     )
 
 

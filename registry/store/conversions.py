@@ -2,6 +2,9 @@
 
 Each function turns one domain object into its row (or rows), or a row back into
 its domain object; nothing else in the package builds or reads a row's fields.
+Verdicts are stored as their text (``verdict_text``) and read back as ``Verdict``
+(``verdict_of``) here and nowhere else; a number that does not exist (NaN) is
+stored as NULL.
 """
 
 from __future__ import annotations
@@ -20,8 +23,25 @@ from ..model import (
     FamilyRecord,
     Verdict,
     Witness,
+    component_index,
+    nan_to_none,
+    none_to_nan,
 )
 from .tables import CaseRow, ClaimRow, CorrectionRow, EvidenceRow, ResultRow, now
+
+
+def verdict_text(verdict: Verdict) -> str:
+    """A verdict as the database stores it (``verified``, ...)."""
+    return Verdict(verdict).value
+
+
+def verdict_of(text: str) -> Verdict:
+    """A stored verdict read back (ValueError for text that is no verdict)."""
+    return Verdict(text)
+
+
+#: Every verdict as stored, for queries that count or validate them.
+VERDICT_TEXTS = tuple(verdict_text(v) for v in Verdict)
 
 
 def case_row(case: Case, version: int, source_id: int) -> CaseRow:
@@ -76,7 +96,7 @@ def check_result(row: ResultRow, label: str | None) -> CheckResult:
     """A CheckResult from its row and its claim's label."""
     return CheckResult(
         check=row.check,
-        verdict=Verdict(row.verdict),
+        verdict=verdict_of(row.verdict),
         method=row.method,
         claim=label,
         reason=row.reason,
@@ -100,12 +120,12 @@ def correction_rows(
                 expression=audit.family.casimir,
                 method=audit.family.method,
                 # a family's Casimir is reported only once it re-checks
-                verdict=None if audit.family.casimir is None else str(Verdict.VERIFIED),
+                verdict=None if audit.family.casimir is None else verdict_text(Verdict.VERIFIED),
                 payload=audit.family.as_dict(),
             )
         )
     for c in audit.corrections:
-        verdict = str(Verdict.combined(Verdict(v) for v in c.checks.values()))
+        verdict = verdict_text(Verdict.combined(c.checks.values()))
         rows.append(
             CorrectionRow(
                 run_id=run_id,
@@ -132,7 +152,7 @@ def correction_rows(
                 claim_id=claim_id,
                 kind="conditions",
                 # every branch is re-checked before it is reported
-                verdict=str(Verdict.VERIFIED) if cond.branches else None,
+                verdict=verdict_text(Verdict.VERIFIED) if cond.branches else None,
                 payload=payload,
             )
         )
@@ -148,7 +168,7 @@ def result_row(
         case_pk=case_pk,
         claim_id=claim_id,
         check=result.check,
-        verdict=str(result.verdict),
+        verdict=verdict_text(result.verdict),
         method=result.method,
         reason=result.reason,
         residual=result.residual,
@@ -164,8 +184,8 @@ def evidence_row(run_id: int, case_pk: int, claim_id: int, found: Evidence) -> E
         run_id=run_id,
         case_pk=case_pk,
         claim_id=claim_id,
-        drift=_finite(found.drift),
-        floor=_finite(found.floor),
+        drift=nan_to_none(found.drift),
+        floor=nan_to_none(found.floor),
         runs=found.runs,
         contradicts=found.contradicts,
         note=found.note,
@@ -178,23 +198,14 @@ def evidence(row: EvidenceRow, label: str) -> Evidence:
     """Numerical evidence from its row and its claim's label."""
     return Evidence(
         label,
-        _nan(row.drift),
-        _nan(row.floor),
+        none_to_nan(row.drift),
+        none_to_nan(row.floor),
         row.runs,
         row.contradicts,
         row.note,
         row.compared_with,
         row.narrowed,
     )
-
-
-def _nan(x: float | None) -> float:
-    return float("nan") if x is None else x
-
-
-def _finite(x: float) -> float | None:
-    """NaN (no run) is stored as NULL."""
-    return None if x != x else float(x)
 
 
 def derived(rows: Iterable[CorrectionRow]) -> dict:
@@ -215,9 +226,9 @@ def derived(rows: Iterable[CorrectionRow]) -> dict:
                     claim=p.get("claim"),
                     expression=p.get("expression"),
                     torque=tuple(p["torque"]) if p.get("torque") else None,
-                    changed=tuple(k - 1 for k in p.get("changed", [])),
+                    changed=tuple(component_index(k) for k in p.get("changed", [])),
                     method=p.get("method", ""),
-                    checks=p.get("checks", {}),
+                    checks={name: verdict_of(v) for name, v in p.get("checks", {}).items()},
                 )
             )
     return {"family": family, "corrections": tuple(corrections), "conditions": tuple(conditions)}

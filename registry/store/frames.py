@@ -15,6 +15,7 @@ from sqlalchemy import case as sql_case
 
 from ..errors import UnknownRunError
 from ..model import Verdict
+from .conversions import verdict_text
 from .database import Store, get_run
 from .engine import guarded
 from .tables import (
@@ -132,8 +133,8 @@ def runs_frame(store: Store) -> pd.DataFrame:
     """One row per audit run with counts of its results by verdict, newest run last."""
 
     def count(verdict: Verdict) -> Any:
-        hit = sql_case((ResultRow.verdict == str(verdict), 1), else_=0)
-        return func.coalesce(func.sum(hit), 0).label(f"n_{verdict}")
+        hit = sql_case((ResultRow.verdict == verdict_text(verdict), 1), else_=0)
+        return func.coalesce(func.sum(hit), 0).label(f"n_{verdict_text(verdict)}")
 
     stmt = (
         select(

@@ -18,8 +18,9 @@ from sqlalchemy import func, select
 from ..errors import CaseFormatError, ExpressionError
 from ..language.casefile import parse_case_text
 from ..language.parser import Namespace, parse_equation, parse_expression
-from ..model import Case, Verdict
+from ..model import Case
 from . import migrate
+from .conversions import VERDICT_TEXTS
 from .database import Store
 from .engine import guarded
 from .tables import (
@@ -138,7 +139,7 @@ def database_problems(store: Store) -> list[str]:
             problems += [
                 f"{table.name} row {i}: its claim belongs to another case version" for i in crossed
             ]
-        verdicts = [str(v) for v in Verdict]
+        verdicts = VERDICT_TEXTS
         odd = conn.execute(
             select(ResultRow.id, ResultRow.verdict).where(ResultRow.verdict.not_in(verdicts))
         )
