@@ -61,7 +61,7 @@ MOVED: dict[str, tuple[str, ...]] = {
     ),
     "registry.migrate": ("registry.store.migrate",),
     "registry.integrity": ("registry.store.integrity",),
-    "registry.report": ("registry.presentation.verdict_table",),
+    "registry.report": ("registry.presentation.verdict_table", "registry.presentation.audit_json"),
     "registry.reports": ("registry.presentation.report_writers",),
     "registry.sharing": ("registry.presentation.data_export", "registry.presentation.bibtex"),
     "registry.plots": ("registry.presentation.plots",),
@@ -106,6 +106,33 @@ OPTIONS: dict[tuple[str, str], tuple[str, str, dict]] = {
 }
 
 
+#: Old names that are used differently now: looked up through the old path, each raises
+#: AttributeError saying what to use instead.
+CHANGED: dict[tuple[str, str], str] = {
+    ("registry.report", "verdict_table"): (
+        "the verdict table is made from the audit's outcomes now: "
+        "registry.presentation.verdict_table.verdict_table(report.outcomes(), report.run)"
+    ),
+    ("registry.report", "disagreements"): (
+        "use registry.presentation.verdict_table.disagreements(report.outcomes())"
+    ),
+    ("registry.report", "audit_document"): (
+        "use report.document(), or registry.presentation.audit_json.audit_document("
+        "run, report.outcomes())"
+    ),
+    ("registry.report", "case_document"): (
+        "use registry.presentation.audit_json.case_document(outcome) with an outcome of "
+        "registry.audit.outcome.case_outcome(audit, case, version)"
+    ),
+    ("registry.reports", "diff_runs"): (
+        "use Registry.diff(run_a, run_b), which returns VerdictChange objects"
+    ),
+    ("registry.reports", "diff_table"): (
+        "use registry.presentation.verdict_table.diff_table(reg.diff(run_a, run_b), run_a, run_b)"
+    ),
+}
+
+
 def new_places(old: str) -> str:
     """Where the contents of the old module ``old`` went, for messages."""
     places = MOVED[old]
@@ -127,6 +154,10 @@ class MovedModule(types.ModuleType):
             return sorted({n for m in self._modules() for n in _public(m)} | set(self.__renamed__))
         if attr.startswith("__") and attr.endswith("__"):
             raise AttributeError(attr)
+        if (self.__name__, attr) in CHANGED:
+            raise AttributeError(
+                f"{self.__name__}.{attr} has changed: {CHANGED[self.__name__, attr]}"
+            )
         if (self.__name__, attr) in OPTIONS:
             module, function, options = OPTIONS[self.__name__, attr]
             return functools.partial(getattr(importlib.import_module(module), function), **options)

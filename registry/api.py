@@ -22,13 +22,14 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from .audit.case_audit import DEFAULT_BUDGET, audit_case, failed_case
+from .audit.outcome import CaseOutcome, outcomes
 from .audit.time_budget import TimeBudget
 from .audit.worker_pool import audit_in_workers, default_jobs
 from .errors import CaseFormatError, RegistryError
 from .language.case_writer import corrected_case_text
 from .language.casefile import load_case, parse_case_text
-from .model import Case, CaseAudit, Verdict
-from .presentation.verdict_table import audit_document
+from .model import Case, CaseAudit, Verdict, VerdictChange
+from .presentation.audit_json import audit_document
 from .store import frames
 from .store.database import Store
 from .store.integrity import Verification, verify
@@ -106,9 +107,13 @@ class AuditReport:
     cases: dict[str, Case] = field(default_factory=dict)
     versions: dict[str, int] = field(default_factory=dict)
 
+    def outcomes(self) -> tuple[CaseOutcome, ...]:
+        """What the run found, case by case, as typed objects (what every renderer reads)."""
+        return outcomes(self.audits, self.cases, self.versions)
+
     def document(self) -> dict:
         """The JSON document of CASE_FORMAT.md for this run."""
-        return audit_document(self.run, self.audits, self.cases, self.versions)
+        return audit_document(self.run, self.outcomes())
 
 
 def case_files(paths: Iterable[str | os.PathLike]) -> list[Path]:
@@ -277,6 +282,29 @@ class Registry:
             )
         case = parse_case_text(stored.text, stored.path or stored.case_id)
         return corrected_case_text(case, matches[0], run)
+
+    def diff(self, run_a: int, run_b: int) -> list[VerdictChange]:
+        """The verdicts that differ between two runs, on the cases both runs audited, sorted
+        by case, claim (case checks first) and check. UnknownRunError for a run that
+        does not exist."""
+        before, after = self._verdicts(run_a), self._verdicts(run_b)
+        common = {k[0] for k in before} & {k[0] for k in after}
+        keys = sorted(k for k in before.keys() | after.keys() if k[0] in common)
+        changes = []
+        for key in keys:
+            if before.get(key) != after.get(key):
+                case, claim, check = key
+                change = VerdictChange(case, claim or None, check, before.get(key), after.get(key))
+                changes.append(change)
+        return changes
+
+    def _verdicts(self, run: int) -> dict[tuple[str, str, str], Verdict]:
+        """(case, claim or '', check) -> verdict for every result of one run."""
+        return {
+            (case, r.claim or "", r.check): r.verdict
+            for case, audit in self.store.run_results(run)
+            for r in audit.results
+        }
 
     def runs(self) -> pd.DataFrame:
         """One row per audit run: when, status, code and sympy versions."""

@@ -246,12 +246,11 @@ def audit(
             )
     finally:
         bar.close()
-    document = report.document()
     if as_json:
-        click.echo(json.dumps(document, indent=2, ensure_ascii=False))
+        click.echo(json.dumps(report.document(), indent=2, ensure_ascii=False))
     else:
-        click.echo(verdict_table(document))
-    contradicted = disagreements(document)
+        click.echo(verdict_table(report.outcomes(), report.run))
+    contradicted = disagreements(report.outcomes())
     if strict and contradicted:
         click.echo(
             f"Error: numerical evidence contradicts the verdict of {', '.join(contradicted)}",
@@ -465,11 +464,12 @@ def report(
     """
     from pathlib import Path
 
-    from .presentation.report_writers import build_report, diff_runs, diff_table
+    from .presentation.report_writers import build_report
+    from .presentation.verdict_table import diff_table
 
     reg = _registry()
     if diff is not None:
-        click.echo(diff_table(diff_runs(reg, *diff), *diff))
+        click.echo(diff_table(reg.diff(*diff), *diff))
         return
     path = Path(output or f"report.{fmt}")
     path.parent.mkdir(parents=True, exist_ok=True)

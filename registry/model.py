@@ -380,3 +380,16 @@ class CaseAudit:
             if r.check == check and r.claim == claim:
                 return r
         raise KeyError((check, claim))
+
+
+@dataclass(frozen=True)
+class VerdictChange:
+    """A verdict that differs between two audit runs of a case: of ``check`` on ``claim``
+    (None for a check of the case itself); ``before`` or ``after`` is None where that
+    run has no such result."""
+
+    case: str
+    claim: str | None
+    check: str
+    before: Verdict | None
+    after: Verdict | None

@@ -28,8 +28,10 @@ def main(argv: list[str] | None = None) -> int:
             for line in str(r.error).splitlines():
                 print(f"Error: {line}", file=sys.stderr)
         report = reg.audit()
-        document = report.document()
-        print(json.dumps(document, indent=2) if args.json else verdict_table(document))
+        if args.json:
+            print(json.dumps(report.document(), indent=2))
+        else:
+            print(verdict_table(report.outcomes(), report.run))
     return 1 if refused else 0
 
 

@@ -66,7 +66,7 @@ OLD_NAMES = [
     ("registry.storage", "_configure_sqlite", "registry.store.engine", "configure_sqlite"),
     ("registry.migrate", "head", "registry.store.migrate", "head"),
     ("registry.integrity", "verify", "registry.store.integrity", "verify"),
-    ("registry.report", "verdict_table", "registry.presentation.verdict_table", "verdict_table"),
+    ("registry.report", "result_document", "registry.presentation.audit_json", "result_document"),
     ("registry.reports", "build_report", "registry.presentation.report_writers", "build_report"),
     ("registry.sharing", "read_table", "registry.presentation.data_export", "read_table"),
     ("registry.sharing", "bibtex", "registry.presentation.bibtex", "bibtex"),
@@ -153,6 +153,14 @@ def test_an_old_function_that_became_an_option_keeps_its_behaviour(monkeypatch):
 
     assert module.latex_escape("{x}_1") == latex.escape("{x}_1", balanced=True)
     assert module.latex_escape("{x}") == r"\textbraceleft{}x\textbraceright{}"
+
+
+@pytest.mark.parametrize(("old", "name"), sorted(_moved.CHANGED))
+def test_a_name_used_differently_now_says_what_to_use(old, name, monkeypatch):
+    module, _ = fresh_import(old, monkeypatch)
+    with pytest.raises(AttributeError) as caught:
+        getattr(module, name)
+    assert str(caught.value) == f"{old}.{name} has changed: {_moved.CHANGED[old, name]}"
 
 
 def test_an_unknown_name_says_where_the_contents_went(monkeypatch):

@@ -151,6 +151,8 @@ def failed_case(case_id: str, content_hash: str, exc: Exception) -> CaseAudit:
     )
 
 
-def claim_verdict(kind: ClaimKind | str, integral: Verdict | str, casimir: Verdict | str) -> str:
+def claim_verdict(
+    kind: ClaimKind | str, integral: Verdict | str, casimir: Verdict | str
+) -> Verdict:
     """A claim's overall verdict: the verdict of the property its kind names."""
-    return str(integral if ClaimKind(kind) is ClaimKind.INTEGRAL else casimir)
+    return Verdict(integral if ClaimKind(kind) is ClaimKind.INTEGRAL else casimir)

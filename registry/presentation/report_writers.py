@@ -3,7 +3,7 @@
 The content (summary table, each case's system, claims, verdicts, residuals,
 witnesses, numeric evidence, repairs and drift plots) is built once from
 ``report.audit_document`` and the stored case texts, and written by one small
-writer per format. ``diff_runs`` lists the verdicts that changed between two runs.
+writer per format.
 """
 
 from __future__ import annotations
@@ -24,13 +24,13 @@ from typing import TYPE_CHECKING
 import pandas as pd
 import sympy as sp
 
+from ..audit.outcome import outcomes
 from ..errors import RegistryError, UnknownRunError
 from ..language.casefile import parse_case_text
 from ..language.parser import Namespace, parse_equation, parse_expression
 from ..model import Case, CaseAudit
 from . import latex
-from .text_table import text_table
-from .verdict_table import audit_document
+from .audit_json import audit_document
 
 if TYPE_CHECKING:
     from ..api import Registry
@@ -534,7 +534,7 @@ def build_report(
     number = int(row["run"])
     audits = [a for _, a in sorted(reg.store.run_results(number), key=lambda item: item[0])]
     cases, versions = _run_cases(reg, audits)
-    document = audit_document(number, audits, cases, versions)
+    document = audit_document(number, outcomes(audits, cases, versions))
     with tempfile.TemporaryDirectory() as scratch:
         where = Path(scratch) if fmt == "html" else Path(out_dir or ".")
         plot = _plotter(where) if plots else None
@@ -544,39 +544,3 @@ def build_report(
         for entry in document["cases"]:
             _case_section(w, entry, cases.get(entry["case"]), plot)
         return w.finish(f"Audit report: run {number}")
-
-
-# ------------------------------------------------------------------------ diff
-
-
-def _verdicts(reg: Registry, run: int) -> dict[tuple[str, str, str], str]:
-    """(case, claim or '', check) -> verdict for every result of one run."""
-    return {
-        (case, r.claim or "", r.check): str(r.verdict)
-        for case, audit in reg.store.run_results(run)
-        for r in audit.results
-    }
-
-
-def diff_runs(reg: Registry, run_a: int, run_b: int) -> list[dict]:
-    """Verdicts that differ between two runs, on the cases both runs audited.
-
-    Each row: case, claim ('' for a case check), check, before, after ('-' when absent).
-    """
-    before, after = _verdicts(reg, run_a), _verdicts(reg, run_b)
-    common = {k[0] for k in before} & {k[0] for k in after}
-    keys = sorted(k for k in before.keys() | after.keys() if k[0] in common)
-    return [
-        dict(case=k[0], claim=k[1], check=k[2], before=before.get(k, "-"), after=after.get(k, "-"))
-        for k in keys
-        if before.get(k) != after.get(k)
-    ]
-
-
-def diff_table(changes: list[dict], run_a: int, run_b: int) -> str:
-    """The changes of ``diff_runs`` as a plain-text table ("no changes" when empty)."""
-    if not changes:
-        return f"no changes between run {run_a} and run {run_b}"
-    header = ("case", "claim", "check", f"run {run_a}", f"run {run_b}")
-    rows = [(c["case"], c["claim"] or "-", c["check"], c["before"], c["after"]) for c in changes]
-    return text_table(header, rows)

@@ -22,8 +22,9 @@ import registry
 from registry.cli import main
 from registry.errors import UnknownRunError
 from registry.language.parser import Namespace, parse_expression
+from registry.model import VerdictChange
 from registry.presentation.plots import drift_plot
-from registry.presentation.report_writers import _Tex, build_report, diff_runs
+from registry.presentation.report_writers import _Tex, build_report
 
 PNG = b"\x89PNG"
 
@@ -339,7 +340,7 @@ def two_runs(tmp_path_factory) -> Path:
 
 def test_diff_of_a_run_with_itself_is_empty(db):
     with registry.open(db) as reg:
-        assert diff_runs(reg, 1, 1) == []
+        assert reg.diff(1, 1) == []
     result = CliRunner().invoke(main, ["--db", str(db), "report", "--diff", "1", "1"])
     assert result.exit_code == 0, result.output
     assert "no changes" in result.output
@@ -347,10 +348,10 @@ def test_diff_of_a_run_with_itself_is_empty(db):
 
 def test_diff_lists_the_changed_verdicts(two_runs):
     with registry.open(two_runs) as reg:
-        changes = diff_runs(reg, 1, 2)
+        changes = reg.diff(1, 2)
     expected = {"case": ZHUKOVSKY, "claim": "area", "before": "verified", "after": "refuted"}
-    assert {**expected, "check": "casimir"} in changes
-    assert all(c["case"] == ZHUKOVSKY and c["claim"] == "area" for c in changes)
+    assert VerdictChange(**expected, check="casimir") in changes
+    assert all(c.case == ZHUKOVSKY and c.claim == "area" for c in changes)
     result = CliRunner().invoke(main, ["--db", str(two_runs), "report", "--diff", "1", "2"])
     assert result.exit_code == 0, result.output
     assert "no changes" not in result.output

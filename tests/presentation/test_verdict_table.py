@@ -1,0 +1,75 @@
+"""The verdict table, from the audit's outcome objects (the seed catalog's whole table is
+pinned by tests/test_golden.py), and the table of the verdicts two runs disagree on."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import pytest
+from samples import YEHIA_B, ZHUKOVSKY, case_file
+
+from registry import audit_case, load_case
+from registry.audit.case_audit import failed_case
+from registry.audit.outcome import outcomes
+from registry.model import Evidence, Verdict, VerdictChange
+from registry.presentation.verdict_table import diff_table, disagreements, verdict_table
+
+HEADER = ["case", "family", "Poisson", "claim", "kind", "integral", "casimir", "verdict"]
+
+
+@pytest.fixture(scope="module")
+def audited():
+    cases = [load_case(case_file(c)) for c in (YEHIA_B, ZHUKOVSKY)]
+    return [audit_case(c) for c in cases], {c.id: c for c in cases}
+
+
+def test_one_row_per_claim_then_the_summary_and_the_repairs(audited):
+    audits, cases = audited
+    table = verdict_table(outcomes(audits, cases), run=4).splitlines()
+    assert table[0].split() == HEADER
+    rows = [line.split() for line in table[2:] if line.startswith((YEHIA_B, ZHUKOVSKY))]
+    assert len(rows) == sum(len(c.claims) for c in cases.values())
+    assert [YEHIA_B, "psi-gamma-grad-phi", "verified", "I2", "casimir"] == rows[-2][:5]
+    assert any(line.startswith("run 4: 2 cases, ") for line in table)
+    repairs = table[table.index("Repairs (each re-checked):") + 1 :]
+    assert f"  {YEHIA_B}/I2: holds when N = 0" in repairs
+    assert any(line.startswith(f"  {YEHIA_B}/I2: corrected torque: mu3 = ") for line in repairs)
+
+
+def test_a_case_that_could_not_be_loaded_is_a_row_and_a_note():
+    table = verdict_table(outcomes([failed_case("broken", "h", ValueError("no"))], {}))
+    lines = table.splitlines()
+    assert lines[2].split() == ["broken", "error", "-"]
+    assert "1 cases, 0 claims (none)" in lines
+    assert "  note: broken: energy error (ValueError: no)" in lines
+
+
+def test_a_contradiction_of_the_numbers_leads_the_notes(audited):
+    audits, cases = audited
+    zhukovsky = audits[1]
+    label = cases[ZHUKOVSKY].claims[0].label
+    lying = Evidence(label, 1e-2, 1e-14, 3, contradicts=True)
+    found = outcomes([dataclasses.replace(zhukovsky, evidence=(lying,))], cases)
+    assert disagreements(found) == [f"{ZHUKOVSKY}/{label}"]
+    notes = [line for line in verdict_table(found).splitlines() if "note:" in line]
+    assert notes[0] == (
+        f"  note: DISAGREEMENT {ZHUKOVSKY}/{label}: integral verified but the drift of I is "
+        "1.00e-02 against 1.00e-14 for H"
+    )
+    assert "numeric evidence: 0 of 1 claims agree with their integral verdicts" in (
+        verdict_table(found).splitlines()
+    )
+
+
+def test_the_verdicts_two_runs_disagree_on():
+    changes = [
+        VerdictChange("c", None, "jacobi", Verdict.VERIFIED, Verdict.REFUTED),
+        VerdictChange("c", "I", "casimir", None, Verdict.VERIFIED),
+    ]
+    assert diff_table(changes, 1, 2).splitlines() == [
+        "case  claim  check    run 1     run 2",
+        "----  -----  -------  --------  --------",
+        "c     -      jacobi   verified  refuted",
+        "c     I      casimir  -         verified",
+    ]
+    assert diff_table([], 1, 2) == "no changes between run 1 and run 2"
