@@ -62,7 +62,11 @@ MOVED: dict[str, tuple[str, ...]] = {
     "registry.migrate": ("registry.store.migrate",),
     "registry.integrity": ("registry.store.integrity",),
     "registry.report": ("registry.presentation.verdict_table", "registry.presentation.audit_json"),
-    "registry.reports": ("registry.presentation.report_writers",),
+    "registry.reports": (
+        "registry.presentation.report_content",
+        "registry.presentation.report_writers",
+        "registry.presentation.latex",
+    ),
     "registry.sharing": ("registry.presentation.data_export", "registry.presentation.bibtex"),
     "registry.plots": ("registry.presentation.plots",),
     "registry.display": ("registry.presentation.notebook",),

@@ -27,7 +27,7 @@ from .audit.time_budget import TimeBudget
 from .audit.worker_pool import audit_in_workers, default_jobs
 from .errors import CaseFormatError, RegistryError
 from .language.case_writer import corrected_case_text
-from .language.casefile import load_case, parse_case_text
+from .language.casefile import load_case
 from .model import Case, CaseAudit, Verdict, VerdictChange
 from .presentation.audit_json import audit_document
 from .store import frames
@@ -156,7 +156,7 @@ class Registry:
     def case(self, case_id: str) -> Case:
         """The latest stored version of a case, parsed."""
         (stored,) = self.store.case_versions([case_id])
-        return parse_case_text(stored.text, stored.path or stored.case_id)
+        return stored.parse()
 
     def audit(
         self,
@@ -198,7 +198,7 @@ class Registry:
         try:
             for i, row in enumerate(stored):
                 try:
-                    case = parse_case_text(row.text, row.path or row.case_id)
+                    case = row.parse()
                 except Exception as exc:  # a broken case must not stop the run
                     audits[i] = failed_case(row.case_id, row.content_hash, exc)
                     self.store.record_case(run, row.pk, audits[i])
@@ -280,8 +280,28 @@ class Registry:
             raise RegistryError(
                 f"the newest audit of {case_id!r} found no {kind} correction{which}"
             )
-        case = parse_case_text(stored.text, stored.path or stored.case_id)
-        return corrected_case_text(case, matches[0], run)
+        return corrected_case_text(stored.parse(), matches[0], run)
+
+    def run_report(self, run: int) -> AuditReport:
+        """A stored audit run as an AuditReport: its audits in the order they were recorded
+        and the case versions they audited, parsed (a version whose text no longer parses
+        is left out: it shows as a case that could not be audited). UnknownRunError for a
+        run that does not exist."""
+        audits = tuple(audit for _, audit in self.store.run_results(run))
+        ids = list(dict.fromkeys(a.case for a in audits))
+        stored = self.store.case_versions(ids, latest_only=False) if ids else []
+        by_hash = {(s.case_id, s.content_hash): s for s in stored}
+        cases, versions = {}, {}
+        for audit in audits:
+            found = by_hash.get((audit.case, audit.content_hash))
+            if found is None:
+                continue
+            versions[audit.case] = found.version
+            try:
+                cases[audit.case] = found.parse()
+            except RegistryError:
+                pass
+        return AuditReport(run, audits, cases, versions)
 
     def diff(self, run_a: int, run_b: int) -> list[VerdictChange]:
         """The verdicts that differ between two runs, on the cases both runs audited, sorted

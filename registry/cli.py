@@ -464,7 +464,7 @@ def report(
     """
     from pathlib import Path
 
-    from .presentation.report_writers import build_report
+    from .presentation.report_content import build_report
     from .presentation.verdict_table import diff_table
 
     reg = _registry()

@@ -8,17 +8,22 @@ from __future__ import annotations
 
 import doctest
 import json
+import re
 import tomllib
 from pathlib import Path
 from types import SimpleNamespace
 
 import pandas as pd
 import pytest
+from click.testing import CliRunner
 from samples import UNDECLARED, case_file
 
 import registry
 import registry.api
+import registry.store.database
 from registry import AddResult, AuditReport, CaseFormatError, Registry
+from registry.cli import main
+from registry.model import VerdictChange
 
 ROOT = Path(registry.__file__).resolve().parent.parent
 CASES = ROOT / "data" / "cases"
@@ -294,7 +299,7 @@ def test_history_of_a_changed_case(tmp_path):
 
 
 def test_audit_goes_on_when_a_stored_case_cannot_be_parsed(tmp_path, monkeypatch):
-    real_parse = registry.api.parse_case_text
+    real_parse = registry.store.database.parse_case_text
 
     def parse(text, *args, **kwargs):
         if tomllib.loads(text)["id"] == YEHIA_B:
@@ -303,7 +308,7 @@ def test_audit_goes_on_when_a_stored_case_cannot_be_parsed(tmp_path, monkeypatch
 
     with registry.open(tmp_path / "r.sqlite") as reg:
         reg.add(case_file(YEHIA_B), case_file(ZHUKOVSKY))
-        monkeypatch.setattr(registry.api, "parse_case_text", parse)
+        monkeypatch.setattr(registry.store.database, "parse_case_text", parse)
         report = reg.audit()
         monkeypatch.undo()
 
@@ -418,3 +423,54 @@ def _without_timings(cases):
             for detail in claim["details"].values():
                 detail.pop("seconds", None)
     return cases
+
+
+# --------------------------------------------------------------------------- diff
+
+
+CHANGED_TITLE = 'title = "Zhukovsky & Co.: k_i at 100% #1"'
+
+
+@pytest.fixture(scope="module")
+def two_runs(tmp_path_factory) -> Path:
+    """A one-case database audited twice: the original claim, then a sign flipped in it."""
+    folder = tmp_path_factory.mktemp("diff")
+    original = (CASES / f"{ZHUKOVSKY}.toml").read_text(encoding="utf-8")
+    original = re.sub(r"^title = .*$", CHANGED_TITLE, original, count=1, flags=re.M)
+    changed = original.replace('expression = "(M1 + k1)*gamma1', 'expression = "(M1 - k1)*gamma1')
+    assert changed != original
+    with registry.open(folder / "registry.sqlite") as reg:
+        for text in (original, changed):
+            path = folder / f"{ZHUKOVSKY}.toml"
+            path.write_text(text, encoding="utf-8")
+            reg.add(path)
+            reg.audit(jobs=0)
+    return folder / "registry.sqlite"
+
+
+def test_diff_of_a_run_with_itself_is_empty(two_runs):
+    db = two_runs
+    with registry.open(db) as reg:
+        assert reg.diff(1, 1) == []
+    result = CliRunner().invoke(main, ["--db", str(db), "report", "--diff", "1", "1"])
+    assert result.exit_code == 0, result.output
+    assert "no changes" in result.output
+
+
+def test_diff_lists_the_changed_verdicts(two_runs):
+    with registry.open(two_runs) as reg:
+        changes = reg.diff(1, 2)
+    expected = {"case": ZHUKOVSKY, "claim": "area", "before": "verified", "after": "refuted"}
+    assert VerdictChange(**expected, check="casimir") in changes
+    assert all(c.case == ZHUKOVSKY and c.claim == "area" for c in changes)
+    result = CliRunner().invoke(main, ["--db", str(two_runs), "report", "--diff", "1", "2"])
+    assert result.exit_code == 0, result.output
+    assert "no changes" not in result.output
+    row = next(line for line in result.output.splitlines() if "casimir" in line)
+    assert row.split() == [ZHUKOVSKY, "area", "casimir", "verified", "refuted"]
+
+
+def test_diff_of_an_unknown_run_is_an_error(two_runs):
+    result = CliRunner().invoke(main, ["--db", str(two_runs), "report", "--diff", "1", "7"])
+    assert result.exit_code == 1
+    assert "Error:" in result.output

@@ -67,7 +67,8 @@ OLD_NAMES = [
     ("registry.migrate", "head", "registry.store.migrate", "head"),
     ("registry.integrity", "verify", "registry.store.integrity", "verify"),
     ("registry.report", "result_document", "registry.presentation.audit_json", "result_document"),
-    ("registry.reports", "build_report", "registry.presentation.report_writers", "build_report"),
+    ("registry.reports", "build_report", "registry.presentation.report_content", "build_report"),
+    ("registry.reports", "FORMATS", "registry.presentation.report_writers", "FORMATS"),
     ("registry.sharing", "read_table", "registry.presentation.data_export", "read_table"),
     ("registry.sharing", "bibtex", "registry.presentation.bibtex", "bibtex"),
     ("registry.plots", "drift_plot", "registry.presentation.plots", "drift_plot"),
@@ -224,4 +225,23 @@ def test_the_package_tests_and_scripts_never_use_an_old_path():
         for name in _imported_modules(path)
         if name in _moved.MOVED or name in OLD_AUDIT_NAMES
     }
+    assert not users
+
+
+def test_doctests_and_the_readme_never_use_an_old_path():
+    import re
+
+    old = re.compile(r"\b(" + "|".join(re.escape(m) for m in _moved.MOVED) + r")\b")
+    examples = [
+        (path, line)
+        for path in (ROOT / "registry").rglob("*.py")
+        for line in path.read_text(encoding="utf-8").splitlines()
+        if line.lstrip().startswith(">>>")
+    ]
+    examples += [
+        (ROOT / "README.md", line) for line in (ROOT / "README.md").read_text().splitlines()
+    ]
+    users = [
+        f"{path.relative_to(ROOT)}: {line.strip()}" for path, line in examples if old.search(line)
+    ]
     assert not users

@@ -1,11 +1,6 @@
-"""Publishing the registry: its tables as CSV, JSON or Parquet files, its sources as BibTeX.
-
->>> import registry
->>> from registry.sharing import bibtex
->>> reg = registry.open(":memory:")
->>> _ = reg.add("data/cases/yehia-2003-kovalevskaya-b.toml")
->>> print(bibtex(reg).splitlines()[0])
-@article{yehia2003,
+"""Publishing the registry's tables (``registry export --format``): CSV, JSON or Parquet
+files, written exactly and read back with ``read_table``. A new file format is one
+more writer in ``WRITERS``.
 """
 
 from __future__ import annotations

@@ -29,6 +29,7 @@ from sqlalchemy.exc import DBAPIError, OperationalError
 from sqlalchemy.orm import Session
 
 from ..errors import DatabaseReadOnlyError, StorageError, UnknownCaseError, UnknownRunError
+from ..language.casefile import parse_case_text
 from ..model import Case, CaseAudit, CheckResult
 from . import migrate
 from .conversions import (
@@ -77,6 +78,14 @@ class StoredCase:
     content_hash: str
     text: str
     path: str | None
+
+    def parse(self) -> Case:
+        """The case this version's text holds (its file, or its id, names it in errors).
+
+        Every reader of a stored case parses it here (the audit, the reports, the export
+        of a corrected case); ``registry check`` parses under its own name for a version.
+        """
+        return parse_case_text(self.text, self.path or self.case_id)
 
 
 class Store:

@@ -1,0 +1,334 @@
+"""The content of a report of an audit run, built from the run's outcome objects.
+
+A summary table, then each case: its source and system in LaTeX, the checks of the
+system (with the residual and witness of a refutation), its family and Casimirs,
+and each claim with its verdicts, numeric evidence, repairs, parameter conditions
+and the drift plot of a refuted claim. The content is said once, to a writer
+(``report_writers``) that knows how its format writes each block.
+"""
+
+from __future__ import annotations
+
+import re
+import tempfile
+from collections import Counter
+from collections.abc import Callable, Iterable, Sequence
+from functools import lru_cache
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import pandas as pd
+import sympy as sp
+
+from ..audit.outcome import CaseOutcome, ClaimOutcome
+from ..errors import RegistryError, UnknownRunError
+from ..language.parser import Namespace, parse_equation, parse_expression
+from ..model import (
+    Case,
+    CheckResult,
+    Conditions,
+    Correction,
+    Evidence,
+    FamilyRecord,
+    Verdict,
+    component_number,
+    nan_to_none,
+)
+from .report_writers import FORMATS, WRITERS, Code, Math, Part, Writer
+
+if TYPE_CHECKING:
+    from ..api import Registry
+
+#: Makes the drift plot of (case, claim label): the PNG's path, or why there is none.
+Plotter = Callable[[Case, str], "Path | str"]
+
+
+def _formula(text: str, ns: Namespace) -> Math | Code:
+    """An expression of the case-file language in LaTeX, or verbatim if it does not parse."""
+    try:
+        return Math(sp.latex(parse_expression(text, ns)))
+    except (RegistryError, ValueError, TypeError, RecursionError):
+        return Code(text)
+
+
+def _equation(text: str, ns: Namespace) -> Math | Code:
+    """An equation ``lhs = rhs`` (a parameter condition) in LaTeX, or verbatim."""
+    try:
+        lhs, rhs = parse_equation(text, ns)
+    except (RegistryError, ValueError, TypeError, RecursionError):
+        return Code(text)
+    return Math(f"{sp.latex(lhs)} = {sp.latex(rhs)}")
+
+
+def _show(w: Writer, lhs: str, text: str, ns: Namespace) -> None:
+    """Display ``lhs = expression`` (LaTeX), or the expression verbatim if it does not parse."""
+    shown = _formula(text, ns)
+    if isinstance(shown, Math):
+        w.equation(f"{lhs} = {shown.latex}")
+    else:
+        w.para(Math(lhs), " = ", shown)
+
+
+def _joined(parts: Iterable[Part], sep: str = ", ") -> list[Part]:
+    """Parts separated by ``sep``."""
+    out: list[Part] = []
+    for p in parts:
+        out.extend([sep, p] if out else [p])
+    return out
+
+
+def _header(w: Writer, run: pd.Series, outcomes: Sequence[CaseOutcome]) -> None:
+    """Title, when the run ran, with which code, and how the claims came out."""
+    w.heading(1, f"Audit report: run {run['run']}")
+    w.para(
+        f"Run {run['run']} ({run['status']}): started {_when(run['started_at'])}, "
+        f"finished {_when(run['finished_at'])}."
+    )
+    versions = f", sympy {run['sympy_version']}, Python {run['python_version']}."
+    w.para("Code version ", Code(str(run["code_version"])), versions)
+    counts = Counter(c.verdict for case in outcomes for c in case.claims)
+    summary = ", ".join(f"{n} {v}" for v, n in sorted(counts.items())) or "none"
+    w.para(f"{len(outcomes)} cases, {sum(counts.values())} claims ({summary}).")
+
+
+def _when(stamp) -> str:
+    return "-" if stamp is None or pd.isna(stamp) else f"{stamp:%Y-%m-%d %H:%M:%S} UTC"
+
+
+def _summary(w: Writer, outcomes: Sequence[CaseOutcome]) -> None:
+    """One row per claim: case, claim, kind, integral, casimir, verdict."""
+    rows = []
+    for case in outcomes:
+        if not case.claims:
+            rows.append((case.case_id, "-", "", "", "", "error" if case.error is not None else ""))
+        for c in case.claims:
+            label = c.label + (" (on set)" if c.on_set else "")
+            row = (case.case_id, label, c.claim.kind, c.integral.verdict, c.casimir.verdict)
+            rows.append((*row, c.verdict))
+    w.heading(2, "Summary")
+    w.table(("case", "claim", "kind", "integral", "casimir", "verdict"), rows)
+
+
+def _system(w: Writer, case: Case) -> None:
+    """Inertia, potential and torque in LaTeX, and the declared parameters."""
+    w.heading(3, "System")
+    inertia = (sp.latex(e) for e in case.system.inertia_exprs)
+    w.equation(r",\quad ".join(f"{n} = {e}" for n, e in zip("ABC", inertia, strict=True)))
+    w.equation(f"U = {sp.latex(case.system.potential.expr)}")
+    for k, mu in enumerate(case.system.torque_exprs):
+        w.equation(rf"\mu_{{{component_number(k)}}} = {sp.latex(mu)}")
+    declared = [f"{name} ({case.assumptions.get(name, 'real')})" for name in case.parameters]
+    declared += [
+        f"{name}({', '.join(map(str, args))})" for name, (_, args) in case.functions.items()
+    ]
+    if declared:
+        w.para("Parameters and functions: ", ", ".join(declared), ".")
+
+
+def _result(w: Writer, name: str, result: CheckResult, ns: Namespace) -> None:
+    """One check's verdict, method and time; for a refutation, the residual and witness."""
+    reason = f"; {result.reason}" if result.reason else ""
+    seconds = round(result.seconds, 4)  # as the JSON document gives it
+    w.para(f"{name}: {result.verdict} ({result.method}, {seconds:.3g} s){reason}")
+    if result.verdict is not Verdict.REFUTED:
+        return
+    witness = result.witness
+    if result.residual is not None:
+        where = f" ({witness.component})" if witness is not None and witness.component else ""
+        w.para(f"Residual{where}, which should vanish:")
+        _show(w, r"\mathcal{R}", result.residual, ns)
+    if witness is not None:
+        point = ", ".join(f"{k} = {v}" for k, v in witness.point.items())
+        w.para("Witness point: ", Code(point))
+        if witness.functions:
+            functions = ", ".join(f"{k} = {v}" for k, v in witness.functions.items())
+            w.para("with the functions ", Code(functions))
+        w.para("Residual there: ", Code(witness.value), f" (about {witness.approx}).")
+
+
+def _family(w: Writer, family: FamilyRecord | None, ns: Namespace) -> None:
+    """The torque's family in the paper's classification, with its functions."""
+    if family is None:
+        return
+    how = f" ({family.method})" if family.method else ""
+    w.para(f"Torque family: {family.name}{how}.")
+    for text, lhs in ((family.phi, r"\varphi"), (family.psi, r"\psi"), (family.a, "a(s)")):
+        if text:
+            _show(w, lhs, text, ns)
+    if family.reason:
+        w.para(f"Note: {family.reason}.")
+
+
+def _branches(w: Writer, lead: str, branches: Sequence[Sequence[str]], ns: Namespace) -> None:
+    """Parameter conditions: equations joined by commas, branches by 'or'."""
+    parts: list[Part] = [lead]
+    for i, branch in enumerate(branches):
+        parts += ([" or "] if i else []) + _joined(_equation(eq, ns) for eq in branch)
+    w.para(*parts, ".")
+
+
+def _case_checks(w: Writer, case: CaseOutcome, ns: Namespace) -> None:
+    """The checks of the system itself, its family, Casimirs and Jacobi conditions."""
+    w.heading(3, "Checks of the system")
+    for name, result in case.checks.items():
+        _result(w, name, result, ns)
+    _family(w, case.family, ns)
+    for found in case.casimirs:
+        w.para(f"A Casimir of the case's own torque ({found.method}):")
+        _show(w, r"\mathcal{C}", found.expression or "", ns)
+    if case.jacobi_conditions is not None and case.jacobi_conditions.branches:
+        _branches(w, "The Jacobi identity holds when ", case.jacobi_conditions.branches, ns)
+
+
+def _evidence(w: Writer, found: Evidence | None) -> None:
+    """Numeric evidence: the largest drift of I next to that of H (the noise floor)."""
+    if found is None:
+        return
+    drift, floor = nan_to_none(found.drift), nan_to_none(found.floor)
+    if drift is None:
+        w.para(f"Numeric evidence: no trajectory could be integrated ({found.note}).")
+        return
+    agrees = "CONTRADICTS" if found.contradicts else "agrees with"
+    where = (
+        f" Trajectories on a smaller set than the claim's: {found.narrowed}."
+        if found.narrowed
+        else ""
+    )
+    w.para(
+        f"Numeric evidence ({found.runs} trajectories): largest relative drift of I "
+        f"{drift:.3g}, of H {floor:.3g}; {agrees} the "
+        f"{found.compared_with} verdict.{where}"
+    )
+
+
+def _correction(w: Writer, fix: Correction, ns: Namespace) -> None:
+    """A re-checked repair: a corrected Casimir, or a torque with its changed components."""
+    checks = ", ".join(f"{k} {v}" for k, v in fix.checks.items())
+    if fix.kind == "casimir":
+        w.para(f"Corrected Casimir ({fix.method}; re-checked: {checks}):")
+        _show(w, r"\mathcal{C}", fix.expression or "", ns)
+        return
+    lead = f"Corrected torque ({fix.method}; re-checked: {checks}), keeping "
+    w.para(lead, *_joined(Math(rf"\mu_{{{k}}}") for k in fix.kept_components), ":")
+    for k, text in fix.changed_components:
+        _show(w, rf"\mu_{{{k}}}'", text, ns)
+
+
+def _conditions(w: Writer, found: Conditions | None, ns: Namespace) -> None:
+    """The parameter conditions under which a claim holds, or why none were found."""
+    if found is None:
+        return
+    if found.branches:
+        _branches(w, "The claim holds when ", found.branches, ns)
+    elif found.reason:
+        w.para(f"No parameter condition found: {found.reason}.")
+
+
+def _claim(w: Writer, outcome: ClaimOutcome, case: Case, ns: Namespace, plot: Plotter | None):
+    """One claim: its expression, verdicts, evidence, repairs and drift plot."""
+    claim = outcome.claim
+    w.heading(3, f"Claim {claim.label} ({claim.kind}): {outcome.verdict}")
+    w.para("Claimed" + (f" at {claim.locator}" if claim.locator else "") + ":")
+    w.equation(f"I = {sp.latex(claim.expression.expr)}")
+    if claim.on:
+        level_set = (Math(f"{sp.latex(e.lhs)} = {sp.latex(e.rhs)}") for e in claim.on)
+        w.para("on the level set ", *_joined(level_set), ".")
+    for name, result in outcome.checks.items():
+        _result(w, name, result, ns)
+    _evidence(w, outcome.evidence)
+    for fix in outcome.corrections:
+        _correction(w, fix, ns)
+    _conditions(w, outcome.conditions, ns)
+    if plot is not None and outcome.verdict is Verdict.REFUTED:
+        made = plot(case, claim.label)
+        if isinstance(made, Path):
+            w.image(made, f"drift of {claim.label} and of H along a trajectory")
+        else:
+            w.para(f"No drift plot: {made}.")
+
+
+def _case_section(w: Writer, outcome: CaseOutcome, plot: Plotter | None) -> None:
+    """Everything about one case: source, system, checks and claims."""
+    case = outcome.case
+    w.heading(2, f"{outcome.case_id}: {case.title if case else ''}")
+    if case is None:
+        w.para("The case could not be audited: ", Code(outcome.error or "unknown error"))
+        return
+    source = ", ".join(x for x in (case.source.citation, case.source.locator) if x)
+    doi = f" (doi {case.source.doi})" if case.source.doi else ""
+    version = "?" if outcome.version is None else outcome.version
+    w.para(f"Source: {source}{doi}. Version {version}.")
+    ns = Namespace(case.parameters, case.functions)
+    _system(w, case)
+    _case_checks(w, outcome, ns)
+    for claim in outcome.claims:
+        _claim(w, claim, case, ns, plot)
+
+
+# ------------------------------------------------------------------------ runs
+
+
+def _run_row(reg: Registry, run: int | None) -> pd.Series:
+    """The runs() row of ``run`` (default: the newest); UnknownRunError if there is none."""
+    frame = reg.runs()
+    if run is None:
+        if frame.empty:
+            raise RegistryError("no audit run yet; run 'registry audit' first")
+        run = int(frame["run"].max())
+    rows = frame[frame["run"] == run]
+    if rows.empty:
+        raise UnknownRunError(run)
+    return rows.iloc[0]
+
+
+@lru_cache(maxsize=32)
+def _drift_png(case: Case, label: str) -> bytes:
+    """The drift plot of a claim as PNG bytes (cached: reports of one run in several formats)."""
+    from .plots import drift_plot
+
+    with tempfile.TemporaryDirectory() as scratch:
+        return drift_plot(case, label, Path(scratch) / "drift.png").read_bytes()
+
+
+def _plotter(directory: Path) -> Plotter:
+    """Drift plots written into ``directory`` as drift-<case>-<claim>.png."""
+
+    def plot(case: Case, label: str) -> Path | str:
+        name = re.sub(r"[^A-Za-z0-9-]+", "-", f"drift-{case.id}-{label}") + ".png"
+        try:
+            png = _drift_png(case, label)
+        except (ValueError, KeyError) as exc:
+            return str(exc)
+        directory.mkdir(parents=True, exist_ok=True)
+        (directory / name).write_bytes(png)
+        return directory / name
+
+    return plot
+
+
+def build_report(
+    reg: Registry,
+    run: int | None = None,
+    fmt: str = "md",
+    out_dir: Path | None = None,
+    plots: bool = True,
+) -> str:
+    """The text of a report of one audit run (default: the newest) in ``fmt`` (md, html, tex).
+
+    Drift plots of refuted claims are written into ``out_dir`` (default: the current
+    directory) for md and tex, and embedded in the file for html.
+    """
+    if fmt not in WRITERS:
+        raise RegistryError(f"unknown report format {fmt!r}; choose one of {', '.join(FORMATS)}")
+    row = _run_row(reg, run)
+    number = int(row["run"])
+    outcomes = sorted(reg.run_report(number).outcomes(), key=lambda o: o.case_id)
+    with tempfile.TemporaryDirectory() as scratch:
+        where = Path(scratch) if fmt == "html" else Path(out_dir or ".")
+        plot = _plotter(where) if plots else None
+        w = WRITERS[fmt]()
+        _header(w, row, outcomes)
+        _summary(w, outcomes)
+        for outcome in outcomes:
+            _case_section(w, outcome, plot)
+        return w.finish(f"Audit report: run {number}")
