@@ -61,7 +61,15 @@ def _os_message(err: OSError) -> str:
 
 
 class _Group(click.Group):
-    """The command group, with click's own usage errors as one ``Error:`` line, exit 1."""
+    """The command group, with click's own usage errors as one ``Error:`` line, exit 1,
+    and the old names of renamed commands still working (hidden from the help)."""
+
+    #: Old command name -> its command now (``registry checks`` sat beside
+    #: ``registry check``, which checks the database, not the mathematics).
+    ALIASES = {"checks": "list-checks"}
+
+    def get_command(self, ctx: click.Context, cmd_name: str) -> click.Command | None:
+        return super().get_command(ctx, self.ALIASES.get(cmd_name, cmd_name))
 
     def main(self, *args, **kwargs):
         kwargs.update(standalone_mode=False, prog_name="registry")  # also for python -m
@@ -409,11 +417,14 @@ def plot(case_id: str, claim: str, output: str | None, seed: int) -> None:
     click.echo(str(path))
 
 
-@main.command("checks")
+@main.command("list-checks")
 def list_checks() -> None:
-    """List the checks the audit runs, each with the statement it tests.
+    """List the mathematical checks the audit runs, each with the statement it tests.
 
-    Example: registry checks
+    (registry check verifies the database instead.) The old name of this
+    command, registry checks, still works.
+
+    Example: registry list-checks
     """
     from .audit.checks import CHECKS
 

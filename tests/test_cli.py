@@ -127,6 +127,15 @@ def test_every_command_documents_itself(command):
     assert usage.startswith("Usage:") and f" {command} " in f"{usage} "
 
 
+def test_the_old_name_of_list_checks_works_but_is_not_listed():
+    assert "checks" not in main.commands and "list-checks" in main.commands
+    listed = invoke(None, "--help").stdout
+    assert "list-checks" in listed
+    assert not any(line.split()[:1] == ["checks"] for line in listed.splitlines())
+    result = invoke(None, "checks", "--help")
+    assert result.exit_code == 0 and result.stdout.startswith("Usage: registry checks ")
+
+
 def test_main_help_lists_commands():
     result = invoke(None, "--help")
     assert result.exit_code == 0, result.output
@@ -517,10 +526,11 @@ def test_export_unknown_case(tmp_path):
     assert "no-such-case" in errors[0]
 
 
-def test_checks_lists_every_registered_check_with_its_statement():
+@pytest.mark.parametrize("command", ["list-checks", "checks"])
+def test_checks_lists_every_registered_check_with_its_statement(command):
     from registry.audit.checks import CHECKS
 
-    result = invoke(None, "checks")
+    result = invoke(None, command)
     assert result.exit_code == 0
     lines = result.stdout.splitlines()
     assert [line.split()[0] for line in lines] == list(CHECKS)

@@ -100,7 +100,9 @@ def _summary(w: Writer, outcomes: Sequence[CaseOutcome]) -> None:
     rows = []
     for case in outcomes:
         if not case.claims:
-            rows.append((case.case_id, "-", "", "", "", "error" if case.error is not None else ""))
+            rows.append(
+                (case.case_id, "-", "", "", "", Verdict.ERROR if case.error is not None else "")
+            )
         for c in case.claims:
             label = c.label + (" (on set)" if c.on_set else "")
             row = (case.case_id, label, c.claim.kind, c.integral.verdict, c.casimir.verdict)
