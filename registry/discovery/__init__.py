@@ -1,0 +1,1 @@
+"""Searching for first integrals of a family (registry discover)."""
