@@ -1,0 +1,163 @@
+"""The direction of imports between the package's layers, checked on the source.
+
+Every module is parsed with ``ast`` (imports inside functions and under
+``TYPE_CHECKING`` count too), relative imports are resolved, and each import of the
+package is checked against the rules below. The mathematics never imports the case
+language, the audit, the store or the presentation; the store never imports the
+mathematics or the audit; nothing but the command line's own modules imports it.
+"""
+
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+import pytest
+
+import registry
+
+PACKAGE = Path(registry.__file__).resolve().parent
+
+BASE = {"model", "errors"}
+#: What each layer (a folder, or a module at the top) may import, besides itself.
+ALLOWED: dict[str, set[str]] = {
+    "model": set(),
+    "errors": set(),
+    "mathematics": BASE,
+    "language": BASE | {"mathematics"},
+    "audit": BASE | {"mathematics", "language"},
+    "discovery": BASE | {"mathematics", "language", "audit"},
+    "store": BASE | {"language"},
+}
+#: Layers that may import anything but these.
+FORBIDDEN: dict[str, set[str]] = {
+    "presentation": {"cli", "__main__", "_moved", "__init__"},
+    "api": {"cli", "__main__", "_moved", "__init__"},
+    "cli": {"__main__", "_moved", "__init__"},
+    "_moved": {"cli", "__main__"},
+    "__main__": set(),
+    "__init__": {"cli", "__main__"},
+}
+
+
+def layer_of(module: str) -> str:
+    """The layer of a module of the package: its folder, or itself at the top
+    (``registry`` alone is the package's ``__init__``)."""
+    parts = module.split(".")
+    return parts[1] if len(parts) > 1 else "__init__"
+
+
+def module_name(path: Path, package: Path) -> str:
+    relative = path.relative_to(package.parent).with_suffix("")
+    parts = relative.parts[:-1] if relative.name == "__init__" else relative.parts
+    return ".".join(parts)
+
+
+def imports_of(path: Path, package: Path) -> list[tuple[int, str]]:
+    """(line, absolute module name) of every import of the package in one file."""
+    name = module_name(path, package)
+    is_package = path.name == "__init__.py"
+    here = name.split(".") if is_package else name.split(".")[:-1]
+    found = []
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        if isinstance(node, ast.Import):
+            found += [(node.lineno, alias.name) for alias in node.names]
+        elif isinstance(node, ast.ImportFrom):
+            if node.level:
+                base = here[: len(here) - node.level + 1]
+                module = ".".join([*base, node.module] if node.module else base)
+            else:
+                module = node.module or ""
+            for alias in node.names:  # from a package: a submodule, or a name of it
+                sub = f"{module}.{alias.name}"
+                found.append((node.lineno, sub if _is_module(sub, package) else module))
+    root = package.name
+    kept = [(line, m) for line, m in found if m == root or m.startswith(root + ".")]
+    return list(dict.fromkeys(kept))
+
+
+def _is_module(name: str, package: Path) -> bool:
+    """Whether ``name`` (``registry.x.y``) is a module or package of the package."""
+    path = package.parent.joinpath(*name.split("."))
+    return path.with_suffix(".py").is_file() or (path / "__init__.py").is_file()
+
+
+def violations(package: Path) -> list[str]:
+    """Every import that breaks the rules, as 'file:line imports module (why)'."""
+    problems = []
+    for path in sorted(package.rglob("*.py")):
+        source = module_name(path, package)
+        mine = layer_of(source)
+        for line, target in imports_of(path, package):
+            theirs = layer_of(target)
+            if theirs == mine:
+                continue
+            if mine in ALLOWED:
+                allowed = ALLOWED[mine]
+                if theirs in allowed:
+                    continue
+                why = f"{mine} may import only {', '.join(sorted(allowed | {mine}))}"
+            elif theirs in FORBIDDEN.get(mine, set()):
+                why = f"{mine} must not import {theirs}"
+            else:
+                continue
+            where = path.relative_to(package.parent).as_posix()
+            problems.append(f"{where}:{line} imports {target} ({why})")
+    return problems
+
+
+def test_every_import_goes_in_an_allowed_direction():
+    assert violations(PACKAGE) == []
+
+
+def test_every_folder_of_the_package_is_a_known_layer():
+    folders = {p.name for p in PACKAGE.iterdir() if (p / "__init__.py").exists()}
+    assert folders <= set(ALLOWED) | set(FORBIDDEN)
+    modules = {p.stem for p in PACKAGE.glob("*.py")}
+    assert modules <= set(ALLOWED) | set(FORBIDDEN)
+
+
+@pytest.mark.parametrize(
+    ("file", "text", "expected"),
+    [
+        (
+            "mathematics/bad.py",
+            "from ..store import tables\n",
+            "mathematics may import only errors, mathematics, model",
+        ),
+        (
+            "mathematics/bad.py",
+            "def f():\n    from registry.presentation import latex\n",
+            "mathematics may import only errors, mathematics, model",
+        ),
+        ("store/bad.py", "from ..audit.checks import CHECKS\n", "store may import only"),
+        ("store/bad.py", "from .. import cli\n", "store may import only"),
+        ("presentation/bad.py", "from ..cli import main\n", "presentation must not import cli"),
+        ("api.py", "import registry.cli\n", "api must not import cli"),
+    ],
+)
+def test_a_wrong_import_is_named_with_its_file_and_rule(tmp_path, file, text, expected):
+    package = tmp_path / "registry"
+    for folder in ("mathematics", "store", "presentation", "audit"):
+        (package / folder).mkdir(parents=True)
+        (package / folder / "__init__.py").write_text("")
+    (package / "__init__.py").write_text("")
+    (package / file).write_text(text)
+    (problem,) = violations(package)
+    assert problem.startswith(f"registry/{file}:")
+    assert expected in problem
+
+
+def test_relative_imports_resolve_to_the_module_they_name(tmp_path):
+    package = tmp_path / "registry"
+    (package / "audit").mkdir(parents=True)
+    (package / "model.py").write_text("")
+    (package / "audit" / "__init__.py").write_text("from . import checks\nfrom .. import model\n")
+    (package / "audit" / "checks.py").write_text("from ..mathematics.zero_test import decide\n")
+    assert imports_of(package / "audit" / "__init__.py", package) == [
+        (1, "registry.audit.checks"),
+        (2, "registry.model"),
+    ]
+    assert imports_of(package / "audit" / "checks.py", package) == [
+        (1, "registry.mathematics.zero_test")
+    ]
