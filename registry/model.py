@@ -1,7 +1,7 @@
 """The domain: a case from the literature, its system and the claims made for it.
 
 These frozen dataclasses are what a parsed case file becomes; storage rows
-are converted to and from them in one place (``storage``). Expressions are
+are converted to and from them in one place (``store.conversions``). Expressions are
 kept twice: as sympy objects for the algebra and as the text the author
 wrote, so that what is stored and printed is what the paper says.
 """
