@@ -105,6 +105,12 @@ class UnknownRunError(RegistryError, LookupError):
         return self.args[0]
 
 
+class DiscoveryError(RegistryError, ValueError):
+    """An integral search that cannot be made as asked: a free name that is not a
+    parameter, a system or level set that is not polynomial, an ansatz too large,
+    a level set the flow does not keep."""
+
+
 class StorageError(RegistryError, RuntimeError):
     """The database cannot be opened or written (missing, read-only, locked, full)."""
 

@@ -393,3 +393,88 @@ class VerdictChange:
     check: str
     before: Verdict | None
     after: Verdict | None
+
+
+@dataclass(frozen=True)
+class SearchOptions:
+    """What an integral search looks for: the ansatz's largest weighted degree, the
+    weights of M and of gamma, the level set (``on``), and the parameters whose special
+    values are sought (``free``; the others stay symbolic and generic)."""
+
+    degree: int = 4
+    weights: tuple[int, int] = (1, 2)
+    on: tuple[Equation, ...] = ()
+    free: tuple[str, ...] = ()
+
+    def __post_init__(self) -> None:
+        if self.degree < 1:
+            raise ValueError(f"the degree of the ansatz must be at least 1, not {self.degree}")
+        if len(self.weights) != 2 or min(self.weights) < 1:
+            raise ValueError(f"weights must be two positive integers, not {self.weights}")
+        object.__setattr__(self, "weights", tuple(self.weights))
+        object.__setattr__(self, "on", tuple(self.on))
+        object.__setattr__(self, "free", tuple(self.free))
+
+    def as_dict(self) -> dict:
+        """The options as plain data (stored with a search; the key of its reuse)."""
+        return {
+            "degree": self.degree,
+            "weights": {"M": self.weights[0], "gamma": self.weights[1]},
+            "on": [eq.text for eq in self.on],
+            "free": list(self.free),
+        }
+
+
+@dataclass(frozen=True)
+class IntegralSet:
+    """The extra integrals on a set of parameter values: ``when`` (equations taken
+    together, as text; empty for the generic values), how many there are, a basis of
+    them (expressions as text, each proven an integral by the audit's zero test), and
+    the audit's ``casimir`` verdict on each, for information."""
+
+    when: tuple[str, ...]
+    extra: int
+    integrals: tuple[str, ...] = ()
+    casimir: tuple[Verdict, ...] = ()
+
+
+@dataclass(frozen=True)
+class Search:
+    """The outcome of an integral search of a case (a family, with ``options.free``).
+
+    ``generic`` holds for all values of the free parameters that the assumptions allow
+    (outside ``special``); ``special`` lists every set of values with more extra
+    integrals. ``complete`` is true only when the method guarantees that no other
+    special set exists for this ansatz; ``coverage`` says what was covered.
+    ``dimensions`` gives, for generic values and each weighted degree d, (d, integrals
+    of degree <= d, trivial ones among them, extra ones found at d).
+    """
+
+    case: str
+    content_hash: str
+    options: SearchOptions
+    known: tuple[str, ...]
+    generic: IntegralSet
+    special: tuple[IntegralSet, ...]
+    complete: bool
+    coverage: tuple[str, ...] = ()
+    dimensions: tuple[tuple[int, int, int, int], ...] = ()
+    seconds: float = 0.0
+    method: str = ""
+
+    @property
+    def statement(self) -> str:
+        """The result in one sentence, as a paper would state it."""
+        o = self.options
+        ansatz = f"of weighted degree <= {o.degree} (weights M: {o.weights[0]}, gamma: {o.weights[1]}"
+        ansatz += f"; on {', '.join(eq.text for eq in o.on)})" if o.on else ")"
+        if self.generic.extra:
+            found = f"{self.generic.extra} extra integral(s) {ansatz} exist for generic values"
+        else:
+            found = f"no extra integral {ansatz} exists for generic values"
+        if o.free:
+            where = f" of {', '.join(o.free)}"
+            found = found.replace("generic values", f"generic values{where}")
+            if self.special:
+                found += "; more exist where " + "; ".join(", ".join(s.when) for s in self.special)
+        return found + ("" if self.complete else " (search not complete: see coverage)")

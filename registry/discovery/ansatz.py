@@ -1,0 +1,282 @@
+"""The linear system of an integral search: unknown coefficients of a polynomial ansatz.
+
+F = sum_k c_k m_k over the monomials m_k = M^a gamma^b of weighted degree 1..K
+(constants are trivially conserved). dF/dt = grad F . X is linear in the c_k; with
+the vector field X = Y / D (Y polynomial, D a common denominator) every monomial
+coefficient of grad F . Y must vanish: a sparse linear system A(p) c = 0 whose
+entries are polynomials in the parameters p. On a level set the system is taken
+modulo the set's ideal: F and grad F . Y are reduced to normal form by a Groebner
+basis of the ideal, and F ranges over the standard monomials only, so that F is
+counted modulo the ideal.
+
+The columns of A fall into connected blocks (two columns are connected when some
+row holds both); for a weighted-homogeneous vector field the blocks never mix
+weighted degrees, so the system splits by degree without being told.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+
+import sympy as sp
+from sympy import QQ
+from sympy.polys.rings import PolyElement, PolyRing
+
+from ..errors import DiscoveryError
+from ..mathematics import mechanics as mech
+
+#: Exponents of the six state variables (M1, M2, M3, gamma1, gamma2, gamma3).
+Monomial = tuple[int, int, int, int, int, int]
+#: A polynomial in the parameters: exponents (in the system's parameter order) -> rational.
+ParamPoly = Mapping[tuple[int, ...], "object"]
+
+
+#: Largest system a search builds: unknowns times equations (about 8 bytes of sparse
+#: bookkeeping each in the worst case, so the default stays within a few hundred MB).
+MAX_SYSTEM_SIZE = 20_000_000
+
+
+class NotPolynomialError(DiscoveryError):
+    """The vector field, a known integral or a level set is not polynomial (after
+    clearing denominators) in the state variables."""
+
+
+def count_monomials(max_weight: int, weights: Sequence[int]) -> int:
+    """How many monomials of the six state variables have weighted degree <= max_weight."""
+    counts = [1] + [0] * max_weight  # counts[w]: monomials of weight exactly w so far
+    for w in weights:
+        for total in range(w, max_weight + 1):
+            counts[total] += counts[total - w]
+    return sum(counts)
+
+
+def weighted_monomials(degree: int, weights: Sequence[int]) -> list[Monomial]:
+    """Every monomial of the six state variables of exactly this weighted degree."""
+    found: list[Monomial] = []
+    exps = [0] * 6
+
+    def place(i: int, left: int) -> None:
+        if i == 6:
+            if left == 0:
+                found.append(tuple(exps))  # type: ignore[arg-type]
+            return
+        for a in range(left // weights[i] + 1):
+            exps[i] = a
+            place(i + 1, left - a * weights[i])
+        exps[i] = 0
+
+    place(0, degree)
+    return found
+
+
+@dataclass(frozen=True)
+class Block:
+    """One connected block of the system: its columns (indices into the system's
+    columns), how many rows, and the entries (row, column-in-block) -> parameter
+    polynomial (exponent tuple -> rational)."""
+
+    columns: tuple[int, ...]
+    rows: int
+    entries: Mapping[tuple[int, int], ParamPoly]
+
+
+class PolynomialSystem:
+    """A(p) c = 0 for an ansatz of weighted degree <= ``degree`` (see module docstring).
+
+    ``field`` is the vector field (six sympy expressions in the state, ``s`` and the
+    parameters); ``ideal`` the level-set equations (expressions vanishing on the set).
+    """
+
+    def __init__(
+        self,
+        field: Sequence[sp.Expr],
+        params: Sequence[sp.Symbol],
+        weights: Sequence[int],
+        degree: int,
+        ideal: Sequence[sp.Expr] = (),
+        max_size: int = MAX_SYSTEM_SIZE,
+    ):
+        self.params = tuple(params)
+        self.weights = tuple(weights)
+        self.degree = degree
+        names = [str(v) for v in mech.STATE] + [str(p) for p in self.params]
+        self.ring = PolyRing(names, QQ, "grevlex")
+        self._plain = {g: sp.Symbol(n) for g, n in zip((*mech.STATE, *self.params), names, strict=True)}
+        self.field = self._polynomial_field(field)
+        self.ideal = self._groebner(ideal)
+        self.leading = [g.LM[:6] for g in self.ideal]
+        self._check_size(max_size)
+        self.columns: list[tuple[Monomial, int]] = [
+            (e, d)
+            for d in range(1, degree + 1)
+            for e in weighted_monomials(d, self.weights)
+            if not any(all(a >= b for a, b in zip(e, lm, strict=True)) for lm in self.leading)
+        ]
+        self.column_index = {e: j for j, (e, _) in enumerate(self.columns)}
+        self.blocks = self._blocks()
+
+    def _check_size(self, limit: int) -> None:
+        """Refuse, before building it, a system larger than ``limit`` (unknowns times
+        equations, the equations counted as the monomials dF/dt can reach)."""
+        shift = max(
+            (
+                self.weight_of(m) - self.weights[i]
+                for i, y in enumerate(self.field)
+                for m in y.monoms()
+            ),
+            default=0,
+        )
+        unknowns = count_monomials(self.degree, self.weights) - 1
+        equations = count_monomials(self.degree + max(shift, 0), self.weights)
+        if unknowns * equations > limit:
+            raise DiscoveryError(
+                f"the ansatz of weighted degree <= {self.degree} has {unknowns} unknowns and "
+                f"up to {equations} equations ({unknowns * equations:,} entries, more than "
+                f"the limit of {limit:,}); search at a lower --degree"
+            )
+
+    def weight_of(self, monomial: tuple[int, ...]) -> int:
+        """The weighted degree of a ring monomial (its state part)."""
+        return sum(a * w for a, w in zip(monomial[:6], self.weights, strict=True))
+
+    # ------------------------------------------------------------ conversion
+
+    def polynomial(self, expr: sp.Expr, *, what: str = "expression") -> PolyElement:
+        """``expr`` as an element of the system's ring (s expanded; parameter denominators
+        cleared), reduced modulo the level set. NotPolynomialError if it is not
+        polynomial in the state variables."""
+        numer, denom = sp.fraction(sp.together(sp.expand(sp.sympify(expr).subs(mech.s, mech.S_VALUE))))
+        if denom.free_symbols & set(mech.STATE):
+            raise NotPolynomialError(f"the {what} is not polynomial in the state variables")
+        try:
+            poly = self.ring.from_expr(sp.expand(numer).xreplace(self._plain))
+        except (ValueError, sp.PolynomialError, sp.CoercionFailed) as err:
+            raise NotPolynomialError(f"the {what} is not polynomial: {err}") from None
+        return self.reduce(poly)
+
+    def _polynomial_field(self, field: Sequence[sp.Expr]) -> list[PolyElement]:
+        """Y = D X with one denominator D for all six components (dropping D changes no
+        conserved quantity where X is defined)."""
+        numers, denoms = [], []
+        for x in field:
+            n, d = sp.fraction(sp.together(sp.expand(sp.sympify(x).subs(mech.s, mech.S_VALUE))))
+            numers.append(n)
+            denoms.append(d)
+        common = sp.lcm_list(denoms)
+        out = []
+        for n, d in zip(numers, denoms, strict=True):
+            scaled = sp.expand(n * sp.cancel(common / d))
+            try:
+                out.append(self.ring.from_expr(scaled.xreplace(self._plain)))
+            except (ValueError, sp.PolynomialError, sp.CoercionFailed):
+                raise NotPolynomialError(
+                    "the equations of motion are not rational in the state variables "
+                    "(radicals or transcendental functions); the ansatz needs polynomials"
+                ) from None
+        return out
+
+    def _groebner(self, ideal: Sequence[sp.Expr]) -> list[PolyElement]:
+        if not ideal:
+            return []
+        polys = []
+        for g in ideal:
+            numer, denom = sp.fraction(sp.together(sp.expand(sp.sympify(g).subs(mech.s, mech.S_VALUE))))
+            if denom.free_symbols & set(mech.STATE):
+                raise NotPolynomialError("a level-set equation is not polynomial")
+            polys.append(sp.expand(numer).xreplace(self._plain))
+        state = [self._plain[v] for v in mech.STATE]
+        params = [self._plain[p] for p in self.params]
+        domain = QQ.frac_field(*params) if params else QQ
+        basis = sp.groebner(polys, *state, order="grevlex", domain=domain)
+        out = []
+        for g in basis.exprs:
+            g = sp.together(g)
+            numer, denom = sp.fraction(g)
+            poly = sp.Poly(sp.expand(numer), *state)
+            lead = poly.LC()
+            if lead.free_symbols:
+                raise NotPolynomialError(
+                    "the level set's Groebner basis has a leading coefficient that depends "
+                    f"on the parameters ({lead}); discovery supports level sets whose basis "
+                    "does not"
+                )
+            out.append(self.ring.from_expr(sp.expand(numer / lead)))
+        return out
+
+    # --------------------------------------------------------------- algebra
+
+    def reduce(self, poly: PolyElement) -> PolyElement:
+        """The normal form of ``poly`` modulo the level set's ideal."""
+        return poly.rem(self.ideal) if self.ideal else poly
+
+    def weight(self, poly: PolyElement) -> int:
+        """The largest weighted degree of the state monomials of ``poly``."""
+        return max((self.weight_of(m) for m in poly.monoms()), default=0)
+
+    def derivative(self, exps: Monomial) -> PolyElement:
+        """D d(x^exps)/dt reduced modulo the level set."""
+        total = self.ring.zero
+        pad = (0,) * len(self.params)
+        for i in range(6):
+            if exps[i]:
+                lower = list(exps)
+                lower[i] -= 1
+                total += self.ring({(*lower, *pad): QQ(exps[i])}) * self.field[i]
+        return self.reduce(total)
+
+    def coordinates(self, poly: PolyElement) -> dict[int, dict[tuple[int, ...], object]]:
+        """The coefficients of ``poly`` on the ansatz columns (constants dropped), each a
+        parameter polynomial; ValueError for a monomial outside the ansatz."""
+        coords: dict[int, dict[tuple[int, ...], object]] = {}
+        for m, c in poly.items():
+            state = m[:6]
+            if not any(state):
+                continue
+            j = self.column_index.get(state)
+            if j is None:
+                raise ValueError(f"monomial {state} is outside the ansatz")
+            coords.setdefault(j, {})[m[6:]] = c
+        return coords
+
+    def _blocks(self) -> list[Block]:
+        rows: dict[tuple, int] = {}
+        entries: dict[tuple[int, int], dict] = {}
+        for j, (exps, _) in enumerate(self.columns):
+            for m, c in self.derivative(exps).items():
+                r = rows.setdefault(m[:6], len(rows))
+                entries.setdefault((r, j), {})[m[6:]] = c
+        parent = list(range(len(self.columns)))
+
+        def find(a: int) -> int:
+            while parent[a] != a:
+                parent[a] = parent[parent[a]]
+                a = parent[a]
+            return a
+
+        first: dict[int, int] = {}
+        for r, j in entries:
+            if r in first:
+                a, b = find(first[r]), find(j)
+                if a != b:
+                    parent[a] = b
+            else:
+                first[r] = j
+        groups: dict[int, list[int]] = {}
+        for j in range(len(self.columns)):
+            groups.setdefault(find(j), []).append(j)
+        blocks = []
+        for cols in groups.values():
+            index = {j: k for k, j in enumerate(cols)}
+            local_rows: dict[int, int] = {}
+            local = {}
+            for (r, j), v in entries.items():
+                if j in index:
+                    local[(local_rows.setdefault(r, len(local_rows)), index[j])] = v
+            blocks.append(Block(tuple(cols), len(local_rows), local))
+        return blocks
+
+    @property
+    def size(self) -> int:
+        """Unknowns times equations, the measure of the work the system asks for."""
+        return len(self.columns) * sum(b.rows for b in self.blocks)

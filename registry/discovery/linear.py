@@ -1,0 +1,127 @@
+"""Linear algebra of a search over one field: the rationals Q, the rational functions
+Q(q) of the parameters left symbolic, or the integers modulo a large prime.
+
+Everything goes through sympy's ``DomainMatrix``, which hands the work to FLINT
+(python-flint) where it is installed and runs in pure Python otherwise, so both
+backends run the same code. Modular arithmetic only ever *bounds* dimensions: the
+rank of a matrix modulo a prime is at most its rank over Q, so a kernel modulo p
+is at least as large as over Q; exact statements are made over Q or Q(q) only.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Mapping, Sequence
+
+import sympy as sp
+from sympy import GF, QQ
+from sympy.polys.domains import Domain
+from sympy.polys.matrices import DomainMatrix
+
+#: The prime of modular computations (the Mersenne prime 2**61 - 1).
+PRIME = (1 << 61) - 1
+GF_PRIME = GF(PRIME)
+
+
+def rational(value) -> object:
+    """A QQ element from a QQ element, an int, or a sympy Rational."""
+    return QQ.from_sympy(value) if isinstance(value, sp.Basic) else QQ.convert(value)
+
+
+class Field:
+    """Where a search evaluates parameter polynomials: ``domain`` is QQ, GF(PRIME) or
+    QQ(q); ``point`` maps parameter indices to the rational values substituted for
+    them, and the other parameters are the symbols of the fraction field."""
+
+    def __init__(self, domain: Domain, params: Sequence[sp.Symbol], point: Mapping[int, object]):
+        self.domain = domain
+        self.params = tuple(params)
+        self.point = {i: self.number(v) for i, v in point.items()}
+        self.symbolic = {i: domain.from_sympy(p) for i, p in enumerate(params) if i not in point}
+        self.zero = domain.zero
+        self.one = domain.one
+        self._cache: dict[tuple, object] = {}
+
+    @property
+    def exact(self) -> bool:
+        return self.domain != GF_PRIME
+
+    def number(self, value) -> object:
+        """A rational number as an element of the field."""
+        q = rational(value)
+        if self.domain == GF_PRIME:
+            return self.domain(int(q.numerator)) / self.domain(int(q.denominator))
+        return self.domain.convert(q)
+
+    def evaluate(self, poly: Mapping[tuple[int, ...], object]) -> object:
+        """A parameter polynomial (exponents -> rational) as an element of the field."""
+        key = tuple(sorted(poly.items()))
+        hit = self._cache.get(key)
+        if hit is None:
+            hit = self.zero
+            for exps, coeff in poly.items():
+                term = self.number(coeff)
+                for i, e in enumerate(exps):
+                    if e:
+                        term *= (self.point[i] if i in self.point else self.symbolic[i]) ** e
+                hit += term
+            self._cache[key] = hit
+        return hit
+
+
+def _matrix(rows: int, cols: int, entries: Iterable[tuple[int, int, object]], field: Field):
+    dense = [[field.zero] * cols for _ in range(rows)]
+    for r, c, v in entries:
+        dense[r][c] = v
+    return DomainMatrix(dense, (rows, cols), field.domain)
+
+
+def nullspace(rows: int, cols: int, entries: Iterable[tuple[int, int, object]], field: Field):
+    """A basis of the kernel of the matrix given by (row, column, value) entries."""
+    if cols == 0:
+        return []
+    if rows == 0:
+        return [[field.one if i == j else field.zero for i in range(cols)] for j in range(cols)]
+    return _matrix(rows, cols, entries, field).nullspace().to_list()
+
+
+def rank(rows: int, cols: int, entries: Iterable[tuple[int, int, object]], field: Field) -> int:
+    """The rank of the matrix given by (row, column, value) entries."""
+    if cols == 0 or rows == 0:
+        return 0
+    return _matrix(rows, cols, entries, field).rank()
+
+
+class Span:
+    """An echelon basis of a subspace of K^n: membership tests and extension."""
+
+    def __init__(self, field: Field):
+        self.field = field
+        self.rows: list[tuple[int, list]] = []  # (pivot, vector with 1 at the pivot)
+
+    def reduce(self, vector: Sequence) -> list:
+        """``vector`` minus its part in the span along the pivots (a canonical residue)."""
+        v = list(vector)
+        for pivot, row in self.rows:
+            c = v[pivot]
+            if c:
+                v = [a - c * b for a, b in zip(v, row, strict=True)]
+        return v
+
+    def add(self, vector: Sequence) -> bool:
+        """Add ``vector``; False when it lies in the span already."""
+        v = self.reduce(vector)
+        for pivot, c in enumerate(v):
+            if c:
+                inv = self.field.one / c
+                v = [a * inv for a in v]
+                self.rows = [
+                    (q, [a - r[pivot] * b for a, b in zip(r, v, strict=True)]) if r[pivot] else (q, r)
+                    for q, r in self.rows
+                ]
+                self.rows.append((pivot, v))
+                return True
+        return False
+
+    @property
+    def dim(self) -> int:
+        return len(self.rows)

@@ -1,0 +1,399 @@
+"""``discover``: the integrals of a case, or of a family, up to a weighted degree, and the
+free-parameter values where more appear.
+
+1. The ansatz's system A(p, q) c = 0 (``ansatz``) and the known integrals.
+2. Generic values. The kernel's dimension modulo a prime at a random point bounds the
+   generic kernel from above; the products of the known integrals bound it from
+   below. Where the bounds meet (the usual case) there is provably no extra integral
+   for generic values, and nothing exact needs computing; otherwise the kernel is
+   computed exactly over Q(p, q).
+3. The special locus (``locus``): where the rank of a block drops, as points and
+   components in the free parameters p; the others, q, stay symbolic throughout.
+4. Each candidate is searched again as a case of its own with its values substituted
+   (a point has no free parameter left, a component fewer); it is special when it
+   has more extra integrals than the family has generically.
+5. Every integral reported is proven by the audit's own zero test (the ``integral``
+   check; ``casimir`` is recorded for information), and only then reported.
+"""
+
+from __future__ import annotations
+
+import multiprocessing as mp
+import os
+import random
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field, replace
+
+import sympy as sp
+from sympy import QQ
+from sympy.polys.rings import PolyElement, PolyRing
+
+from ..audit.case_audit import audit_case
+from ..audit.time_budget import BudgetExceeded, time_limit
+from ..audit.worker_pool import die_with_parent
+from ..errors import DiscoveryError
+from ..language.printer import to_text
+from ..mathematics import mechanics as mech
+from ..mathematics.case_mechanics import CaseMechanics
+from ..mathematics.families import recognise
+from ..model import (
+    Case,
+    Claim,
+    ClaimKind,
+    Expression,
+    IntegralSet,
+    Search,
+    SearchOptions,
+    Verdict,
+)
+from .ansatz import PolynomialSystem
+from .integrals import Analysis, Generator, analyse, products
+from .linear import GF_PRIME, PRIME, Field
+from .locus import Locus, drop_locus, eliminate_constants
+from .simplest_form import simplest
+
+#: What a search says of how it works (stored with every recorded search).
+METHOD = (
+    "polynomial ansatz; generic kernel bounded modulo a prime by the known integrals' "
+    "products; rank-drop locus from constant-pivot elimination, gcds of projected "
+    "maximal minors and resultants; exact kernels over Q(p); zero-test proofs"
+)
+
+#: Progress callback: (candidates done, candidates known so far, what is being done).
+Progress = Callable[[int, int, str], None]
+
+
+@dataclass
+class _State:
+    """What one search shares while it recurses into candidate sets."""
+
+    options: SearchOptions
+    seed: int
+    undecided: list[str] = field(default_factory=list)
+    found: list[IntegralSet] = field(default_factory=list)
+    generic: IntegralSet | None = None
+    counts: dict = field(default_factory=dict)
+    known: tuple[str, ...] = ()
+    progress: Progress | None = None
+    done: int = 0
+    total: int = 0
+
+    def rnd(self, when: tuple[str, ...]) -> random.Random:
+        """A generator seeded by the search and the set searched, so that results do not
+        depend on the order (or the process) in which sets are searched."""
+        return random.Random(f"{self.seed}/{'/'.join(when)}")
+
+
+def discover(
+    case: Case,
+    options: SearchOptions = SearchOptions(),
+    *,
+    budget: float | None = None,
+    jobs: int = 1,
+    seed: int = 0,
+    progress: Progress | None = None,
+) -> Search:
+    """Search ``case`` for first integrals (module docstring).
+
+    ``options.free`` names the parameters whose special values are sought; the others
+    stay symbolic and generic. ``budget`` bounds the whole search in seconds: when it
+    runs out, what was proven so far is returned with ``complete`` false and the
+    coverage saying where the search stopped. ``jobs`` > 1 searches candidate sets in
+    that many processes.
+    """
+    started = time.perf_counter()
+    unknown = [f for f in options.free if f not in case.parameters]
+    if unknown:
+        raise DiscoveryError(
+            f"--free names {', '.join(map(repr, unknown))}, which the case does not declare "
+            f"(its parameters: {', '.join(case.parameters) or 'none'})"
+        )
+    state = _State(options, seed, progress=progress)
+    free = [case.parameters[f] for f in options.free]
+    try:
+        with time_limit(budget):
+            generic, special = _search(state, case, free, (), jobs)
+            state.generic = generic
+            state.found = special
+    except BudgetExceeded:
+        state.undecided.append(
+            f"time budget exceeded ({budget:g} s) after {state.done} of the "
+            f"{state.total} candidate sets found so far"
+        )
+    generic = state.generic or IntegralSet((), 0)
+    complete = not state.undecided and state.generic is not None
+    coverage = tuple(state.undecided) or (
+        "every parameter value: the generic values and every point and component of the "
+        "rank-drop locus",
+    )
+    return Search(
+        case=case.id,
+        content_hash=case.content_hash,
+        options=options,
+        known=state.known,
+        generic=generic,
+        special=tuple(_distinct(state.found)),
+        complete=complete,
+        coverage=coverage,
+        dimensions=tuple((d, *c) for d, c in sorted(state.counts.items())),
+        seconds=time.perf_counter() - started,
+        method=METHOD,
+    )
+
+
+def _search(state: _State, case: Case, free: list[sp.Symbol], when: tuple[str, ...], jobs: int = 1):
+    """(integrals of the case for generic values of ``free``, special sets found in it)."""
+    rnd = state.rnd(when)
+    m = CaseMechanics(case)
+    system, params = _system(state.options, m, free)
+    _check_invariant(system, state.options)
+    known, names = _known(m, system)
+    point = {i: rnd.randrange(1, PRIME) for i in range(len(params))}
+    generic = analyse(system, known, Field(GF_PRIME, params, point))
+    integrals: list[sp.Expr] = []
+    if generic.extra:  # extra integrals for generic values (or an unlucky point)
+        fld = Field(QQ.frac_field(*params) if params else QQ, params, {})
+        generic = analyse(system, known, fld, to_poly=lambda v: _ring_poly(system, v, fld))
+        columns = [e for e, _ in system.columns]
+        integrals = [
+            _expression(system, simplest(v, generic.trivial[d], columns, fld.domain), fld)
+            for v, d in generic.extras
+        ]
+    if not when:
+        state.known, state.counts = tuple(names), generic.counts
+    found = _proven(state, case, when, integrals)
+    if not free:
+        return found, []
+    extras = [Generator(system.polynomial(e), d) for e, (_, d) in zip(integrals, generic.extras)]
+    locus = _locus(state, system, params, len(free), generic, known, extras, rnd)
+    candidates = []
+    for assignment in [*locus.points, *({s: e} for s, e in locus.components)]:
+        sub = substituted(case, assignment)
+        if sub is not None:
+            sub_when = when + tuple(f"{to_text(s)} = {to_text(e)}" for s, e in assignment.items())
+            candidates.append((sub, [p for p in free if p not in assignment], sub_when))
+    state.total += len(candidates)
+    special: list[IntegralSet] = []
+    for g, more, undecided in _each(state, candidates, jobs):
+        if g.extra > generic.extra:
+            special.append(g)
+        special.extend(more)
+        state.undecided.extend(u for u in undecided if u not in state.undecided)
+    return found, special
+
+
+def _each(state: _State, candidates, jobs: int):
+    """Search each candidate set, in this process or in ``jobs`` processes; results come
+    in the candidates' order either way."""
+    if jobs <= 1 or len(candidates) <= 1:
+        for sub, rest, when in candidates:
+            if state.progress is not None:
+                state.progress(state.done, state.total, ", ".join(when))
+            before = list(state.undecided)
+            g, more = _search(state, sub, rest, when)
+            state.done += 1
+            yield g, more, [u for u in state.undecided if u not in before]
+        return
+    context = mp.get_context("fork" if "fork" in mp.get_all_start_methods() else "spawn")
+    bare = replace(state, progress=None, found=[], undecided=[])
+    pool = context.Pool(min(jobs, len(candidates)), initializer=die_with_parent, initargs=(os.getpid(),))
+    try:
+        work = [(bare, sub, rest, when) for sub, rest, when in candidates]
+        for result, (_, _, when) in zip(pool.imap(_search_apart, work), candidates, strict=True):
+            if state.progress is not None:
+                state.progress(state.done, state.total, ", ".join(when))
+            state.done += 1
+            yield result
+    finally:
+        pool.terminate()  # at once, also when the budget ran out in the middle
+        pool.join()
+
+
+def _search_apart(work):
+    """``_search`` in a worker process: what it found and what it could not decide."""
+    state, case, free, when = work
+    g, more = _search(state, case, free, when)
+    return g, more, state.undecided
+
+
+def _system(options: SearchOptions, m: CaseMechanics, free: list[sp.Symbol]):
+    """The polynomial system and its parameters (the free ones first)."""
+    on = [eq.expr for eq in options.on]
+    present = set().union(*(sp.sympify(e).free_symbols for e in (*m.field, m.hamiltonian, *on)))
+    symbolic = sorted((set(m.case.parameters.values()) - set(free)) & present, key=str)
+    params = [*free, *symbolic]
+    weights = (options.weights[0],) * 3 + (options.weights[1],) * 3
+    return PolynomialSystem(m.field, params, weights, options.degree, on), params
+
+
+def _known(m: CaseMechanics, system: PolynomialSystem) -> tuple[list[Generator], list[str]]:
+    """H, |gamma|^2 and the torque's Casimir (s where there is no torque) as generators of
+    the trivial integrals, and their names. Non-polynomial ones cannot lie in the ansatz
+    and generate nothing there."""
+    family = recognise(m.mu, m.domain)
+    named = [("H", m.hamiltonian), (None, 2 * mech.C1)]
+    if family.casimir is not None:
+        named.append((None, family.casimir))
+    gens, names = [], []
+    for name, expr in named:
+        names.append(name or to_text(sp.expand(expr)))
+        try:
+            poly = system.polynomial(expr, what="known integral")
+        except DiscoveryError:
+            continue
+        if poly:
+            gens.append(Generator(poly, system.weight(poly)))
+    return gens, names
+
+
+def _locus(state, system, params, free, generic: Analysis, known, extras, rnd) -> Locus:
+    """Candidate sets of the free parameters (the first ``free`` of ``params``).
+
+    Extra integrals appear where some block's kernel grows (block by block, cut off at
+    each weight, since integrals are counted by degree) or where the trivial
+    integrals become dependent. The known integrals never do (H is quadratic in M with
+    finite moments, |gamma|^2 free of M, the torque's Casimir linear in M through s);
+    products with extra integrals of generic values may, so their rank is added.
+    """
+    ring = PolyRing([str(p) for p in params], QQ, "lex")
+    locus = Locus()
+
+    def rows_of(entries) -> list[dict[int, PolyElement]]:
+        rows: dict[int, dict[int, PolyElement]] = {}
+        for (r, c), v in entries:
+            poly = ring(dict(v))
+            if poly:
+                rows.setdefault(r, {})[c] = poly
+        return list(rows.values())
+
+    for b, block in enumerate(system.blocks):
+        weights = [system.columns[j][1] for j in block.columns]
+        for cutoff in sorted(set(weights)):
+            keep = {c: i for i, c in enumerate(c for c, w in enumerate(weights) if w <= cutoff)}
+            rows = rows_of(((r, keep[c]), v) for (r, c), v in block.entries.items() if c in keep)
+            taken, rest = eliminate_constants(rows)
+            rho = len(keep) - generic.nullities[(b, cutoff)] - taken
+            if rest and rho > 0:
+                locus.merge(drop_locus(rest, rho, free, rnd))
+    if extras:
+        trivial = products(system, [*known, *extras], system.degree)
+        rows = rows_of(
+            ((i, j), coeffs) for i, p in enumerate(trivial) for j, coeffs in system.coordinates(p).items()
+        )
+        taken, rest = eliminate_constants(rows)
+        rho = generic.counts[system.degree][1] - taken
+        if rest and rho > 0:
+            locus.merge(drop_locus(rest, rho, free, rnd))
+    back = dict(zip(ring.symbols, params, strict=True))
+    locus.points = [{back[s]: e.xreplace(back) for s, e in p.items()} for p in locus.points]
+    locus.components = [(back[s], e.xreplace(back)) for s, e in locus.components]
+    state.undecided.extend(u for u in locus.undecided if u not in state.undecided)
+    return locus
+
+
+def _ring_poly(system: PolynomialSystem, vec, fld: Field) -> PolyElement:
+    """A kernel vector as a ring polynomial with its parameter denominators cleared."""
+    return system.polynomial(_expression(system, vec, fld))
+
+
+def _expression(system: PolynomialSystem, vec, fld: Field) -> sp.Expr:
+    """A kernel vector as an expression: integer coefficients with no common factor
+    (polynomial in the symbolic parameters), the first one positive."""
+    terms = [
+        fld.domain.to_sympy(c)
+        * sp.Mul(*(x**e for x, e in zip(mech.STATE, system.columns[j][0], strict=True)))
+        for j, c in enumerate(vec)
+        if c
+    ]
+    numer = sp.numer(sp.together(sp.Add(*terms)))
+    _, primitive = sp.Poly(numer, *mech.STATE).primitive()
+    if primitive.LC().could_extract_minus_sign():
+        primitive = -primitive
+    return primitive.as_expr()
+
+
+def substituted(case: Case, values: dict[sp.Symbol, sp.Expr]) -> Case | None:
+    """The case with these parameter values (its claims dropped), or None where it is
+    not defined: an assumption broken (a positive parameter not positive, ...), a
+    moment of inertia zero or undefined, a potential or torque undefined."""
+    for p, v in values.items():
+        if v.is_number and (
+            (p.is_positive and not v > 0)
+            or (p.is_nonzero and v == 0)
+            or (p.is_integer and not v.is_integer)
+        ):
+            return None
+
+    def put(e: Expression) -> Expression:
+        new = sp.sympify(e.expr).xreplace(values)
+        return Expression(to_text(new), new)
+
+    inertia = tuple(put(e) for e in case.system.inertia)
+    if any(e.expr.has(sp.zoo, sp.nan, sp.oo) or sp.simplify(e.expr) == 0 for e in inertia):
+        return None
+    system = replace(
+        case.system,
+        inertia=inertia,
+        potential=put(case.system.potential),
+        torque=tuple(put(e) for e in case.system.torque),
+    )
+    if any(e.expr.has(sp.zoo, sp.nan) for e in (system.potential, *system.torque)):
+        return None
+    kept = {n: s for n, s in case.parameters.items() if s not in values}
+    return replace(
+        case,
+        system=system,
+        claims=(),
+        parameters=kept,
+        assumptions={n: a for n, a in case.assumptions.items() if n in kept},
+    )
+
+
+def _proven(state: _State, case: Case, when, integrals: Sequence[sp.Expr]) -> IntegralSet:
+    """The integrals, each proven by the audit's ``integral`` check (``casimir`` recorded
+    for information). One that is not proven is not reported, and the search is then
+    not complete. The checks run under the search's own budget."""
+    if not integrals:
+        return IntegralSet(when, 0)
+    claims = tuple(
+        Claim(f"F{i + 1}", ClaimKind.INTEGRAL, Expression(to_text(e), e), on=state.options.on)
+        for i, e in enumerate(integrals)
+    )
+    audit = audit_case(
+        replace(case, claims=claims), checks=["integral", "casimir"], repair=False, budget=None
+    )
+    kept, casimirs = [], []
+    for claim in claims:
+        result = audit.result("integral", claim.label)
+        if result.verdict is not Verdict.VERIFIED:
+            where = f" where {', '.join(when)}" if when else ""
+            state.undecided.append(
+                f"integral {claim.expression.text}{where} found but not proven "
+                f"({result.verdict}: {result.reason or result.method})"
+            )
+            continue
+        kept.append(claim.expression.text)
+        casimirs.append(audit.result("casimir", claim.label).verdict)
+    return IntegralSet(when, len(kept), tuple(kept), tuple(casimirs))
+
+
+def _check_invariant(system: PolynomialSystem, options: SearchOptions) -> None:
+    """The level set must be kept by the flow, or an integral on it means nothing."""
+    for g in system.ideal:
+        rate = sum((g.diff(system.ring.gens[i]) * system.field[i] for i in range(6)), system.ring.zero)
+        if system.reduce(rate):
+            equations = ", ".join(eq.text for eq in options.on)
+            raise DiscoveryError(
+                f"the flow does not keep the level set {equations} invariant (the time "
+                "derivative of its equations does not vanish on it); an integral there "
+                "would mean nothing"
+            )
+
+
+def _distinct(sets: list[IntegralSet]) -> list[IntegralSet]:
+    """One entry per set, fewest equations first."""
+    out: dict[tuple[str, ...], IntegralSet] = {}
+    for s in sets:
+        out.setdefault(tuple(sorted(s.when)), s)
+    return sorted(out.values(), key=lambda s: (len(s.when), s.when))
