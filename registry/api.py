@@ -25,13 +25,15 @@ from .audit.case_audit import DEFAULT_BUDGET, audit_case, failed_case
 from .audit.outcome import CaseOutcome, outcomes
 from .audit.time_budget import TimeBudget
 from .audit.worker_pool import audit_in_workers, default_jobs
-from .errors import CaseFormatError, RegistryError
-from .language.case_writer import corrected_case_text
-from .language.casefile import load_case
-from .model import Case, CaseAudit, Verdict, VerdictChange
+from .discovery.search import discover, search_options
+from .errors import CaseFormatError, RegistryError, UnknownCaseError
+from .language.case_writer import corrected_case_text, derived_case_text
+from .language.casefile import load_case, parse_case_text
+from .model import Case, CaseAudit, Equation, Search, Verdict, VerdictChange
 from .presentation.audit_json import audit_document
-from .store import frames
-from .store.database import Store
+from .presentation.search_output import search_document, statement
+from .store import conversions, frames
+from .store.database import Store, StoredCase
 from .store.integrity import Verification, verify
 
 if TYPE_CHECKING:
@@ -39,6 +41,9 @@ if TYPE_CHECKING:
 
 #: Where the registry lives when neither --db nor REGISTRY_DB says otherwise.
 DEFAULT_DB = Path("data") / "registry.sqlite"
+
+#: Seconds an integral search may take by default (``registry discover --budget``).
+DEFAULT_SEARCH_BUDGET = 300.0
 
 
 def source_digest(folder: Path) -> str:
@@ -72,12 +77,15 @@ def code_version() -> str:
     return f"{release}+{source_digest(Path(__file__).parent)[:12]}"
 
 
-def _reusable(found: tuple[int, CaseAudit] | None) -> CaseAudit | None:
-    """A stored audit worth reusing: complete, with no crashed or killed check."""
+def _reusable(found: tuple[int, CaseAudit] | None, case: Case) -> CaseAudit | None:
+    """A stored audit worth reusing: complete, with no crashed or killed check, and
+    covering every claim of the case (a search may have attached claims since)."""
     if found is None:
         return None
     _, audit = found
     if any(r.verdict is Verdict.ERROR or r.check in ("audit", "load") for r in audit.results):
+        return None
+    if {c.label for c in case.claims} - {r.claim for r in audit.results}:
         return None
     return audit
 
@@ -96,6 +104,28 @@ class AddResult:
     case: str | None = None
     version: int | None = None
     error: RegistryError | None = None
+
+
+@dataclass(frozen=True)
+class SearchReport:
+    """One integral search: its outcome, its number in the registry (None when it was
+    not recorded), whether a stored search was reused, and the ids of the derived cases
+    that hold the integrals of its special sets as claims."""
+
+    search: Search
+    number: int | None = None
+    reused: bool = False
+    derived: tuple[str, ...] = ()
+
+    def document(self) -> dict:
+        """The JSON document of CASE_FORMAT.md (section Discovery) for this search."""
+        document = search_document(self.search)
+        if self.number is not None:
+            document["search"] = self.number
+            document["reused"] = self.reused
+        if self.derived:
+            document["derived_cases"] = list(self.derived)
+        return document
 
 
 @dataclass(frozen=True)
@@ -204,7 +234,7 @@ class Registry:
                     self.store.record_case(run, row.pk, audits[i])
                     continue
                 cases[case.id] = case
-                prior = None if fresh else _reusable(self.store.stored_audit(row.pk, version))
+                prior = None if fresh else _reusable(self.store.stored_audit(row.pk, version), case)
                 if prior is not None and numeric and len(prior.evidence) < len(case.claims):
                     prior = None  # stored without numerical evidence
                 if prior is not None:
@@ -242,6 +272,86 @@ class Registry:
                 yield k, audit_case(case, budget=budget, numeric=numeric)
         else:
             yield from audit_in_workers(cases, jobs, budget, started, numeric)
+
+    # --- discovering --------------------------------------------------------
+
+    def discover(
+        self,
+        target: str | os.PathLike | Case,
+        *,
+        degree: int = 4,
+        weights: tuple[int, int] = (1, 2),
+        on: Sequence[str | Equation] = (),
+        free: Sequence[str] = (),
+        record: bool = False,
+        fresh: bool = False,
+        budget: float | None = DEFAULT_SEARCH_BUDGET,
+        jobs: int = 1,
+        progress=None,
+    ) -> SearchReport:
+        """Search a case (a case file, a stored case's id, or a ``Case``) for first
+        integrals of weighted ``degree`` <= K (``weights`` of M and gamma), on the level
+        set ``on`` (equations as text, like ``"s = 0"``), with the parameters ``free``
+        whose special values are sought (``registry.discovery.search.discover``).
+
+        A stored case version already searched with the same options by this code version
+        reuses that search unless ``fresh``. With ``record`` the search is stored (the
+        case file added first if need be): its generic integrals become claims of the
+        searched version, and each special set a derived case holding its integrals as
+        claims, so that the next audit decides them like any literature claim.
+        """
+        case, stored = self._search_target(target)
+        options = search_options(case, degree=degree, weights=weights, on=on, free=free)
+        version = code_version()
+        if stored is not None and not fresh:
+            found = self.store.stored_search(stored.pk, options, version)
+            if found is not None:
+                number, row, rows = found
+                return SearchReport(
+                    conversions.search(row, case.id, case.content_hash, rows, options.on),
+                    number,
+                    reused=True,
+                )
+        search = discover(case, options, budget=budget, jobs=jobs, progress=progress)
+        if not record:
+            return SearchReport(search)
+        if stored is None:
+            self.store.add_case(case)
+            (stored,) = [s for s in self.store.case_versions([case.id])]
+        derived = [
+            parse_case_text(derived_case_text(case, s, options), f"<derived from {case.id}>")
+            for s in search.special
+        ]
+        number = self.store.record_search(stored.pk, search, version, statement(search), derived)
+        return SearchReport(search, number, derived=tuple(c.id for c in derived))
+
+    def _search_target(self, target) -> tuple[Case, StoredCase | None]:
+        """The case to search and its stored version (None when not stored)."""
+        if isinstance(target, Case):
+            case = target
+        elif Path(target).is_file():
+            case = load_case(target)
+        else:
+            (stored,) = self.store.case_versions([str(target)])
+            return stored.parse(), stored
+        try:
+            versions = self.store.case_versions([case.id], latest_only=False)
+        except UnknownCaseError:
+            return case, None
+        same = [s for s in versions if s.content_hash == case.content_hash]
+        return case, (same[-1] if same else None)
+
+    def searches(self) -> pd.DataFrame:
+        """One row per recorded integral search: the case, the ansatz, what exists for
+        generic values, how many special sets, completeness, coverage, the result in
+        one sentence (negative results included), code version and time."""
+        return frames.searches_frame(self.store)
+
+    def discoveries(self) -> pd.DataFrame:
+        """One row per set of parameter values a recorded search found integrals on (the
+        generic values too): the equations, the integrals, their casimir verdicts, and
+        the case that holds them as claims."""
+        return frames.discoveries_frame(self.store)
 
     # --- queries ----------------------------------------------------------
 
@@ -343,6 +453,23 @@ class Registry:
 
     def __exit__(self, *exc) -> None:
         self.close()
+
+
+def discover_file(
+    path: str | os.PathLike,
+    *,
+    degree: int = 4,
+    weights: tuple[int, int] = (1, 2),
+    on: Sequence[str | Equation] = (),
+    free: Sequence[str] = (),
+    budget: float | None = DEFAULT_SEARCH_BUDGET,
+    jobs: int = 1,
+    progress=None,
+) -> SearchReport:
+    """Search a case file without a database (``Registry.discover`` has the options)."""
+    case = load_case(path)
+    options = search_options(case, degree=degree, weights=weights, on=on, free=free)
+    return SearchReport(discover(case, options, budget=budget, jobs=jobs, progress=progress))
 
 
 def open_registry(target: str | os.PathLike | None = None, *, create: bool = True) -> Registry:

@@ -15,13 +15,15 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 from dataclasses import replace
 from functools import wraps
+from pathlib import Path
 from typing import TYPE_CHECKING
 
 import click
 
-from .api import Registry, default_target, open_registry
+from .api import DEFAULT_SEARCH_BUDGET, Registry, default_target, discover_file, open_registry
 from .audit.case_audit import DEFAULT_BUDGET
 from .errors import RegistryError, UnknownClaimError, printable
+from .presentation.search_output import search_text
 from .presentation.verdict_table import disagreements, verdict_table
 from .store.database import Store
 
@@ -265,6 +267,139 @@ def audit(
             err=True,
         )
         sys.exit(1)
+
+
+def _weights(text: str) -> tuple[int, int]:
+    """``M=1,gamma=2`` as (1, 2); a click error names what is wrong."""
+    found = {}
+    for part in text.split(","):
+        name, _, value = part.partition("=")
+        name = name.strip()
+        if name not in ("M", "gamma") or not value.strip().isdigit() or int(value) < 1:
+            raise click.BadParameter(
+                f"{text!r}: expected M=<positive integer>,gamma=<positive integer>",
+                param_hint="--weights",
+            )
+        found[name] = int(value)
+    if set(found) != {"M", "gamma"}:
+        raise click.BadParameter(f"{text!r}: give both M and gamma", param_hint="--weights")
+    return found["M"], found["gamma"]
+
+
+@main.command()
+@click.argument("target", metavar="FILE|ID")
+@click.option(
+    "--degree",
+    type=click.IntRange(min=1),
+    default=4,
+    show_default=True,
+    help="Largest weighted degree of the ansatz.",
+)
+@click.option(
+    "--weights",
+    "weights_text",
+    default="M=1,gamma=2",
+    show_default=True,
+    help="Weights of M1..M3 and of gamma1..gamma3.",
+)
+@click.option(
+    "--on",
+    "on",
+    multiple=True,
+    metavar='"LHS = RHS"',
+    help="Integrals on this level set (repeatable, as in claims.on).",
+)
+@click.option(
+    "--free",
+    "free_text",
+    default="",
+    metavar="P,Q",
+    help="Parameters whose special values are sought (the others stay generic).",
+)
+@click.option("--json", "as_json", is_flag=True, help="Print the JSON document of CASE_FORMAT.md.")
+@click.option(
+    "--record",
+    is_flag=True,
+    help="Store the search; its integrals become claims the next audit decides.",
+)
+@click.option("--fresh", is_flag=True, help="Search again instead of reusing a stored search.")
+@click.option(
+    "--budget",
+    "seconds",
+    type=click.FloatRange(min=0, min_open=True),
+    default=DEFAULT_SEARCH_BUDGET,
+    show_default=True,
+    help="Seconds the whole search may take; then what is proven is reported.",
+)
+@click.option(
+    "--jobs",
+    type=click.IntRange(min=1),
+    default=1,
+    show_default=True,
+    help="Processes searching the candidate parameter values.",
+)
+@_user_errors
+def discover(
+    target: str,
+    degree: int,
+    weights_text: str,
+    on: tuple[str, ...],
+    free_text: str,
+    as_json: bool,
+    record: bool,
+    fresh: bool,
+    seconds: float,
+    jobs: int,
+) -> None:
+    """Search a case (a case file or a stored case's id) for first integrals.
+
+    Finds every polynomial integral of weighted degree <= --degree beyond the known
+    ones (H, |gamma|^2, the torque's Casimir), and, for a family, every set of values
+    of the --free parameters where more exist. Each integral is proven by the
+    audit's zero test; "complete" means that no other special values exist for this
+    ansatz. Stored searches of the same case version and options are reused.
+
+    Example: registry discover data/cases/heavy-top/kovalevskaya-1889-heavy-top.toml
+    --degree 4 --free lam --json
+    """
+    from tqdm import tqdm
+
+    weights = _weights(weights_text)
+    free = tuple(f.strip() for f in free_text.split(",") if f.strip())
+    is_file = Path(target).is_file()
+    db_exists = Path(click.get_current_context().obj["db"]).exists() or "://" in str(
+        click.get_current_context().obj["db"]
+    )
+    reg = _registry(create=True) if record or not is_file or db_exists else None
+    quiet = as_json or not sys.stderr.isatty()
+    bar = tqdm(total=0, unit="set", file=sys.stderr, disable=quiet, leave=False)
+
+    def progress(done: int, total: int, where: str) -> None:
+        bar.total = total
+        bar.n = done
+        bar.set_postfix_str(where, refresh=True)
+
+    options = dict(degree=degree, weights=weights, on=on, free=free, budget=seconds, jobs=jobs)
+    try:
+        if reg is None:
+            report = discover_file(target, progress=progress, **options)
+        else:
+            with _interruptible(reg.store):
+                report = reg.discover(
+                    target, record=record, fresh=fresh, progress=progress, **options
+                )
+    finally:
+        bar.close()
+    if as_json:
+        click.echo(json.dumps(report.document(), indent=2, ensure_ascii=False))
+        return
+    click.echo(search_text(report.search))
+    if report.reused:
+        click.echo(f"(reused stored search {report.number}; --fresh searches again)")
+    elif report.number is not None:
+        click.echo(f"recorded as search {report.number}")
+    for case_id in report.derived:
+        click.echo(f"  derived case {case_id}: its integrals are claims for the next audit")
 
 
 def _print_frame(frame: pd.DataFrame) -> None:

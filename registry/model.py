@@ -24,6 +24,13 @@ class Assumption(StrEnum):
     INTEGER = "integer"
 
 
+class Provenance(StrEnum):
+    """Where a claim comes from: a source in the literature, or ``registry discover``."""
+
+    LITERATURE = "literature"
+    DISCOVERED = "discovered"
+
+
 class ClaimKind(StrEnum):
     """What the source claims of an expression."""
 
@@ -99,7 +106,8 @@ class Source:
 
 @dataclass(frozen=True)
 class Claim:
-    """An integral of motion that a source claims for a system."""
+    """An integral of motion that a source claims for a system (or that a search found,
+    ``provenance`` discovered)."""
 
     label: str
     kind: ClaimKind
@@ -107,6 +115,7 @@ class Claim:
     on: tuple[Equation, ...] = ()
     locator: str = ""
     notes: str = ""
+    provenance: Provenance = Provenance.LITERATURE
 
 
 @dataclass(frozen=True)
@@ -461,20 +470,3 @@ class Search:
     dimensions: tuple[tuple[int, int, int, int], ...] = ()
     seconds: float = 0.0
     method: str = ""
-
-    @property
-    def statement(self) -> str:
-        """The result in one sentence, as a paper would state it."""
-        o = self.options
-        ansatz = f"of weighted degree <= {o.degree} (weights M: {o.weights[0]}, gamma: {o.weights[1]}"
-        ansatz += f"; on {', '.join(eq.text for eq in o.on)})" if o.on else ")"
-        if self.generic.extra:
-            found = f"{self.generic.extra} extra integral(s) {ansatz} exist for generic values"
-        else:
-            found = f"no extra integral {ansatz} exists for generic values"
-        if o.free:
-            where = f" of {', '.join(o.free)}"
-            found = found.replace("generic values", f"generic values{where}")
-            if self.special:
-                found += "; more exist where " + "; ".join(", ".join(s.when) for s in self.special)
-        return found + ("" if self.complete else " (search not complete: see coverage)")

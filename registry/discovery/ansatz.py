@@ -102,7 +102,9 @@ class PolynomialSystem:
         self.degree = degree
         names = [str(v) for v in mech.STATE] + [str(p) for p in self.params]
         self.ring = PolyRing(names, QQ, "grevlex")
-        self._plain = {g: sp.Symbol(n) for g, n in zip((*mech.STATE, *self.params), names, strict=True)}
+        self._plain = {
+            g: sp.Symbol(n) for g, n in zip((*mech.STATE, *self.params), names, strict=True)
+        }
         self.field = self._polynomial_field(field)
         self.ideal = self._groebner(ideal)
         self.leading = [g.LM[:6] for g in self.ideal]
@@ -146,7 +148,9 @@ class PolynomialSystem:
         """``expr`` as an element of the system's ring (s expanded; parameter denominators
         cleared), reduced modulo the level set. NotPolynomialError if it is not
         polynomial in the state variables."""
-        numer, denom = sp.fraction(sp.together(sp.expand(sp.sympify(expr).subs(mech.s, mech.S_VALUE))))
+        numer, denom = sp.fraction(
+            sp.together(sp.expand(sp.sympify(expr).subs(mech.s, mech.S_VALUE)))
+        )
         if denom.free_symbols & set(mech.STATE):
             raise NotPolynomialError(f"the {what} is not polynomial in the state variables")
         try:
@@ -181,7 +185,9 @@ class PolynomialSystem:
             return []
         polys = []
         for g in ideal:
-            numer, denom = sp.fraction(sp.together(sp.expand(sp.sympify(g).subs(mech.s, mech.S_VALUE))))
+            numer, denom = sp.fraction(
+                sp.together(sp.expand(sp.sympify(g).subs(mech.s, mech.S_VALUE)))
+            )
             if denom.free_symbols & set(mech.STATE):
                 raise NotPolynomialError("a level-set equation is not polynomial")
             polys.append(sp.expand(numer).xreplace(self._plain))

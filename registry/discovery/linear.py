@@ -115,7 +115,9 @@ class Span:
                 inv = self.field.one / c
                 v = [a * inv for a in v]
                 self.rows = [
-                    (q, [a - r[pivot] * b for a, b in zip(r, v, strict=True)]) if r[pivot] else (q, r)
+                    (q, [a - r[pivot] * b for a, b in zip(r, v, strict=True)])
+                    if r[pivot]
+                    else (q, r)
                     for q, r in self.rows
                 ]
                 self.rows.append((pivot, v))

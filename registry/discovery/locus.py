@@ -164,14 +164,18 @@ def projected_minor(rows: list[Row], rho: int, rnd: random.Random) -> PolyElemen
     for _ in range(PROJECTION_ATTEMPTS):
         q = [[rnd.randint(-SPREAD, SPREAD) for _ in range(rho)] for _ in cols]
         sq = [
-            [sum((v * q[index[k]][j] for k, v in r.items() if q[index[k]][j]), ring.zero)
-             for j in range(rho)]
+            [
+                sum((v * q[index[k]][j] for k, v in r.items() if q[index[k]][j]), ring.zero)
+                for j in range(rho)
+            ]
             for r in rows
         ]
         left = [[rnd.randint(-SPREAD, SPREAD) for _ in rows] for _ in range(rho)]
         square = [
-            [sum((left[a][i] * sq[i][j] for i in range(len(rows)) if left[a][i]), ring.zero)
-             for j in range(rho)]
+            [
+                sum((left[a][i] * sq[i][j] for i in range(len(rows)) if left[a][i]), ring.zero)
+                for j in range(rho)
+            ]
             for a in range(rho)
         ]
         det = bareiss(square)
@@ -251,12 +255,17 @@ def _restrict(rows: list[Row], v: int, numer: PolyElement, denom: PolyElement) -
             total = smaller.zero
             for exps, c in p.items():
                 rest = tuple(exps[i] for i in others)
-                total += smaller({rest: c}) * numer ** exps[v] * denom ** (top - exps[v])
+                total += smaller({rest: c}) * _power(numer, exps[v]) * _power(denom, top - exps[v])
             if total:
                 new[k] = total
         if new:
             out.append(new)
     return out
+
+
+def _power(poly: PolyElement, exponent: int) -> PolyElement:
+    """poly**exponent, with 0**0 = 1 (sympy's rings refuse it)."""
+    return poly.ring.one if exponent == 0 else poly**exponent
 
 
 def _on_hypersurface(rows, rho, free, h, rnd) -> Locus:

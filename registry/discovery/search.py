@@ -33,6 +33,7 @@ from ..audit.case_audit import audit_case
 from ..audit.time_budget import BudgetExceeded, time_limit
 from ..audit.worker_pool import die_with_parent
 from ..errors import DiscoveryError
+from ..language.parser import Namespace, parse_equation
 from ..language.printer import to_text
 from ..mathematics import mechanics as mech
 from ..mathematics.case_mechanics import CaseMechanics
@@ -41,6 +42,7 @@ from ..model import (
     Case,
     Claim,
     ClaimKind,
+    Equation,
     Expression,
     IntegralSet,
     Search,
@@ -87,7 +89,7 @@ class _State:
 
 def discover(
     case: Case,
-    options: SearchOptions = SearchOptions(),
+    options: SearchOptions | None = None,
     *,
     budget: float | None = None,
     jobs: int = 1,
@@ -103,6 +105,7 @@ def discover(
     that many processes.
     """
     started = time.perf_counter()
+    options = options or SearchOptions()
     unknown = [f for f in options.free if f not in case.parameters]
     if unknown:
         raise DiscoveryError(
@@ -142,6 +145,23 @@ def discover(
     )
 
 
+def search_options(
+    case: Case,
+    *,
+    degree: int = 4,
+    weights: tuple[int, int] = (1, 2),
+    on: Sequence[str | Equation] = (),
+    free: Sequence[str] = (),
+) -> SearchOptions:
+    """Options for searching ``case``: level-set equations given as text (``"s = 0"``)
+    are parsed in the case's own names (an ExpressionError names a bad one)."""
+    ns = Namespace(case.parameters, case.functions)
+    equations = tuple(
+        e if isinstance(e, Equation) else Equation(e, *parse_equation(e, ns)) for e in on
+    )
+    return SearchOptions(degree, tuple(weights), equations, tuple(free))
+
+
 def _search(state: _State, case: Case, free: list[sp.Symbol], when: tuple[str, ...], jobs: int = 1):
     """(integrals of the case for generic values of ``free``, special sets found in it)."""
     rnd = state.rnd(when)
@@ -165,7 +185,10 @@ def _search(state: _State, case: Case, free: list[sp.Symbol], when: tuple[str, .
     found = _proven(state, case, when, integrals)
     if not free:
         return found, []
-    extras = [Generator(system.polynomial(e), d) for e, (_, d) in zip(integrals, generic.extras)]
+    extras = [
+        Generator(system.polynomial(e), d)
+        for e, (_, d) in zip(integrals, generic.extras, strict=True)
+    ]
     locus = _locus(state, system, params, len(free), generic, known, extras, rnd)
     candidates = []
     for assignment in [*locus.points, *({s: e} for s, e in locus.components)]:
@@ -197,7 +220,9 @@ def _each(state: _State, candidates, jobs: int):
         return
     context = mp.get_context("fork" if "fork" in mp.get_all_start_methods() else "spawn")
     bare = replace(state, progress=None, found=[], undecided=[])
-    pool = context.Pool(min(jobs, len(candidates)), initializer=die_with_parent, initargs=(os.getpid(),))
+    pool = context.Pool(
+        min(jobs, len(candidates)), initializer=die_with_parent, initargs=(os.getpid(),)
+    )
     try:
         work = [(bare, sub, rest, when) for sub, rest, when in candidates]
         for result, (_, _, when) in zip(pool.imap(_search_apart, work), candidates, strict=True):
@@ -279,7 +304,9 @@ def _locus(state, system, params, free, generic: Analysis, known, extras, rnd) -
     if extras:
         trivial = products(system, [*known, *extras], system.degree)
         rows = rows_of(
-            ((i, j), coeffs) for i, p in enumerate(trivial) for j, coeffs in system.coordinates(p).items()
+            ((i, j), coeffs)
+            for i, p in enumerate(trivial)
+            for j, coeffs in system.coordinates(p).items()
         )
         taken, rest = eliminate_constants(rows)
         rho = generic.counts[system.degree][1] - taken
@@ -317,6 +344,7 @@ def substituted(case: Case, values: dict[sp.Symbol, sp.Expr]) -> Case | None:
     """The case with these parameter values (its claims dropped), or None where it is
     not defined: an assumption broken (a positive parameter not positive, ...), a
     moment of inertia zero or undefined, a potential or torque undefined."""
+    values = {p: sp.sympify(v) for p, v in values.items()}
     for p, v in values.items():
         if v.is_number and (
             (p.is_positive and not v > 0)
@@ -381,7 +409,9 @@ def _proven(state: _State, case: Case, when, integrals: Sequence[sp.Expr]) -> In
 def _check_invariant(system: PolynomialSystem, options: SearchOptions) -> None:
     """The level set must be kept by the flow, or an integral on it means nothing."""
     for g in system.ideal:
-        rate = sum((g.diff(system.ring.gens[i]) * system.field[i] for i in range(6)), system.ring.zero)
+        rate = sum(
+            (g.diff(system.ring.gens[i]) * system.field[i] for i in range(6)), system.ring.zero
+        )
         if system.reduce(rate):
             equations = ", ".join(eq.text for eq in options.on)
             raise DiscoveryError(

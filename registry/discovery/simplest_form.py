@@ -34,16 +34,18 @@ def simplest(vector: list, trivial: list[list], columns, domain) -> list:
                 return best
             # choose coefficients (for `size` of the trivial vectors) that cancel `zeros`
             for chosen in combinations(range(t), size):
-                m = DomainMatrix([[relevant[i][z] for i in chosen] for z in zeros], (size, size), domain)
+                m = DomainMatrix(
+                    [[relevant[i][z] for i in chosen] for z in zeros], (size, size), domain
+                )
                 try:
                     rhs = DomainMatrix([[-vector[z]] for z in zeros], (size, 1), domain)
                     coeffs = m.lu_solve(rhs).to_list()
                 except Exception:
                     continue
                 cand = list(vector)
-                for (c,), i in zip(coeffs, chosen):
+                for (c,), i in zip(coeffs, chosen, strict=True):
                     if c:
-                        cand = [a + c * b for a, b in zip(cand, relevant[i])]
+                        cand = [a + c * b for a, b in zip(cand, relevant[i], strict=True)]
                 cost = _cost(cand, columns)
                 if cost < best_cost:
                     best, best_cost = cand, cost

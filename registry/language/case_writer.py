@@ -1,17 +1,24 @@
-"""Writing a corrected case back as a case file (CASE_FORMAT.md), with its provenance.
+"""Writing a case back as a case file (CASE_FORMAT.md), with its provenance.
 
 A torque correction gives the same case with the repaired torque and the
 claim unchanged; a Casimir correction gives the same system with the derived
-Casimir as its claim. Either file loads with ``registry add``.
+Casimir as its claim. A special set of an integral search gives the case with
+those parameter values and the integrals found there as claims. Every such file
+loads with ``registry add``.
 """
 
 from __future__ import annotations
 
+import hashlib
+import re
 import tomllib
 
+import sympy as sp
 import tomli_w
 
-from ..model import Case, Correction
+from ..model import Case, Correction, IntegralSet, SearchOptions
+from .parser import Namespace, parse_equation
+from .printer import to_text
 
 
 def corrected_case_text(case: Case, correction: Correction, run: int | None = None) -> str:
@@ -43,3 +50,68 @@ def corrected_case_text(case: Case, correction: Correction, run: int | None = No
     original = data.get("notes", "")
     data["notes"] = provenance + (f"\n\nNotes of the original case: {original}" if original else "")
     return tomli_w.dumps(data)
+
+
+#: Longest readable part of a derived case's id (beyond it a digest keeps ids distinct).
+MAX_SLUG = 60
+
+
+def derived_case_text(case: Case, found: IntegralSet, options: SearchOptions) -> str:
+    """The TOML text of the case that a search's special set defines: ``case`` with the
+    parameter values of ``found.when`` substituted (those parameters no longer
+    declared) and its integrals as claims, provenance ``discovered``, on the search's
+    level set. ``registry audit`` then decides them like any literature claim."""
+    ns = Namespace(case.parameters, case.functions)
+    values = {}
+    for equation in found.when:
+        lhs, rhs = parse_equation(equation, ns)
+        values[lhs] = rhs
+
+    def put(expr) -> str:
+        return to_text(sp.sympify(expr).xreplace(values))
+
+    data = tomllib.loads(case.text)
+    data["id"] = derived_id(case.id, found.when)
+    data["title"] = f"{case.title}, where {', '.join(found.when)}"
+    data.pop("aliases", None)
+    system = data.setdefault("system", {})
+    system["inertia"] = [put(e) for e in case.system.inertia_exprs]
+    system["potential"] = put(case.system.potential.expr)
+    system["torque"] = [put(e) for e in case.system.torque_exprs]
+    names = {str(p) for p in values}
+    data["parameters"] = {k: v for k, v in data.get("parameters", {}).items() if k not in names}
+    if not data["parameters"]:
+        del data["parameters"]
+    ansatz = (
+        f"weighted degree <= {options.degree}, weights M: {options.weights[0]}, "
+        f"gamma: {options.weights[1]}"
+        + (f", on {', '.join(e.text for e in options.on)}" if options.on else "")
+    )
+    data["claims"] = [
+        {
+            "label": f"F{i + 1}",
+            "kind": "integral",
+            "expression": text,
+            **({"on": [e.text for e in options.on]} if options.on else {}),
+            "provenance": "discovered",
+            "notes": f"Found by registry discover ({ansatz}) on case {case.id!r}.",
+        }
+        for i, text in enumerate(found.integrals)
+    ]
+    original = data.get("notes", "")
+    data["notes"] = (
+        f"Derived by registry discover from case {case.id!r}: the parameter values "
+        f"{', '.join(found.when)}, where the search found {found.extra} extra integral(s) "
+        f"({ansatz})." + (f"\n\nNotes of the original case: {original}" if original else "")
+    )
+    return tomli_w.dumps(data)
+
+
+def derived_id(case_id: str, when: tuple[str, ...]) -> str:
+    """A readable, stable id for the case of a special set: the searched case's id and
+    the equations, lowercased, with anything but letters, digits and '.' as '-'."""
+    slug = re.sub(r"[^a-z0-9.]+", "-", " ".join(when).lower()).strip("-")
+    if len(slug) > MAX_SLUG:
+        digest = hashlib.sha256(" ".join(when).encode()).hexdigest()[:8]
+        slug = f"{slug[:MAX_SLUG].rstrip('-')}-{digest}"
+    return f"{case_id}-where-{slug}"

@@ -46,7 +46,17 @@ import sympy as sp
 
 from ..errors import CaseFormatError, ExpressionError, Problem
 from ..mathematics.mechanics import MOMENTUM, STATE, s
-from ..model import Assumption, Case, Claim, ClaimKind, Equation, Expression, Source, System
+from ..model import (
+    Assumption,
+    Case,
+    Claim,
+    ClaimKind,
+    Equation,
+    Expression,
+    Provenance,
+    Source,
+    System,
+)
 from .limits import MAX_DIGITS, ParseBudget
 from .parser import (
     RESERVED_NAMES,
@@ -103,7 +113,7 @@ SOURCE_TEXT_FIELDS = (
 )
 _SOURCE_KEYS = ("citation", "locator", "doi", "authors", "year", *SOURCE_TEXT_FIELDS)
 _SYSTEM_KEYS = ("inertia", "potential", "torque")
-_CLAIM_KEYS = ("label", "kind", "expression", "on", "locator", "notes")
+_CLAIM_KEYS = ("label", "kind", "expression", "on", "locator", "notes", "provenance")
 #: Most authors of one source, and most aliases of one case.
 MAX_AUTHORS = 50
 MAX_ALIASES = 20
@@ -767,7 +777,7 @@ class _Reader:
         )
 
     def claim(self, item: Any, field: str, labels: set[str]) -> Claim | None:
-        """One claim: label, kind, expression, on, locator."""
+        """One claim: label, kind, expression, on, locator, notes, provenance."""
         if not isinstance(item, dict):
             self.problem(field, f"expected a table, found {_found(item)}")
             return None
@@ -786,9 +796,21 @@ class _Reader:
         on = self.level_set(item, f"{field}.on")
         locator = self.string(item, "locator", f"{field}.locator")
         notes = self.string(item, "notes", f"{field}.notes", line_breaks=True)
+        provenance = self.provenance(item, f"{field}.provenance")
         if None in (label, kind, expression, on):
             return None
-        return Claim(label, kind, expression, on, locator or "", notes or "")
+        return Claim(label, kind, expression, on, locator or "", notes or "", provenance)
+
+    def provenance(self, item: dict, field: str) -> Provenance:
+        """'literature' (the default) or 'discovered' (found by registry discover)."""
+        text = self.string(item, "provenance", field)
+        if text is None:
+            return Provenance.LITERATURE
+        try:
+            return Provenance(text)
+        except ValueError:
+            self.problem(field, "unknown provenance (expected 'literature' or 'discovered')", text)
+            return Provenance.LITERATURE
 
     def claim_kind(self, item: dict, field: str) -> ClaimKind | None:
         """'integral' or 'casimir'."""

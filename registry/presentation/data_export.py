@@ -22,8 +22,11 @@ FORMATS = ("csv", "json", "parquet")
 #: The tables ``export_tables`` writes, in this order.
 TABLES = ("cases", "claims", "verdicts", "all_results", "repairs", "runs")
 
+#: Text columns whose values may look like numbers (a volume "8"), read back as text.
+TEXT_COLUMNS = ("volume", "issue", "pages", "doi", "locator", "citation", "label", "claim")
+
 #: Columns holding JSON values (dicts or lists), written as JSON text in CSV and Parquet.
-JSON_COLUMNS = ("on", "witness", "payload", "options")
+JSON_COLUMNS = ("on", "witness", "payload", "options", "authors", "aliases")
 
 
 # ------------------------------------------------------------------ tables
@@ -141,7 +144,11 @@ def read_table(path: Path) -> pd.DataFrame:
     elif path.suffix == ".parquet":
         frame = pd.read_parquet(path)
     else:
-        frame = pd.read_csv(path)
+        header = pd.read_csv(path, nrows=0).columns
+        frame = pd.read_csv(path, dtype={c: "string" for c in TEXT_COLUMNS if c in header})
+        for column in TEXT_COLUMNS:
+            if column in frame:
+                frame[column] = frame[column].astype(object).where(frame[column].notna(), None)
     for column in frame.columns:
         if column in JSON_COLUMNS:
             frame[column] = [_decoded(v) for v in frame[column]]

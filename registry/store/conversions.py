@@ -9,6 +9,7 @@ stored as NULL.
 
 from __future__ import annotations
 
+import json
 from collections.abc import Iterable
 from typing import Any
 
@@ -21,13 +22,27 @@ from ..model import (
     Correction,
     Evidence,
     FamilyRecord,
+    IntegralSet,
+    Search,
+    SearchOptions,
+    Source,
     Verdict,
     Witness,
     component_index,
     nan_to_none,
     none_to_nan,
 )
-from .tables import CaseRow, ClaimRow, CorrectionRow, EvidenceRow, ResultRow, now
+from .tables import (
+    CaseRow,
+    ClaimRow,
+    CorrectionRow,
+    DiscoveryRow,
+    EvidenceRow,
+    ResultRow,
+    SearchRow,
+    SourceRow,
+    now,
+)
 
 
 def verdict_text(verdict: Verdict) -> str:
@@ -63,11 +78,13 @@ def case_row(case: Case, version: int, source_id: int) -> CaseRow:
         parameters={n: str(case.assumptions.get(n, "real")) for n in names},
         functions={name: [str(a) for a in args] for name, (_, args) in case.functions.items()},
         added_at=now(),
+        topic=case.topic,
     )
 
 
-def claim_row(claim: Claim, case_pk: int, position: int) -> ClaimRow:
-    """The row of one claim of a stored case version."""
+def claim_row(claim: Claim, case_pk: int, position: int, search_id: int | None = None) -> ClaimRow:
+    """The row of one claim of a stored case version (``search_id``: the search that
+    attached it to the version, for a claim that is not in the case's text)."""
     return ClaimRow(
         case_pk=case_pk,
         position=position,
@@ -76,6 +93,103 @@ def claim_row(claim: Claim, case_pk: int, position: int) -> ClaimRow:
         expression=claim.expression.text,
         on=[eq.text for eq in claim.on],
         locator=claim.locator,
+        notes=claim.notes,
+        provenance=str(claim.provenance),
+        search_id=search_id,
+    )
+
+
+#: The structured fields of a source besides its citation and DOI.
+SOURCE_FIELDS = (
+    "authors", "year", "title", "journal", "booktitle", "publisher", "volume", "issue", "pages",
+    "url",
+)  # fmt: skip
+
+
+def source_fields(source: Source) -> dict[str, Any]:
+    """A source's structured citation as the columns of its row."""
+    return {
+        name: list(source.authors) if name == "authors" else getattr(source, name)
+        for name in SOURCE_FIELDS
+    }
+
+
+def fill_source(row: SourceRow, source: Source) -> None:
+    """Complete a shared source row with the fields this case gives and the row lacks
+    (the first case to give a field sets it)."""
+    for name, value in source_fields(source).items():
+        if value and not getattr(row, name):
+            setattr(row, name, value)
+
+
+def search_row(case_pk: int, search: Search, code_version: str, statement: str) -> SearchRow:
+    """The row of a search (what it found goes in ``discovery_rows``)."""
+    options = search.options.as_dict()
+    return SearchRow(
+        case_pk=case_pk,
+        options=options,
+        options_key=options_key(search.options),
+        code_version=code_version,
+        started_at=now(),
+        seconds=float(search.seconds),
+        complete=search.complete,
+        coverage=list(search.coverage),
+        known=list(search.known),
+        dimensions=[list(d) for d in search.dimensions],
+        method=search.method,
+        statement=statement,
+    )
+
+
+def options_key(options: SearchOptions) -> str:
+    """The canonical text of a search's options: equal options, equal text."""
+    return json.dumps(options.as_dict(), sort_keys=True, separators=(",", ":"))
+
+
+def discovery_rows(search_id: int, search: Search, derived: dict[int, int]) -> list[DiscoveryRow]:
+    """One row for the generic values and one per special set (``derived``: special set
+    index -> the derived case version that holds its integrals as claims)."""
+    sets = [search.generic, *search.special]
+    return [
+        DiscoveryRow(
+            search_id=search_id,
+            position=i,
+            when=list(s.when),
+            extra=s.extra,
+            integrals=list(s.integrals),
+            casimir=[verdict_text(v) for v in s.casimir],
+            derived_case_pk=derived.get(i - 1) if i else None,
+        )
+        for i, s in enumerate(sets)
+    ]
+
+
+def search(row: SearchRow, case_id: str, content_hash: str, rows, on) -> Search:
+    """A Search rebuilt from its rows (``on``: its level-set equations, parsed)."""
+    options = row.options
+    sets = [
+        IntegralSet(
+            tuple(r.when), r.extra, tuple(r.integrals), tuple(verdict_of(v) for v in r.casimir)
+        )
+        for r in sorted(rows, key=lambda r: r.position)
+    ]
+    return Search(
+        case=case_id,
+        content_hash=content_hash,
+        options=SearchOptions(
+            degree=options["degree"],
+            weights=(options["weights"]["M"], options["weights"]["gamma"]),
+            on=tuple(on),
+            free=tuple(options["free"]),
+        ),
+        known=tuple(row.known),
+        generic=sets[0],
+        special=tuple(sets[1:]),
+        complete=row.complete,
+        coverage=tuple(row.coverage),
+        dimensions=tuple(tuple(d) for d in row.dimensions),
+        seconds=row.seconds,
+        method=row.method,
     )
 
 

@@ -18,7 +18,7 @@ import platform
 import sqlite3
 from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from importlib import metadata as importlib_metadata
 from pathlib import Path
 from typing import Any, Literal
@@ -30,7 +30,19 @@ from sqlalchemy.orm import Session
 
 from ..errors import DatabaseReadOnlyError, StorageError, UnknownCaseError, UnknownRunError
 from ..language.casefile import parse_case_text
-from ..model import Case, CaseAudit, CheckResult
+from ..language.parser import Namespace, parse_equation, parse_expression
+from ..model import (
+    Case,
+    CaseAudit,
+    CheckResult,
+    Claim,
+    ClaimKind,
+    Equation,
+    Expression,
+    Provenance,
+    Search,
+    SearchOptions,
+)
 from . import migrate
 from .conversions import (
     case_row,
@@ -38,20 +50,28 @@ from .conversions import (
     claim_row,
     correction_rows,
     derived,
+    discovery_rows,
     evidence,
     evidence_row,
+    fill_source,
+    options_key,
     result_row,
+    search_row,
+    source_fields,
 )
 from .engine import WRITE_OPTION, guarded, is_memory, make_engine, resolve, storage_error
 from .processes import process_gone, this_process
 from .tables import (
     RUN_STATUSES,
+    CaseAliasRow,
     CaseRow,
     ClaimRow,
     CorrectionRow,
+    DiscoveryRow,
     EvidenceRow,
     ResultRow,
     RunRow,
+    SearchRow,
     SourceRow,
     newest_versions,
     now,
@@ -69,8 +89,21 @@ class AddOutcome:
 
 
 @dataclass(frozen=True)
+class AttachedClaim:
+    """A claim a search attached to a stored case version (it is not in the case's
+    text): its label, kind, expression and level set as text, and its notes."""
+
+    label: str
+    kind: str
+    expression: str
+    on: tuple[str, ...] = ()
+    notes: str = ""
+
+
+@dataclass(frozen=True)
 class StoredCase:
-    """One stored case version: enough to parse it again (``text``) and audit it (``pk``)."""
+    """One stored case version: enough to parse it again (``text``) and audit it (``pk``),
+    with the claims searches attached to it."""
 
     pk: int
     case_id: str
@@ -78,14 +111,31 @@ class StoredCase:
     content_hash: str
     text: str
     path: str | None
+    attached: tuple[AttachedClaim, ...] = ()
 
     def parse(self) -> Case:
-        """The case this version's text holds (its file, or its id, names it in errors).
+        """The case this version's text holds (its file, or its id, names it in errors),
+        with the claims attached to it by searches after its own.
 
         Every reader of a stored case parses it here (the audit, the reports, the export
         of a corrected case); ``registry check`` parses under its own name for a version.
         """
-        return parse_case_text(self.text, self.path or self.case_id)
+        case = parse_case_text(self.text, self.path or self.case_id)
+        if not self.attached:
+            return case
+        ns = Namespace(case.parameters, case.functions)
+        extra = tuple(
+            Claim(
+                a.label,
+                ClaimKind(a.kind),
+                Expression(a.expression, parse_expression(a.expression, ns)),
+                tuple(Equation(e, *parse_equation(e, ns)) for e in a.on),
+                notes=a.notes,
+                provenance=Provenance.DISCOVERED,
+            )
+            for a in self.attached
+        )
+        return replace(case, claims=case.claims + extra)
 
 
 class Store:
@@ -225,36 +275,41 @@ class Store:
 
         One transaction: either the case version with all its claims is stored, or nothing.
         """
+        with self.write() as session:
+            return self._add_case(session, case)
+
+    def _add_case(self, session: Session, case: Case) -> AddOutcome:
         if not case.content_hash:
             raise ValueError(f"case {case.id!r} has no content_hash; parse it with casefile")
-        with self.write() as session:
-            newest = session.execute(
-                select(CaseRow.id, CaseRow.version, CaseRow.content_hash)
-                .where(CaseRow.case_id == case.id)
-                .order_by(CaseRow.version.desc())
-                .limit(1)
-            ).first()
-            if newest is not None and newest.content_hash == case.content_hash:
-                return AddOutcome(case.id, newest.version, "unchanged", pk=newest.id)
-            version = 1 if newest is None else newest.version + 1
-            row = case_row(case, version, self._source_id(session, case))
-            session.add(row)
-            session.flush()
-            session.add_all(claim_row(c, row.id, i) for i, c in enumerate(case.claims))
-            session.flush()
-            status = "added" if version == 1 else "new version"
-            return AddOutcome(case.id, version, status, pk=row.id)
+        newest = session.execute(
+            select(CaseRow.id, CaseRow.version, CaseRow.content_hash)
+            .where(CaseRow.case_id == case.id)
+            .order_by(CaseRow.version.desc())
+            .limit(1)
+        ).first()
+        if newest is not None and newest.content_hash == case.content_hash:
+            return AddOutcome(case.id, newest.version, "unchanged", pk=newest.id)
+        version = 1 if newest is None else newest.version + 1
+        row = case_row(case, version, self._source_id(session, case))
+        session.add(row)
+        session.flush()
+        session.add_all(claim_row(c, row.id, i) for i, c in enumerate(case.claims))
+        session.add_all(CaseAliasRow(case_pk=row.id, alias=a) for a in case.aliases)
+        session.flush()
+        status = "added" if version == 1 else "new version"
+        return AddOutcome(case.id, version, status, pk=row.id)
 
     @staticmethod
     def _source_id(session: Session, case: Case) -> int:
         """The id of the source row for this citation and DOI, inserted if new."""
         citation, doi = case.source.citation, case.source.doi or ""
         found = session.scalar(
-            select(SourceRow.id).where(SourceRow.citation == citation, SourceRow.doi == doi)
+            select(SourceRow).where(SourceRow.citation == citation, SourceRow.doi == doi)
         )
         if found is not None:
-            return found
-        source = SourceRow(citation=citation, doi=doi)
+            fill_source(found, case.source)
+            return found.id
+        source = SourceRow(citation=citation, doi=doi, **source_fields(case.source))
         session.add(source)
         session.flush()
         return source.id
@@ -283,19 +338,98 @@ class Store:
                     (CaseRow.case_id == newest.c.case_id) & (CaseRow.version == newest.c.version),
                 )
             if case_ids is not None:
-                wanted = list(dict.fromkeys(case_ids))
+                wanted = [self._resolved(session, c) for c in dict.fromkeys(case_ids)]
+                wanted = list(dict.fromkeys(wanted))
                 stmt = stmt.where(CaseRow.case_id.in_(wanted))
             rows = session.scalars(stmt.order_by(CaseRow.case_id, CaseRow.version)).all()
             if case_ids is None:
-                return [_stored(r) for r in rows]
+                return [_stored(session, r) for r in rows]
             by_id: dict[str, list[StoredCase]] = {}
             for r in rows:
-                by_id.setdefault(r.case_id, []).append(_stored(r))
+                by_id.setdefault(r.case_id, []).append(_stored(session, r))
             missing = [c for c in wanted if c not in by_id]
             if missing:
                 known = list(session.scalars(select(CaseRow.case_id).distinct()))
                 raise UnknownCaseError(missing[0], known=sorted(known))
             return [s for c in wanted for s in by_id[c]]
+
+    @staticmethod
+    def _resolved(session: Session, case_id: str) -> str:
+        """The id of a stored case, or of the case whose newest version lists ``case_id``
+        as an alias (an earlier id); unchanged when neither exists."""
+        if session.scalar(select(CaseRow.id).where(CaseRow.case_id == case_id).limit(1)):
+            return case_id
+        newest = newest_versions()
+        renamed = session.scalars(
+            select(CaseRow.case_id)
+            .join(CaseAliasRow, CaseAliasRow.case_pk == CaseRow.id)
+            .join(
+                newest,
+                (CaseRow.case_id == newest.c.case_id) & (CaseRow.version == newest.c.version),
+            )
+            .where(CaseAliasRow.alias == case_id)
+            .order_by(CaseRow.added_at.desc())
+        ).first()
+        return renamed or case_id
+
+    # ------------------------------------------------------------------ searches
+
+    @guarded
+    def record_search(
+        self,
+        case_pk: int,
+        search: Search,
+        code_version: str,
+        statement: str,
+        derived: Sequence[Case | None] = (),
+    ) -> int:
+        """Store a search of a case version, in one transaction: its row, a row per set
+        of values it found integrals on, its generic integrals attached as claims to the
+        searched version, and each special set's ``derived`` case (None to skip) stored
+        as a case of its own. Returns the search's number."""
+        with self.write() as session:
+            row = search_row(case_pk, search, code_version, statement)
+            session.add(row)
+            session.flush()
+            position = (
+                session.scalar(
+                    select(func.max(ClaimRow.position)).where(ClaimRow.case_pk == case_pk)
+                )
+                or 0
+            ) + 1
+            for i, text in enumerate(search.generic.integrals):
+                claim = _discovered_claim(row.id, i, text, search)
+                session.add(claim_row(claim, case_pk, position + i, search_id=row.id))
+            versions = {}
+            for i, case in enumerate(derived):
+                if case is not None:
+                    versions[i] = self._add_case(session, case).pk
+            session.add_all(discovery_rows(row.id, search, versions))
+            return row.id
+
+    @guarded
+    def stored_search(
+        self, case_pk: int, options: SearchOptions, code_version: str
+    ) -> tuple[int, SearchRow, list[DiscoveryRow]] | None:
+        """The newest search of this case version with these options by this code version,
+        as (number, row, discovery rows), or None: what a repeated search reuses."""
+        with self.read() as session:
+            row = session.scalars(
+                select(SearchRow)
+                .where(
+                    SearchRow.case_pk == case_pk,
+                    SearchRow.options_key == options_key(options),
+                    SearchRow.code_version == code_version,
+                )
+                .order_by(SearchRow.id.desc())
+            ).first()
+            if row is None:
+                return None
+            found = list(
+                session.scalars(select(DiscoveryRow).where(DiscoveryRow.search_id == row.id))
+            )
+            session.expunge_all()
+            return row.id, row, found
 
     # ---------------------------------------------------------------------- runs
 
@@ -404,8 +538,21 @@ class Store:
             return run_id, audits[0][1]
 
 
-def _stored(row: CaseRow) -> StoredCase:
-    return StoredCase(row.id, row.case_id, row.version, row.content_hash, row.text, row.path)
+def _stored(session: Session, row: CaseRow) -> StoredCase:
+    attached = session.scalars(
+        select(ClaimRow)
+        .where(ClaimRow.case_pk == row.id, ClaimRow.search_id.is_not(None))
+        .order_by(ClaimRow.position)
+    )
+    return StoredCase(
+        row.id,
+        row.case_id,
+        row.version,
+        row.content_hash,
+        row.text,
+        row.path,
+        tuple(AttachedClaim(c.label, c.kind, c.expression, tuple(c.on), c.notes) for c in attached),
+    )
 
 
 def get_run(session: Session, run_id: int) -> RunRow:
@@ -451,6 +598,20 @@ def _audits(session: Session, where: Any) -> list[tuple[str, CaseAudit]]:
         )
         found_audits.append((case_id, audit))
     return found_audits
+
+
+def _discovered_claim(search_id: int, i: int, text: str, search: Search) -> Claim:
+    """Generic integral ``i`` of a search as a claim of the searched version (its
+    expression is kept as text: the store does no algebra; it is parsed with the case)."""
+    when = f"search {search_id} ({search.method.split(';')[0]})"
+    return Claim(
+        f"discovered-{search_id}-{i + 1}",
+        ClaimKind.INTEGRAL,
+        Expression(text, None),  # type: ignore[arg-type]
+        tuple(search.options.on),
+        notes=f"Found by registry discover, {when}.",
+        provenance=Provenance.DISCOVERED,
+    )
 
 
 def _package_version(name: str) -> str:

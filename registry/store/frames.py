@@ -19,11 +19,14 @@ from .conversions import verdict_text
 from .database import Store, get_run
 from .engine import guarded
 from .tables import (
+    CaseAliasRow,
     CaseRow,
     ClaimRow,
     CorrectionRow,
+    DiscoveryRow,
     ResultRow,
     RunRow,
+    SearchRow,
     SourceRow,
     latest_verdicts,
     newest_versions,
@@ -53,6 +56,18 @@ def cases_frame(store: Store) -> pd.DataFrame:
             CaseRow.content_hash,
             func.coalesce(n_claims.c.n, 0).label("n_claims"),
             CaseRow.added_at,
+            CaseRow.topic,
+            SourceRow.authors,
+            SourceRow.year,
+            SourceRow.title.label("source_title"),
+            SourceRow.journal,
+            SourceRow.booktitle,
+            SourceRow.publisher,
+            SourceRow.volume,
+            SourceRow.issue,
+            SourceRow.pages,
+            SourceRow.url,
+            CaseRow.id.label("pk"),
         )
         .join(SourceRow, SourceRow.id == CaseRow.source_id)
         .join(
@@ -62,7 +77,15 @@ def cases_frame(store: Store) -> pd.DataFrame:
         .outerjoin(n_claims, n_claims.c.case_pk == CaseRow.id)
         .order_by(CaseRow.case_id)
     )
-    return _select_frame(store, stmt)
+    frame = _select_frame(store, stmt)
+    with store.read() as session:
+        aliases: dict[int, list[str]] = {}
+        for pk, alias in session.execute(
+            select(CaseAliasRow.case_pk, CaseAliasRow.alias).order_by(CaseAliasRow.id)
+        ):
+            aliases.setdefault(pk, []).append(alias)
+    frame["aliases"] = [aliases.get(pk, []) for pk in frame["pk"]]
+    return frame.drop(columns=["pk"])
 
 
 @guarded
@@ -78,6 +101,9 @@ def claims_frame(store: Store) -> pd.DataFrame:
             ClaimRow.expression,
             ClaimRow.on,
             ClaimRow.locator,
+            ClaimRow.provenance,
+            ClaimRow.notes,
+            ClaimRow.search_id.label("search"),
         )
         .join(CaseRow, CaseRow.id == ClaimRow.case_pk)
         .join(
@@ -182,6 +208,79 @@ def corrections_frame(store: Store, run: int | None = None) -> pd.DataFrame:
         .outerjoin(ClaimRow, ClaimRow.id == CorrectionRow.claim_id)
         .where(CorrectionRow.run_id == run)
         .order_by(CorrectionRow.id)
+    )
+    return _select_frame(store, stmt)
+
+
+@guarded
+def searches_frame(store: Store) -> pd.DataFrame:
+    """One row per integral search: the case version searched, the ansatz (degree,
+    weights, level set, free parameters), how many extra integrals exist for generic
+    values and how many special sets carry more, whether the search is complete, what
+    it covered, the result in one sentence, and its provenance (code, time, seconds)."""
+    n_special = (
+        select(DiscoveryRow.search_id, func.count(DiscoveryRow.id).label("n"))
+        .where(DiscoveryRow.position > 0)
+        .group_by(DiscoveryRow.search_id)
+        .subquery()
+    )
+    generic = (
+        select(DiscoveryRow.search_id, DiscoveryRow.extra)
+        .where(DiscoveryRow.position == 0)
+        .subquery()
+    )
+    stmt = (
+        select(
+            SearchRow.id.label("search"),
+            CaseRow.case_id.label("case"),
+            CaseRow.version,
+            SearchRow.options,
+            func.coalesce(generic.c.extra, 0).label("generic_extra"),
+            func.coalesce(n_special.c.n, 0).label("n_special"),
+            SearchRow.complete,
+            SearchRow.coverage,
+            SearchRow.statement,
+            SearchRow.known,
+            SearchRow.method,
+            SearchRow.code_version,
+            SearchRow.started_at,
+            SearchRow.seconds,
+        )
+        .join(CaseRow, CaseRow.id == SearchRow.case_pk)
+        .outerjoin(n_special, n_special.c.search_id == SearchRow.id)
+        .outerjoin(generic, generic.c.search_id == SearchRow.id)
+        .order_by(SearchRow.id)
+    )
+    frame = _select_frame(store, stmt)
+    options = list(frame.pop("options"))
+    for position, key in enumerate(("degree", "weights", "on", "free"), start=3):
+        frame.insert(position, key, [o[key] for o in options])
+    return frame
+
+
+@guarded
+def discoveries_frame(store: Store) -> pd.DataFrame:
+    """One row per set of parameter values a search found integrals on (``when`` empty:
+    the generic values): the search, the case, the equations, how many extra integrals,
+    a basis of them, their casimir verdicts, and the case version where they were added
+    as claims (the searched case for generic values, a derived case otherwise)."""
+    derived = CaseRow.__table__.alias("derived")
+    stmt = (
+        select(
+            DiscoveryRow.search_id.label("search"),
+            CaseRow.case_id.label("case"),
+            DiscoveryRow.when,
+            DiscoveryRow.extra,
+            DiscoveryRow.integrals,
+            DiscoveryRow.casimir,
+            derived.c.case_id.label("derived_case"),
+            derived.c.version.label("derived_version"),
+        )
+        .join(SearchRow, SearchRow.id == DiscoveryRow.search_id)
+        .join(CaseRow, CaseRow.id == SearchRow.case_pk)
+        .outerjoin(derived, derived.c.id == DiscoveryRow.derived_case_pk)
+        .where((DiscoveryRow.extra > 0) | (DiscoveryRow.position == 0))
+        .order_by(DiscoveryRow.search_id, DiscoveryRow.position)
     )
     return _select_frame(store, stmt)
 

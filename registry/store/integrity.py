@@ -29,10 +29,12 @@ from .tables import (
     CaseRow,
     ClaimRow,
     CorrectionRow,
+    DiscoveryRow,
     EvidenceRow,
     MetaRow,
     ResultRow,
     RunRow,
+    SearchRow,
 )
 
 
@@ -154,6 +156,14 @@ def database_problems(store: Store) -> list[str]:
             select(RunRow.id, RunRow.status).where(RunRow.status.not_in(RUN_STATUSES))
         )
         problems += [f"audit run {i}: unknown status {v!r}" for i, v in odd]
+        orphans = conn.execute(
+            select(ClaimRow.id, ClaimRow.search_id)
+            .outerjoin(SearchRow, SearchRow.id == ClaimRow.search_id)
+            .where(ClaimRow.search_id.is_not(None), SearchRow.id.is_(None))
+        )
+        problems += [
+            f"claims row {i}: attached by search {s}, which is missing" for i, s in orphans
+        ]
     return problems
 
 
@@ -195,7 +205,12 @@ def stored_expressions(store: Store) -> list[StoredText]:
             out += [StoredText(r.id, f"torque[{i}]", t) for i, t in enumerate(r.torque)]
             out += [StoredText(r.id, f"inertia[{i}]", t) for i, t in enumerate(r.inertia)]
         for c in session.scalars(select(ClaimRow)):
-            where = f"claim {c.label!r}"
+            # a claim a search attached to a version is not in its text: named apart
+            where = (
+                f"claim {c.label!r}"
+                if c.search_id is None
+                else (f"search {c.search_id}, claim {c.label!r}")
+            )
             out.append(StoredText(c.case_pk, f"{where} expression", c.expression))
             out += [
                 StoredText(c.case_pk, f"{where} on[{i}]", e, equation=True)
@@ -209,6 +224,15 @@ def stored_expressions(store: Store) -> list[StoredText]:
                 out.append(StoredText(row.case_pk, f"{where} torque[{i}]", t))
             for branch in row.payload.get("branches") or ():
                 out += [StoredText(row.case_pk, where, e, equation=True) for e in branch]
+        found = session.execute(
+            select(DiscoveryRow, SearchRow.case_pk).join(
+                SearchRow, SearchRow.id == DiscoveryRow.search_id
+            )
+        )
+        for row, case_pk in found:
+            where = f"search {row.search_id}, integrals where {row.when or 'generic'}"
+            out += [StoredText(case_pk, where, e) for e in row.integrals]
+            out += [StoredText(case_pk, where, e, equation=True) for e in row.when]
     return out
 
 
@@ -231,7 +255,7 @@ def _columns_agree(case: Case, stored: list[StoredText]) -> list[str]:
         where = f"claim {claim.label!r}"
         expected[f"{where} expression"] = claim.expression.text
         expected.update({f"{where} on[{i}]": e.text for i, e in enumerate(claim.on)})
-    found = {t.place: t.text for t in stored if not t.place.startswith("run ")}
+    found = {t.place: t.text for t in stored if not t.place.startswith(("run ", "search "))}
     problems = [
         f"{place}: stored as {found.get(place)!r}, but the case text says {text!r}"
         for place, text in expected.items()

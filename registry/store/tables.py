@@ -32,7 +32,7 @@ from sqlalchemy.orm import DeclarativeBase, Mapped, mapped_column
 from sqlalchemy.types import TypeDecorator
 
 #: Version of the table layout, kept in the ``meta`` table (the Alembic revision, as a number).
-SCHEMA_VERSION = 3
+SCHEMA_VERSION = 4
 
 #: The states of an audit run; every run starts as ``running``.
 RUN_STATUSES = ("running", "complete", "failed", "interrupted")
@@ -94,6 +94,18 @@ class SourceRow(Base):
     id: Mapped[int] = mapped_column(primary_key=True)
     citation: Mapped[str] = mapped_column(Text)
     doi: Mapped[str] = mapped_column(Text, default="")
+    # the structured citation (case format, [source]); the first case to give a field
+    # sets it, later cases fill only what is still empty
+    authors: Mapped[list[str]] = mapped_column(JSON, default=list, server_default="[]")
+    year: Mapped[int | None]
+    title: Mapped[str] = mapped_column(Text, default="", server_default="")
+    journal: Mapped[str] = mapped_column(Text, default="", server_default="")
+    booktitle: Mapped[str] = mapped_column(Text, default="", server_default="")
+    publisher: Mapped[str] = mapped_column(Text, default="", server_default="")
+    volume: Mapped[str] = mapped_column(Text, default="", server_default="")
+    issue: Mapped[str] = mapped_column(Text, default="", server_default="")
+    pages: Mapped[str] = mapped_column(Text, default="", server_default="")
+    url: Mapped[str] = mapped_column(Text, default="", server_default="")
 
 
 class CaseRow(Base):
@@ -118,6 +130,17 @@ class CaseRow(Base):
     parameters: Mapped[dict[str, str]] = mapped_column(JSON)
     functions: Mapped[dict[str, list[str]]] = mapped_column(JSON)
     added_at: Mapped[datetime] = mapped_column(UTCDateTime)
+    topic: Mapped[str] = mapped_column(Text, default="", server_default="")
+
+
+class CaseAliasRow(Base):
+    """An earlier id of a case version (its ``aliases``), under which it is still found."""
+
+    __tablename__ = "case_aliases"
+
+    id: Mapped[int] = mapped_column(primary_key=True)
+    case_pk: Mapped[int] = mapped_column(ForeignKey("cases.id"), index=True)
+    alias: Mapped[str] = mapped_column(Text, index=True)
 
 
 class ClaimRow(Base):
@@ -134,6 +157,11 @@ class ClaimRow(Base):
     expression: Mapped[str] = mapped_column(Text)
     on: Mapped[list[str]] = mapped_column(JSON)
     locator: Mapped[str] = mapped_column(Text, default="")
+    notes: Mapped[str] = mapped_column(Text, default="", server_default="")
+    provenance: Mapped[str] = mapped_column(Text, default="literature", server_default="literature")
+    # the search that attached this claim to the case version (it is not in the text);
+    # checked by `registry check` (no foreign key: see migration 0004)
+    search_id: Mapped[int | None]
 
 
 class RunRow(Base):
@@ -211,6 +239,44 @@ class EvidenceRow(Base):
     # trajectories stand on a smaller set than the claim's, if they do
     compared_with: Mapped[str] = mapped_column(Text, default="integral", server_default="integral")
     narrowed: Mapped[str] = mapped_column(Text, default="", server_default="")
+
+
+class SearchRow(Base):
+    """One integral search of one case version: its options (and their canonical text,
+    the key of its reuse), the code that ran it, and what it established."""
+
+    __tablename__ = "searches"
+
+    id: Mapped[int] = mapped_column(primary_key=True)
+    case_pk: Mapped[int] = mapped_column(ForeignKey("cases.id"), index=True)
+    options: Mapped[dict[str, Any]] = mapped_column(JSON)
+    options_key: Mapped[str] = mapped_column(Text)
+    code_version: Mapped[str] = mapped_column(Text)
+    started_at: Mapped[datetime] = mapped_column(UTCDateTime)
+    seconds: Mapped[float] = mapped_column(Float, default=0.0)
+    complete: Mapped[bool] = mapped_column(Boolean)
+    coverage: Mapped[list[str]] = mapped_column(JSON)
+    known: Mapped[list[str]] = mapped_column(JSON)
+    dimensions: Mapped[list[list[int]]] = mapped_column(JSON)
+    method: Mapped[str] = mapped_column(Text, default="")
+    statement: Mapped[str] = mapped_column(Text, default="")
+
+
+class DiscoveryRow(Base):
+    """What a search found on one set of parameter values (``when`` empty: the generic
+    values): how many extra integrals, a basis of them, and where they were added as
+    claims (the searched case version for generic values, a derived case otherwise)."""
+
+    __tablename__ = "discoveries"
+
+    id: Mapped[int] = mapped_column(primary_key=True)
+    search_id: Mapped[int] = mapped_column(ForeignKey("searches.id"), index=True)
+    position: Mapped[int]
+    when: Mapped[list[str]] = mapped_column(JSON)
+    extra: Mapped[int]
+    integrals: Mapped[list[str]] = mapped_column(JSON)
+    casimir: Mapped[list[str]] = mapped_column(JSON)
+    derived_case_pk: Mapped[int | None] = mapped_column(ForeignKey("cases.id"))
 
 
 # --------------------------------------------------------------------------- views

@@ -23,7 +23,7 @@ CASES = ROOT / "data" / "cases"
 YEHIA_B = "yehia-2003-kovalevskaya-b"
 ZHUKOVSKY = "zhukovsky-gyrostat"
 READERS = {
-    "csv": pd.read_csv,
+    "csv": data_export.read_table,  # plain read_csv would read a volume "8" as a number
     "json": lambda p: pd.read_json(p, orient="records", precise_float=True),
     "parquet": pd.read_parquet,
 }

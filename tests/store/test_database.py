@@ -250,3 +250,31 @@ def test_claim_results_belong_to_the_audited_version(store, sample_case, case_fa
         ).all()
     assert pairs and all(result == claim == v1.pk for result, claim in pairs)
     assert set(frames.verdicts_frame(store, run)["version"]) == {1}
+
+
+def test_a_renamed_case_is_found_under_its_old_id(store, case_factory):
+    old = case_factory("demo-2003-lagrange", 'id = "demo-2003-lagrange"\n')
+    store.add_case(old)
+    renamed = replace(
+        case_factory("author-2003-lagrange-top", 'id = "author-2003-lagrange-top"\n'),
+        aliases=("demo-2003-lagrange", "lagrange-old"),
+    )
+    store.add_case(renamed)
+    # an id that is still stored is itself; an alias only names the renamed case
+    (same,) = store.case_versions(["demo-2003-lagrange"])
+    assert same.case_id == "demo-2003-lagrange"
+    (found,) = store.case_versions(["lagrange-old"])
+    assert found.case_id == "author-2003-lagrange-top"
+    with pytest.raises(UnknownCaseError):
+        store.case_versions(["never-was"])
+
+
+def test_sources_keep_their_structured_citation_and_later_cases_fill_it(store, case_factory):
+    bare = case_factory("demo-1999-a", 'id = "demo-1999-a"\n')
+    store.add_case(bare)
+    detailed = case_factory("demo-1999-b", 'id = "demo-1999-b"\n')
+    source = replace(detailed.source, authors=("A. Author",), year=2003, volume="8", pages="1-10")
+    store.add_case(replace(detailed, source=source))
+    with store.read() as session:
+        (row,) = session.scalars(select(SourceRow)).all()
+        assert (row.authors, row.year, row.volume, row.pages) == (["A. Author"], 2003, "8", "1-10")

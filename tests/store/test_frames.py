@@ -18,14 +18,16 @@ def test_cases_and_claims_frames(store, sample_case, other_case, case_factory):
     cases = frames.cases_frame(store)
     assert list(cases.columns) == [
         "case", "version", "title", "citation", "locator", "doi", "content_hash", "n_claims",
-        "added_at",
+        "added_at", "topic", "authors", "year", "source_title", "journal", "booktitle",
+        "publisher", "volume", "issue", "pages", "url", "aliases",
     ]  # fmt: skip
     assert cases.set_index("case")["version"].to_dict() == {other_case.id: 1, sample_case.id: 2}
     assert cases.set_index("case")["n_claims"].to_dict() == {other_case.id: 0, sample_case.id: 2}
 
     claims = frames.claims_frame(store)
     assert list(claims.columns) == [
-        "case", "version", "label", "kind", "expression", "on", "locator",
+        "case", "version", "label", "kind", "expression", "on", "locator", "provenance",
+        "notes", "search",
     ]  # fmt: skip
     assert claims["label"].tolist() == ["I1", "I2"]
     assert set(claims["version"]) == {2}

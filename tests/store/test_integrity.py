@@ -81,7 +81,7 @@ def test_a_sound_database_passes(db):
     result = CliRunner().invoke(main, ["--db", str(db), "check"])
     assert result.exit_code == 0, result.output
     lines = result.stdout.splitlines()
-    assert lines[0] == f"database {str(db)!r}, schema revision 0003"
+    assert lines[0] == f"database {str(db)!r}, schema revision 0004"
     assert lines[1].startswith("3 case versions, 3 claims, 1 runs, ")
     assert lines[-1] == "ok: integrity, foreign keys, hashes and every stored expression"
     found = verify(Store(db))

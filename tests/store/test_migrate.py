@@ -36,7 +36,11 @@ def first_schema_db(path: Path) -> Path:
 
 
 #: Columns added by later revisions, left out when rows are compared with schema 1.
-ADDED = ("host", "pid", "pid_started", "compared_with", "narrowed")
+ADDED = (
+    "host", "pid", "pid_started", "compared_with", "narrowed",  # 0002, 0003
+    "authors", "year", "title", "journal", "booktitle", "publisher", "volume", "issue",
+    "pages", "url", "topic", "notes", "provenance", "search_id",  # 0004
+)  # fmt: skip
 
 
 def rows(path: Path, table: str) -> list[dict]:
@@ -59,7 +63,7 @@ def upgraded(table: str, row: dict) -> dict:
 
 
 def test_revisions_form_one_chain_ending_at_the_schema_version():
-    assert migrate.known_revisions() == ["0001", "0002", "0003"]
+    assert migrate.known_revisions() == ["0001", "0002", "0003", "0004"]
     assert int(migrate.head()) == SCHEMA_VERSION
 
 
@@ -135,7 +139,7 @@ def test_a_newer_revision_is_refused_with_a_clear_message(tmp_path):
         conn.execute(text("UPDATE alembic_version SET version_num = '0099'"))
     expected = (
         f"database {str(path)!r} has schema revision 0099, newer than this registry "
-        "supports (revision 0003); upgrade the registry package to open it"
+        "supports (revision 0004); upgrade the registry package to open it"
     )
     with pytest.raises(SchemaTooNewError) as info:
         Store(path)

@@ -16,7 +16,7 @@ from registry.store.tables import ResultRow, RunRow
 def test_memory_store_has_schema_version(memory_store):
     with memory_store.engine.connect() as conn:
         value = conn.scalar(text("SELECT value FROM meta WHERE key = 'schema_version'"))
-    assert value == str(tables.SCHEMA_VERSION) == "3"
+    assert value == str(tables.SCHEMA_VERSION) == "4"
 
 
 def test_foreign_keys_are_enforced(store, sample_case):
@@ -57,6 +57,9 @@ def test_the_orm_tables_are_the_registry_tables():
         "check_results",
         "corrections",
         "evidence",
+        "case_aliases",
+        "searches",
+        "discoveries",
     }
     assert tables.latest_verdicts.name == tables.VIEW_NAME == "latest_verdicts"
     assert tables.RUN_STATUSES[0] == "running"

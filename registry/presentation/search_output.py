@@ -1,0 +1,89 @@
+"""Presenting an integral search: the JSON document of CASE_FORMAT.md (section
+Discovery), a plain-text summary, and the result in one sentence."""
+
+from __future__ import annotations
+
+from ..model import IntegralSet, Search
+
+
+def statement(search: Search) -> str:
+    """The result in one sentence, as a paper would state it: what exists for generic
+    values, where more exists, and whether the method guarantees that nothing else does."""
+    o = search.options
+    ansatz = f"of weighted degree <= {o.degree} (weights M: {o.weights[0]}, gamma: {o.weights[1]}"
+    ansatz += f"; on {', '.join(eq.text for eq in o.on)})" if o.on else ")"
+    values = f"values of {', '.join(o.free)}" if o.free else "the case's parameter values"
+    if search.generic.extra:
+        text = f"{search.generic.extra} extra integral(s) {ansatz} exist for generic {values}"
+    else:
+        text = f"No extra integral {ansatz} exists for generic {values}"
+    if search.special:
+        text += "; more exist exactly where " + "; or ".join(
+            ", ".join(s.when) for s in search.special
+        )
+    if search.complete:
+        return text + ("" if not o.free else "; no other values carry more") + "."
+    return text + " (the search is not complete: see its coverage)."
+
+
+def _set(entry: IntegralSet) -> dict:
+    return {
+        "extra": entry.extra,
+        "integrals": list(entry.integrals),
+        "casimir": [str(v) for v in entry.casimir],
+    }
+
+
+def search_document(search: Search) -> dict:
+    """The document ``registry discover --json`` prints."""
+    o = search.options
+    document = {
+        "case": search.case,
+        "degree": o.degree,
+        "weights": {"M": o.weights[0], "gamma": o.weights[1]},
+        "on": [eq.text for eq in o.on],
+        "free": list(o.free),
+        "known": list(search.known),
+        "generic": _set(search.generic),
+        "special": [{"when": list(s.when), **_set(s)} for s in search.special],
+        "complete": search.complete,
+        "coverage": list(search.coverage),
+        "statement": statement(search),
+        "dimensions": [
+            {"degree": d, "integrals": n, "trivial": t, "extra": e}
+            for d, n, t, e in search.dimensions
+        ],
+        "method": search.method,
+        "seconds": round(search.seconds, 3),
+    }
+    return document
+
+
+def search_text(search: Search) -> str:
+    """A plain-text summary of a search: the ansatz, the known integrals, what exists for
+    generic values and on each special set, whether the search is complete."""
+    o = search.options
+    lines = [
+        f"{search.case}: integrals of weighted degree <= {o.degree} "
+        f"(weights M={o.weights[0]}, gamma={o.weights[1]})"
+        + (f" on {', '.join(eq.text for eq in o.on)}" if o.on else "")
+        + (f", free {', '.join(o.free)}" if o.free else ""),
+        f"known: {', '.join(search.known)}",
+    ]
+
+    def describe(entry: IntegralSet, where: str) -> None:
+        if not entry.extra:
+            lines.append(f"{where}: no extra integral")
+            return
+        lines.append(f"{where}: {entry.extra} extra integral(s)")
+        for text, casimir in zip(entry.integrals, entry.casimir, strict=True):
+            lines.append(f"    {text}    (integral verified; casimir {casimir})")
+
+    describe(search.generic, "generic")
+    for s in search.special:
+        describe(s, ", ".join(s.when))
+    lines.append(f"complete: {'yes' if search.complete else 'no'}")
+    lines.extend(f"  coverage: {c}" for c in search.coverage if not search.complete)
+    lines.append(statement(search))
+    lines.append(f"{search.seconds:.2f} s")
+    return "\n".join(lines)

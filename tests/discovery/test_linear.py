@@ -1,0 +1,57 @@
+"""Linear algebra of a search over Q, Q(p) and modulo a prime: kernels, ranks and
+spans agree with sympy's own, and modular ranks only bound the rational ones."""
+
+from __future__ import annotations
+
+import random
+
+import sympy as sp
+from sympy import QQ
+
+from registry.discovery.linear import GF_PRIME, Field, Span, nullspace, rank
+
+LAM = sp.Symbol("lam")
+
+
+def test_rational_kernel_and_rank_match_sympy():
+    rnd = random.Random(3)
+    fld = Field(QQ, (), {})
+    for _ in range(20):
+        rows, cols = rnd.randint(1, 5), rnd.randint(1, 5)
+        dense = [[sp.Rational(rnd.randint(-2, 2)) for _ in range(cols)] for _ in range(rows)]
+        entries = [
+            (i, j, QQ.from_sympy(v)) for i, row in enumerate(dense) for j, v in enumerate(row)
+        ]
+        matrix = sp.Matrix(dense)
+        assert rank(rows, cols, entries, fld) == matrix.rank()
+        basis = nullspace(rows, cols, entries, fld)
+        assert len(basis) == cols - matrix.rank()
+        for v in basis:
+            assert matrix * sp.Matrix([QQ.to_sympy(x) for x in v]) == sp.zeros(rows, 1)
+
+
+def test_parameters_evaluate_at_points_and_stay_symbols_elsewhere():
+    poly = {(2,): 1, (0,): -1}  # lam**2 - 1
+    assert Field(QQ, (LAM,), {0: 3}).evaluate(poly) == 8
+    symbolic = Field(QQ.frac_field(LAM), (LAM,), {})
+    assert symbolic.domain.to_sympy(symbolic.evaluate(poly)) == LAM**2 - 1
+    modular = Field(GF_PRIME, (LAM,), {0: 3})
+    assert int(modular.evaluate(poly)) == 8
+
+
+def test_a_rank_modulo_the_prime_is_at_most_the_rank_over_q():
+    fld = Field(QQ, (), {})
+    mod = Field(GF_PRIME, (), {})
+    entries = [(0, 0, 1), (0, 1, 2), (1, 0, 2), (1, 1, 4 + GF_PRIME.mod)]  # singular mod p only
+    assert rank(2, 2, [(r, c, fld.number(v)) for r, c, v in entries], fld) == 2
+    assert rank(2, 2, [(r, c, mod.number(v)) for r, c, v in entries], mod) == 1
+
+
+def test_span_reduces_to_canonical_residues():
+    fld = Field(QQ, (), {})
+    span = Span(fld)
+    assert span.add([QQ(1), QQ(1), QQ(0)])
+    assert not span.add([QQ(2), QQ(2), QQ(0)])
+    assert span.add([QQ(0), QQ(1), QQ(1)])
+    assert span.dim == 2
+    assert span.reduce([QQ(1), QQ(2), QQ(1)]) == [0, 0, 0]

@@ -1,0 +1,236 @@
+"""Integral searches rediscover the classical integrable cases from families that do not
+name them, prove what they find, and state what they rule out.
+
+The expected answers are the literature's: Kovalevskaya (Acta Math. 12, 1889) at
+A = B = 2C with the centre of mass in the equatorial plane; the spherical top; Lagrange's
+axial integral; Goryachev (1900) and Chaplygin (1901) on s = 0 at A = B = 4C; Husson
+(1906): no other case of the heavy top has an extra algebraic integral; Yehia (1986)
+and Komarov (1987): the Kovalevskaya gyrostat with a moment along the symmetry axis;
+Clebsch (1871): quadratic potentials with (b2 - b3)/a1 + (b3 - b1)/a2 + (b1 - b2)/a3 = 0.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+from dataclasses import replace
+from pathlib import Path
+
+import pytest
+import sympy as sp
+
+from registry.discovery.search import discover, search_options, substituted
+from registry.errors import DiscoveryError
+from registry.language.casefile import load_case
+from registry.language.parser import Namespace, parse_expression
+from registry.mathematics import mechanics as mech
+from registry.model import Verdict
+
+FAMILIES = Path(__file__).resolve().parents[1] / "data" / "families"
+
+
+def family(name: str):
+    return load_case(FAMILIES / f"{name}.toml")
+
+
+def search(name: str, **options):
+    case = family(name)
+    budget = options.pop("budget", 120)
+    jobs = options.pop("jobs", 1)
+    return discover(case, search_options(case, **options), budget=budget, jobs=jobs)
+
+
+def where(found) -> dict[tuple[str, ...], tuple[str, ...]]:
+    return {s.when: s.integrals for s in found.special}
+
+
+def conserved_modulo_known(case, text: str, known: list[sp.Expr], on=()) -> bool:
+    """Whether ``text`` is a first integral (checked here, independently of the search:
+    dF/dt expanded to zero, modulo the level-set equations when given)."""
+    ns = Namespace(case.parameters, case.functions)
+    expr = parse_expression(text, ns)
+    field = mech.vector_field(case.system.inertia_exprs, case.system.potential.expr, (0, 0, 0))
+    rate = sp.expand(mech.time_derivative(expr, field).subs(mech.s, mech.S_VALUE))
+    if on:
+        rate = sp.reduced(rate, [sp.expand(e.subs(mech.s, mech.S_VALUE)) for e in on], *mech.STATE)[
+            1
+        ]
+    return sp.simplify(rate) == 0
+
+
+# --- the classics, rediscovered -----------------------------------------------------
+
+
+def test_heavy_top_degree_four_finds_exactly_kovalevskaya_and_the_spherical_top():
+    found = search("heavy-top-lam", degree=4, free=("lam",))
+    assert found.complete
+    assert found.generic.extra == 0
+    assert set(where(found)) == {("lam = 1",), ("lam = 2",)}
+    assert where(found)[("lam = 1",)] == ("M1",)
+    (kovalevskaya,) = where(found)[("lam = 2",)]
+    # Kovalevskaya's own integral (A = B = 1, C = 1/2, U = gamma1): the search prints it
+    # in its simplest form, which is hers
+    k = sp.expand(
+        (sp.Symbol("M1") ** 2 - sp.Symbol("M2") ** 2 - 2 * sp.Symbol("gamma1")) ** 2
+        + (2 * sp.Symbol("M1") * sp.Symbol("M2") - 2 * sp.Symbol("gamma2")) ** 2
+    )
+    assert sp.expand(sp.sympify(kovalevskaya) - k) == 0
+    at_two = substituted(family("heavy-top-lam"), {family("heavy-top-lam").parameters["lam"]: 2})
+    assert conserved_modulo_known(at_two, kovalevskaya, [])
+    for s in found.special:
+        assert s.casimir == (Verdict.REFUTED,)  # integrals, but no Casimirs
+
+
+def test_on_s_zero_degree_three_finds_goryachev_chaplygin_and_not_kovalevskaya():
+    found = search("heavy-top-lam", degree=3, free=("lam",), on=("s = 0",))
+    assert found.complete
+    assert set(where(found)) == {("lam = 1",), ("lam = 4",)}
+    (gc,) = where(found)[("lam = 4",)]
+    # Goryachev-Chaplygin: M3 (M1**2 + M2**2) - 4 C a M1 gamma3 with C = 1/4, a = 1
+    assert sp.expand(sp.sympify(gc) - sp.sympify("M3*(M1**2 + M2**2) - M1*gamma3")) == 0
+    assert ("lam = 2",) not in where(found)
+
+
+def test_two_free_parameters_find_kovalevskaya_only_with_z0_zero_and_the_spherical_line():
+    found = search("heavy-top-lam-z0", degree=4, free=("lam", "z0"))
+    assert found.complete
+    assert set(where(found)) == {("lam = 1",), ("lam = 2", "z0 = 0")}
+    assert where(found)[("lam = 1",)] == ("M1 + M3*z0",)  # M . xi, for every z0
+
+
+def test_the_lagrange_top_has_m3_for_every_lam():
+    found = search("lagrange-lam", degree=3, free=("lam",))
+    assert found.complete
+    assert found.generic.extra == 1 and found.generic.integrals == ("M3",)
+    assert found.special == ()  # the spherical top adds nothing new here: M3 already
+
+
+def test_another_axis_and_normalisation_give_kovalevskaya_at_a_half():
+    found = search("heavy-top-axis1", degree=4, free=("a",))
+    assert found.complete
+    assert set(where(found)) == {("a = 1",), ("a = 1/2",)}
+
+
+def test_the_kovalevskaya_gyrostat_keeps_its_moment_symbolic():
+    found = search("kovalevskaya-gyrostat", degree=4, free=("lam",))
+    assert found.complete
+    assert set(where(found)) == {("lam = 2",)}
+    (integral,) = where(found)[("lam = 2",)]
+    assert "k" in integral  # the gyrostatic moment enters the integral (Yehia 1986)
+
+
+def test_clebsch_condition_is_found_as_a_function_of_the_other_coefficients():
+    found = search("clebsch-b3", degree=2, weights=(1, 1), free=("b3",))
+    assert found.complete
+    (special,) = found.special
+    (equation,) = special.when
+    b1, b2 = sp.symbols("b1 b2")
+    assert sp.simplify(sp.sympify(equation.split("=")[1]) - (4 * b2 - b1) / 3) == 0
+    assert special.extra == 1
+
+
+def test_the_free_top_has_its_second_quadratic_integral_for_its_moments():
+    found = search("euler-top", degree=4)
+    assert found.generic.extra == 1
+    (integral,) = found.generic.integrals
+    assert conserved_modulo_known(family("euler-top"), integral, [])
+
+
+# --- negative results, mutations, level sets -----------------------------------------
+
+
+def test_an_asymmetric_heavy_top_has_no_extra_integral_up_to_degree_four():
+    found = search("asymmetric-heavy-top", degree=4)
+    assert found.complete and found.generic.extra == 0 and found.special == ()
+    assert [d for d, _, _, extra in found.dimensions if extra] == []
+    assert found.dimensions[-1][:3] == (4, 4, 4)  # H, s, H**2, |gamma|**2 and nothing else
+
+
+def test_a_perturbed_special_value_loses_the_extra_integral():
+    case = family("heavy-top-lam")
+    lam = case.parameters["lam"]
+    for value, extra in ((sp.Integer(2), 1), (sp.Rational(2001, 1000), 0), (sp.Integer(4), 0)):
+        at = substituted(case, {lam: value})
+        found = discover(at, search_options(at, degree=4))
+        assert found.generic.extra == extra, value
+        assert found.complete
+
+
+def test_on_the_unit_sphere_kovalevskaya_appears_at_degree_four():
+    found = search(
+        "heavy-top-lam", degree=4, free=("lam",), on=("gamma1**2 + gamma2**2 + gamma3**2 = 1",)
+    )
+    assert set(where(found)) == {("lam = 1",), ("lam = 2",)}
+
+
+def test_every_reported_integral_is_conserved_when_checked_independently():
+    found = search("heavy-top-lam", degree=3, free=("lam",), on=("s = 0",))
+    case = family("heavy-top-lam")
+    for s in found.special:
+        (equation,) = s.when
+        value = sp.Rational(equation.split("=")[1])
+        at = substituted(case, {case.parameters["lam"]: value})
+        for text in s.integrals:
+            assert conserved_modulo_known(at, text, [], on=[mech.S_VALUE])
+
+
+def test_parallel_search_gives_the_same_result():
+    one = search("heavy-top-lam-z0", degree=4, free=("lam", "z0"))
+    two = search("heavy-top-lam-z0", degree=4, free=("lam", "z0"), jobs=2)
+    assert (one.generic, one.special, one.complete) == (two.generic, two.special, two.complete)
+
+
+def test_a_budget_that_runs_out_reports_what_was_proven_and_says_it_is_not_complete():
+    found = search("heavy-top-lam-z0", degree=4, free=("lam", "z0"), budget=0.05)
+    assert not found.complete
+    assert any("time budget exceeded" in c for c in found.coverage)
+
+
+# --- what cannot be searched is said clearly ------------------------------------------
+
+
+def test_a_free_name_that_is_not_a_parameter_is_refused():
+    with pytest.raises(DiscoveryError, match="'mu', which the case does not declare"):
+        search("heavy-top-lam", free=("mu",))
+
+
+def test_a_level_set_the_flow_leaves_is_refused():
+    with pytest.raises(DiscoveryError, match="does not keep the level set M1 = 0 invariant"):
+        search("heavy-top-lam", degree=2, on=("M1 = 0",))
+
+
+def test_a_non_polynomial_system_is_refused():
+    case = family("euler-top")
+    potential = replace(case.system.potential, text="sqrt(gamma1)", expr=sp.sqrt(mech.gamma1))
+    case = replace(case, system=replace(case.system, potential=potential))
+    with pytest.raises(DiscoveryError, match="not rational in the state variables"):
+        discover(case, search_options(case, degree=2))
+
+
+def test_an_ansatz_too_large_is_refused_before_it_is_built():
+    with pytest.raises(DiscoveryError, match="search at a lower --degree"):
+        search("euler-top", degree=40)
+
+
+# --- both arithmetic backends ----------------------------------------------------------
+
+
+def test_the_pure_python_backend_finds_the_same():
+    """sympy uses FLINT when python-flint is installed; without it, pure Python."""
+    code = (
+        "import json, registry.api as a\n"
+        "r = a.discover_file('tests/data/families/heavy-top-lam.toml', free=['lam'])\n"
+        "print(json.dumps([list(s.when) for s in r.search.special]))\n"
+    )
+    env = {**os.environ, "SYMPY_GROUND_TYPES": "python"}
+    out = subprocess.run(
+        [sys.executable, "-c", code],
+        capture_output=True,
+        text=True,
+        env=env,
+        check=True,
+        cwd=Path(__file__).resolve().parents[2],
+    )
+    assert json.loads(out.stdout) == [["lam = 1"], ["lam = 2"]]

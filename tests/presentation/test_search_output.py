@@ -1,0 +1,46 @@
+"""The output of a search: the JSON document of CASE_FORMAT.md (Discovery), the text
+summary and the one-sentence statement."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from registry.api import discover_file
+from registry.presentation.search_output import search_document, search_text, statement
+
+FAMILIES = Path(__file__).resolve().parents[1] / "data" / "families"
+
+
+@pytest.fixture(scope="module")
+def kovalevskaya():
+    return discover_file(FAMILIES / "heavy-top-lam.toml", degree=4, free=["lam"]).search
+
+
+def test_the_document_has_the_contracts_keys_and_values(kovalevskaya):
+    doc = search_document(kovalevskaya)
+    for key in ("case", "degree", "weights", "on", "free", "known", "generic", "special",
+                "complete", "seconds"):  # fmt: skip
+        assert key in doc
+    assert doc["case"] == "family-heavy-top-lam"
+    assert doc["degree"] == 4 and doc["weights"] == {"M": 1, "gamma": 2}
+    assert doc["free"] == ["lam"] and doc["on"] == []
+    assert doc["known"] == ["H", "gamma1**2 + gamma2**2 + gamma3**2", "s"]
+    assert doc["generic"] == {"extra": 0, "integrals": [], "casimir": []}
+    assert [s["when"] for s in doc["special"]] == [["lam = 1"], ["lam = 2"]]
+    assert doc["special"][0]["integrals"] == ["M1"] and doc["special"][0]["extra"] == 1
+    assert doc["complete"] is True
+
+
+def test_the_statement_says_what_exists_and_what_is_ruled_out(kovalevskaya):
+    text = statement(kovalevskaya)
+    assert text.startswith("No extra integral of weighted degree <= 4")
+    assert "lam = 1; or lam = 2" in text and "no other values carry more" in text
+
+
+def test_the_text_lists_each_set_with_its_integrals(kovalevskaya):
+    text = search_text(kovalevskaya)
+    assert "lam = 2: 1 extra integral(s)" in text
+    assert "    M1    (integral verified; casimir refuted)" in text
+    assert "complete: yes" in text

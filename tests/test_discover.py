@@ -1,0 +1,120 @@
+"""``registry discover`` and ``Registry.discover``: searches recorded, reused, queried
+as DataFrames, their integrals added as claims that the next audit decides."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+
+import registry
+from registry.cli import main
+
+FAMILIES = Path(__file__).resolve().parent / "data" / "families"
+HEAVY = FAMILIES / "heavy-top-lam.toml"
+
+
+def test_record_then_audit_verifies_every_discovered_claim(tmp_path):
+    with registry.open(tmp_path / "r.sqlite") as reg:
+        report = reg.discover(HEAVY, degree=3, free=["lam"], on=["s = 0"], record=True)
+        assert report.number == 1 and not report.reused
+        assert report.derived == (
+            "family-heavy-top-lam-where-lam-1",
+            "family-heavy-top-lam-where-lam-4",
+        )
+        reg.audit(jobs=0)
+        claims = reg.claims()
+        found = claims[claims.provenance == "discovered"]
+        assert set(found.case) == set(report.derived)
+        v = reg.verdicts()
+        integral = v[(v.check == "integral") & v.case.isin(report.derived)]
+        assert list(integral.verdict) == ["verified", "verified"]
+        assert reg.check().problems == ()
+
+
+def test_generic_integrals_become_claims_of_the_searched_version(tmp_path):
+    with registry.open(tmp_path / "r.sqlite") as reg:
+        reg.add(FAMILIES / "lagrange-lam.toml")
+        reg.discover("family-lagrange-lam", degree=2, free=["lam"], record=True)
+        case = reg.case("family-lagrange-lam")
+        (discovered,) = [c for c in case.claims if c.provenance == "discovered"]
+        assert discovered.expression.text == "M3"
+        run = reg.audit(jobs=0)
+        outcome = [o for o in run.outcomes() if o.case_id == "family-lagrange-lam"][0]
+        (claim,) = [c for c in outcome.claims if c.label == discovered.label]
+        assert str(claim.integral.verdict) == "verified"
+        assert reg.check().problems == ()
+        # the file added again is unchanged: the discovered claim stays with its version
+        (again,) = reg.add(FAMILIES / "lagrange-lam.toml")
+        assert again.status == "unchanged"
+
+
+def test_an_identical_search_reuses_the_stored_one_unless_fresh(tmp_path):
+    with registry.open(tmp_path / "r.sqlite") as reg:
+        first = reg.discover(HEAVY, degree=4, free=["lam"], record=True)
+        again = reg.discover("family-heavy-top-lam", degree=4, free=["lam"])
+        assert again.reused and again.number == first.number
+        assert again.search.special == first.search.special
+        assert again.search.generic == first.search.generic
+        other = reg.discover("family-heavy-top-lam", degree=3, free=["lam"])
+        assert not other.reused
+        fresh = reg.discover("family-heavy-top-lam", degree=4, free=["lam"], fresh=True)
+        assert not fresh.reused
+
+
+def test_searches_and_discoveries_frames_hold_negative_results_too(tmp_path):
+    with registry.open(tmp_path / "r.sqlite") as reg:
+        reg.discover(FAMILIES / "asymmetric-heavy-top.toml", degree=4, record=True)
+        reg.discover(HEAVY, degree=4, free=["lam"], record=True)
+        searches = reg.searches()
+        assert list(searches.case) == ["family-asymmetric-heavy-top", "family-heavy-top-lam"]
+        assert list(searches.complete) == [True, True]
+        assert list(searches.generic_extra) == [0, 0]
+        assert list(searches.n_special) == [0, 2]
+        assert searches.statement[0].startswith("No extra integral of weighted degree <= 4")
+        found = reg.discoveries()
+        assert [list(w) for w in found.when] == [[], [], ["lam = 1"], ["lam = 2"]]
+
+
+def test_the_cli_prints_the_json_of_the_contract(tmp_path):
+    result = CliRunner().invoke(
+        main,
+        ["--db", str(tmp_path / "r.sqlite"), "discover", str(HEAVY), "--free", "lam", "--json"],
+    )
+    assert result.exit_code == 0, result.output
+    doc = json.loads(result.stdout)
+    assert [s["when"] for s in doc["special"]] == [["lam = 1"], ["lam = 2"]]
+    assert doc["complete"] is True
+    assert not (tmp_path / "r.sqlite").exists()  # a file searched without --record
+
+
+def test_the_cli_records_and_says_so(tmp_path):
+    db = tmp_path / "r.sqlite"
+    args = ["--db", str(db), "discover", str(HEAVY), "--free", "lam", "--degree", "3",
+            "--on", "s = 0", "--record"]  # fmt: skip
+    result = CliRunner().invoke(main, args)
+    assert result.exit_code == 0, result.output
+    assert "lam = 4: 1 extra integral(s)" in result.stdout
+    assert "recorded as search 1" in result.stdout
+    again = CliRunner().invoke(main, args)
+    assert "(reused stored search 1; --fresh searches again)" in again.stdout
+
+
+@pytest.mark.parametrize(
+    "args,message",
+    [
+        (["--free", "mu"], "Error: --free names 'mu', which the case does not declare"),
+        (["--weights", "M=1"], "Error: Invalid value for --weights: 'M=1': give both M and gamma"),
+        (["--on", "M1 = 0", "--degree", "2"], "Error: the flow does not keep the level set"),
+        (["--on", "bogus = 0"], "Error: unknown name 'bogus'"),
+    ],
+)
+def test_the_cli_refuses_what_it_cannot_search_in_one_line(tmp_path, args, message):
+    result = CliRunner().invoke(
+        main, ["--db", str(tmp_path / "r.sqlite"), "discover", str(HEAVY), *args]
+    )
+    assert result.exit_code == 1, result.output
+    assert result.stderr.startswith(message), result.stderr
+    assert "Traceback" not in result.output
