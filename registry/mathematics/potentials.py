@@ -189,30 +189,54 @@ def _meridian(axis: int):
 
 
 def _radial_homotopy(nu: Vector, domain: Domain) -> sp.Expr | None:
-    """phi(gamma) = int_0^1 nu(t gamma) . gamma dt, the potential of a gradient field."""
+    """phi(gamma) = int_0^1 nu(t gamma) . gamma dt, the potential of a gradient field.
+
+    Not tried on a family's arbitrary functions: no closed form integrates f(t gamma)
+    along the rays for an unknown f (and sympy spends seconds finding that out)."""
+    if any(n.has(AppliedUndef) for n in nu):
+        return None
     t = sp.Symbol("t", positive=True)
     integrand = mech.dot([n.subs({g: t * g for g in AXIS}, simultaneous=True) for n in nu], AXIS)
     return closed_form(sp.integrate(sp.expand(integrand), (t, 0, 1)))
 
 
 def _declared_functions(nu: Vector, domain: Domain) -> sp.Expr | None:
-    """phi as a combination of the family's declared functions of gamma found in nu."""
-    candidates = sorted(
+    """phi as a combination of the family's declared functions of gamma found in nu:
+    the functions themselves, else each also times gamma1, gamma2, gamma3 (Yehia's
+    torques, mu = -(div l) gamma + grad(l . gamma), have phi = l . gamma)."""
+    functions = sorted(
         {f for n in nu for f in n.atoms(AppliedUndef) if set(f.args) <= set(AXIS)},
         key=str,
     )
-    if not candidates:
+    if not functions:
         return None
+    with_axis = [f * g for f in functions for g in AXIS]
+    return _combination(nu, functions, functions) or _combination(
+        nu, functions, functions + with_axis
+    )
+
+
+def _combination(nu: Vector, functions, candidates) -> sp.Expr | None:
+    """phi = sum of k_i candidates_i with gamma x (nu - grad phi) = 0: a linear system for
+    the k_i once the functions and their derivatives stand as independent unknowns."""
     coeffs = sp.symbols(f"k0:{len(candidates)}", cls=sp.Dummy)
     phi = sp.Add(*(c * f for c, f in zip(coeffs, candidates, strict=True)))
     grad = [sp.diff(phi, g) for g in AXIS]
-    residual = mech.cross(AXIS, [n - d for n, d in zip(nu, grad, strict=True)])
-    derivs = sorted({d for r in residual for d in sp.expand(r).atoms(sp.Derivative)}, key=str)
-    if not derivs:
+    residual = [
+        sp.expand(r) for r in mech.cross(AXIS, [n - d for n, d in zip(nu, grad, strict=True)])
+    ]
+    derivs = sorted({d for r in residual for d in r.atoms(sp.Derivative)}, key=str)
+    unknowns = [*derivs, *functions]  # derivatives first: they contain the functions
+    stand_ins = sp.symbols(f"d0:{len(unknowns)}", cls=sp.Dummy)
+    flat = residual
+    for unknown, stand_in in zip(unknowns, stand_ins, strict=True):
+        flat = [r.xreplace({unknown: stand_in}) for r in flat]
+    try:
+        equations = [c for r in flat if r != 0 for c in sp.Poly(r, *stand_ins, *AXIS).coeffs()]
+    except sp.PolynomialError:
         return None
-    stand_ins = sp.symbols(f"d0:{len(derivs)}", cls=sp.Dummy)
-    flat = [sp.expand(r).xreplace(dict(zip(derivs, stand_ins, strict=True))) for r in residual]
-    equations = [c for r in flat if r != 0 for c in sp.Poly(r, *stand_ins, *AXIS).coeffs()]
+    if not equations or any(e.has(AppliedUndef, sp.Derivative) for e in equations):
+        return None
     solutions = sp.solve(equations, coeffs, dict=True)
     if not solutions:
         return None
