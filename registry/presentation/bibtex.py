@@ -1,9 +1,11 @@
 """The sources of the stored cases as BibTeX (``registry export --bibtex``).
 
 One entry per distinct source, with a stable key (first author's surname and year,
-``yehia2003``; repeats suffixed a, b, ...), its type and fields parsed from the
-citation as a reader wrote it, and a note keeping the full citation and the cases
-that cite it. Field values are escaped so that their braces stay balanced.
+``yehia2003``; repeats suffixed a, b, ...), its type and fields taken from the
+source's structured citation (authors, year, title, journal or book, volume,
+number, pages, publisher, url, doi) where the case file gives them, else parsed
+from the citation as a reader wrote it, and a note keeping the full citation and
+the cases that cite it. Field values are escaped so that their braces stay balanced.
 
 >>> import registry
 >>> reg = registry.open(":memory:")
@@ -119,19 +121,64 @@ def _suffix(n: int) -> str:
     return letters
 
 
-def _sources(reg: Registry) -> list[tuple[str, str, list[str]]]:
-    """(citation, doi, case ids citing it) for every distinct source, sorted by citation."""
+#: Structured fields of a source (columns of ``Registry.cases``) and their BibTeX names.
+_STRUCTURED = {
+    "source_title": "title",
+    "journal": "journal",
+    "booktitle": "booktitle",
+    "publisher": "publisher",
+    "volume": "volume",
+    "issue": "number",
+    "pages": "pages",
+    "url": "url",
+}
+
+
+def _sources(reg: Registry) -> list[tuple[str, str, list[str], dict[str, str]]]:
+    """(citation, doi, case ids citing it, structured BibTeX fields) for every distinct
+    source, sorted by citation."""
     cases = reg.cases()
-    grouped: dict[tuple[str, str], list[str]] = {}
-    for row in cases.itertuples(index=False):
-        doi = row.doi if isinstance(row.doi, str) else ""
-        grouped.setdefault((row.citation, doi), []).append(row.case)
-    return [(c, d, sorted(ids)) for (c, d), ids in sorted(grouped.items())]
+    grouped: dict[tuple[str, str], tuple[list[str], dict[str, str]]] = {}
+    for row in cases.to_dict("records"):
+        doi = row["doi"] if isinstance(row["doi"], str) else ""
+        ids, fields = grouped.setdefault((row["citation"], doi), ([], {}))
+        ids.append(row["case"])
+        for column, name in _STRUCTURED.items():
+            value = row.get(column)
+            if isinstance(value, str) and value and name not in fields:
+                fields[name] = value
+        authors = row.get("authors")
+        if isinstance(authors, list) and authors and "author" not in fields:
+            fields["author"] = " and ".join(authors)
+        year = row.get("year")
+        if year is not None and year == year and "year" not in fields:  # not NaN
+            fields["year"] = str(int(year))
+    return [(c, d, sorted(ids), fields) for (c, d), (ids, fields) in sorted(grouped.items())]
 
 
-def _entry(key: str, citation: str, doi: str, case_ids: list[str]) -> str:
+def _structured_kind(fields: dict[str, str]) -> str | None:
+    """The entry type the structured fields call for, or None when they are too few."""
+    if "title" not in fields or "author" not in fields:
+        return None
+    if "journal" in fields:
+        return "article"
+    if "booktitle" in fields:
+        return "incollection"
+    if "publisher" in fields:
+        return "book"
+    return "misc"
+
+
+def _entry(key: str, citation: str, doi: str, case_ids: list[str], given: dict[str, str]) -> str:
     """One BibTeX entry; its note keeps the full citation and the citing case ids."""
-    kind, fields = _fields(citation)
+    kind = _structured_kind(given)
+    if kind is None:
+        kind, fields = _fields(citation)
+        fields.update(given)
+    else:
+        fields = dict(given)
+    if "pages" in fields:
+        fields["pages"] = re.sub(r"\s*-+\s*", "--", fields["pages"])
     fields["note"] = f"{citation}. Registry cases: {', '.join(case_ids)}"
     lines = [
         f"  {name} = {{{latex.escape(value, balanced=True)}}}," for name, value in fields.items()
@@ -142,9 +189,18 @@ def _entry(key: str, citation: str, doi: str, case_ids: list[str]) -> str:
     return "\n".join([f"@{kind}{{{key},", *lines, "}"])
 
 
+def _source_key(citation: str, case_ids: list[str], fields: dict[str, str]) -> str:
+    """The key from the structured first author and year where given, else the citation."""
+    if "author" in fields and "year" in fields:
+        surname = _ascii(_surname(fields["author"].split(" and ")[0]))
+        if surname:
+            return surname + fields["year"]
+    return _key(citation, case_ids)
+
+
 def bibtex(reg: Registry) -> str:
     """One BibTeX entry per distinct source of the stored cases, with unique stable keys."""
     sources = _sources(reg)
-    keys = _unique([_key(citation, ids) for citation, _, ids in sources])
+    keys = _unique([_source_key(citation, ids, fields) for citation, _, ids, fields in sources])
     entries = [_entry(k, *source) for k, source in sorted(zip(keys, sources, strict=True))]
     return "\n\n".join(entries) + ("\n" if entries else "")

@@ -109,3 +109,35 @@ def test_citation_version_is_the_package_version():
     project = (ROOT / "pyproject.toml").read_text(encoding="utf-8")
     version = re.search(r'^version = "([^"]+)"', project, flags=re.M).group(1)
     assert f'version: "{version}"' in text
+
+
+def test_the_whole_catalog_round_trips_through_a_bibtex_parser():
+    """Every source of data/cases is one entry that a BibTeX parser reads back with its
+    authors, year and title from the case files' structured citations."""
+    import bibtexparser
+    from samples import CASES
+
+    from registry.language.casefile import load_case
+
+    reg = registry.open(":memory:")
+    reg.add(CASES)
+    database = bibtexparser.loads(bibtex(reg))
+    sources = {}
+    for path in sorted(CASES.rglob("*.toml")):
+        case = load_case(path)
+        sources.setdefault((case.source.citation, case.source.doi), []).append(case)
+    assert len(database.entries) == len(sources)
+    keys = [e["ID"] for e in database.entries]
+    assert len(set(keys)) == len(keys)
+    by_note = {e["note"].split(". Registry cases: ")[0]: e for e in database.entries}
+    for (citation, doi), cases in sources.items():
+        entry = by_note[citation]
+        source = cases[0].source
+        assert entry["year"] == str(source.year)
+        assert entry["author"] == " and ".join(source.authors)
+        if source.title:
+            assert entry["title"] == source.title
+        if doi:
+            assert entry["doi"] == doi
+        named = entry["note"].split(". Registry cases: ")[1].split(", ")
+        assert sorted(named) == sorted(c.id for c in cases)
