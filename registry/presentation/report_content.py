@@ -1,9 +1,10 @@
 """The content of a report of an audit run, built from the run's outcome objects.
 
-A summary table, then each case: its source and system in LaTeX, the checks of the
-system (with the residual and witness of a refutation), its family and Casimirs,
-and each claim with its verdicts, numeric evidence, repairs, parameter conditions
-and the drift plot of a refuted claim. The content is said once, to a writer
+A table of contents by topic, a summary table (each case linked to its section),
+then the cases grouped by topic, each with its source and system in LaTeX, the
+checks of the system (with the residual and witness of a refutation), its family
+and Casimirs, and each claim with its verdicts, numeric evidence, repairs, parameter
+conditions and the drift plot of a refuted claim. The content is said once, to a writer
 (``report_writers``) that knows how its format writes each block.
 """
 
@@ -34,7 +35,7 @@ from ..model import (
     component_number,
     nan_to_none,
 )
-from .report_writers import FORMATS, WRITERS, Code, Math, Part, Writer
+from .report_writers import FORMATS, WRITERS, Code, Link, Math, Part, Writer, anchor
 
 if TYPE_CHECKING:
     from ..api import Registry
@@ -95,20 +96,45 @@ def _when(stamp) -> str:
     return "-" if stamp is None or pd.isna(stamp) else f"{stamp:%Y-%m-%d %H:%M:%S} UTC"
 
 
+#: The topic of a case whose file names none.
+OTHER_TOPIC = "other"
+
+
+def topic(outcome: CaseOutcome) -> str:
+    """The topic a case is filed under in a report (its ``topic``, else "other")."""
+    return (outcome.case.topic if outcome.case is not None else "") or OTHER_TOPIC
+
+
+def by_topic(outcomes: Sequence[CaseOutcome]) -> dict[str, list[CaseOutcome]]:
+    """The outcomes grouped by topic, topics in alphabetical order ("other" last)."""
+    groups: dict[str, list[CaseOutcome]] = {}
+    for outcome in outcomes:
+        groups.setdefault(topic(outcome), []).append(outcome)
+    return dict(sorted(groups.items(), key=lambda g: (g[0] == OTHER_TOPIC, g[0])))
+
+
 def _summary(w: Writer, outcomes: Sequence[CaseOutcome]) -> None:
-    """One row per claim: case, claim, kind, integral, casimir, verdict."""
+    """One row per claim: case (linked to its section), claim, kind, integral, casimir,
+    verdict."""
     rows = []
     for case in outcomes:
+        name = Link(case.case_id, anchor("case", case.case_id))
         if not case.claims:
-            rows.append(
-                (case.case_id, "-", "", "", "", Verdict.ERROR if case.error is not None else "")
-            )
+            rows.append((name, "-", "", "", "", Verdict.ERROR if case.error is not None else ""))
         for c in case.claims:
             label = c.label + (" (on set)" if c.on_set else "")
-            row = (case.case_id, label, c.claim.kind, c.integral.verdict, c.casimir.verdict)
+            row = (name, label, c.claim.kind, c.integral.verdict, c.casimir.verdict)
             rows.append((*row, c.verdict))
-    w.heading(2, "Summary")
+    w.heading(2, "Summary", anchor("summary"))
     w.table(("case", "claim", "kind", "integral", "casimir", "verdict"), rows)
+
+
+def _contents(w: Writer, groups: dict[str, list[CaseOutcome]]) -> None:
+    """The table of contents: each topic with its cases, linked."""
+    w.heading(2, "Contents", anchor("contents"))
+    for name, cases in groups.items():
+        links = _joined(Link(c.case_id, anchor("case", c.case_id)) for c in cases)
+        w.para(Link(name, anchor("topic", name)), f" ({len(cases)}): ", *links)
 
 
 def _system(w: Writer, case: Case) -> None:
@@ -229,7 +255,7 @@ def _conditions(w: Writer, found: Conditions | None, ns: Namespace) -> None:
 def _claim(w: Writer, outcome: ClaimOutcome, case: Case, ns: Namespace, plot: Plotter | None):
     """One claim: its expression, verdicts, evidence, repairs and drift plot."""
     claim = outcome.claim
-    w.heading(3, f"Claim {claim.label} ({claim.kind}): {outcome.verdict}")
+    w.heading(4, f"Claim {claim.label} ({claim.kind}): {outcome.verdict}")
     w.para("Claimed" + (f" at {claim.locator}" if claim.locator else "") + ":")
     w.equation(f"I = {sp.latex(claim.expression.expr)}")
     if claim.on:
@@ -252,7 +278,9 @@ def _claim(w: Writer, outcome: ClaimOutcome, case: Case, ns: Namespace, plot: Pl
 def _case_section(w: Writer, outcome: CaseOutcome, plot: Plotter | None) -> None:
     """Everything about one case: source, system, checks and claims."""
     case = outcome.case
-    w.heading(2, f"{outcome.case_id}: {case.title if case else ''}")
+    w.heading(
+        3, f"{outcome.case_id}: {case.title if case else ''}", anchor("case", outcome.case_id)
+    )
     if case is None:
         w.para("The case could not be audited: ", Code(outcome.error or "unknown error"))
         return
@@ -330,7 +358,11 @@ def build_report(
         plot = _plotter(where) if plots else None
         w = WRITERS[fmt]()
         _header(w, row, outcomes)
+        groups = by_topic(outcomes)
+        _contents(w, groups)
         _summary(w, outcomes)
-        for outcome in outcomes:
-            _case_section(w, outcome, plot)
+        for name, cases in groups.items():
+            w.heading(2, name[:1].upper() + name[1:], anchor("topic", name))
+            for outcome in cases:
+                _case_section(w, outcome, plot)
         return w.finish(f"Audit report: run {number}")

@@ -44,7 +44,20 @@ class Code:
     text: str
 
 
-Part = str | Math | Code
+@dataclass(frozen=True)
+class Link:
+    """Text that links to a section of the same document (by its anchor)."""
+
+    text: str
+    anchor: str
+
+
+Part = str | Math | Code | Link
+
+
+def anchor(*names: str) -> str:
+    """A section's anchor: the names lowercased, anything but letters and digits as '-'."""
+    return re.sub(r"[^a-z0-9]+", "-", "-".join(names).lower()).strip("-")
 
 
 # ----------------------------------------------------------------------- writers
@@ -64,6 +77,8 @@ class Writer:
                 out.append(self.math(p.latex))
             elif isinstance(p, Code):
                 out.append(self.code(p.text))
+            elif isinstance(p, Link):
+                out.append(self.link(p.text, p.anchor))
             else:
                 out.append(self.escape(p))
         return "".join(out)
@@ -72,7 +87,13 @@ class Writer:
         self.blocks.append(self.paragraph(self.inline(parts)))
 
     def table(self, header: Sequence[str], rows: Sequence[Sequence[object]]) -> None:
-        cells = [[self.escape(str(c)) for c in row] for row in rows]
+        cells = [
+            [
+                self.inline([c]) if isinstance(c, Math | Code | Link) else self.escape(str(c))
+                for c in row
+            ]
+            for row in rows
+        ]
         self.blocks.append(self.tabular([self.escape(h) for h in header], cells))
 
     # what each format says its own way
@@ -93,8 +114,14 @@ class Writer:
         """A paragraph of inline text that is already written in the format."""
         raise NotImplementedError
 
-    def heading(self, level: int, text: str) -> None:
+    def heading(self, level: int, text: str, anchor: str | None = None) -> None:
+        """A heading; ``anchor`` names it for links (where the format has links)."""
         raise NotImplementedError
+
+    def link(self, text: str, anchor: str) -> str:
+        """Text linking to the heading named ``anchor`` (plain text where the format has
+        no links)."""
+        return self.escape(text)
 
     def equation(self, latex: str) -> None:
         """A displayed formula."""
@@ -125,8 +152,12 @@ class MarkdownWriter(Writer):
         fence = "``" if "`" in text else "`"
         return f"{fence}{text}{fence}"
 
-    def heading(self, level: int, text: str) -> None:
-        self.blocks.append(f"{'#' * level} {self.escape(text)}")
+    def heading(self, level: int, text: str, anchor: str | None = None) -> None:
+        named = f'<a id="{anchor}"></a>' if anchor else ""
+        self.blocks.append(f"{'#' * level} {named}{self.escape(text)}")
+
+    def link(self, text: str, anchor: str) -> str:
+        return f"[{self.escape(text)}](#{anchor})"
 
     def paragraph(self, text: str) -> str:
         return text
@@ -160,8 +191,12 @@ class HtmlWriter(Writer):
     def code(self, text: str) -> str:
         return f"<code>{self.escape(text)}</code>"
 
-    def heading(self, level: int, text: str) -> None:
-        self.blocks.append(f"<h{level}>{self.escape(text)}</h{level}>")
+    def heading(self, level: int, text: str, anchor: str | None = None) -> None:
+        named = f' id="{anchor}"' if anchor else ""
+        self.blocks.append(f"<h{level}{named}>{self.escape(text)}</h{level}>")
+
+    def link(self, text: str, anchor: str) -> str:
+        return f'<a href="#{anchor}">{self.escape(text)}</a>'
 
     def paragraph(self, text: str) -> str:
         return f"<p>{text}</p>"
@@ -198,7 +233,7 @@ code { background: #f3f3f3; overflow-wrap: anywhere; }
 class TexWriter(Writer):
     """A LaTeX fragment to \\input (needs amsmath and graphicx); plots next to the file."""
 
-    _HEADINGS = {1: "section", 2: "subsection", 3: "subsubsection"}
+    _HEADINGS = {1: "section", 2: "subsection", 3: "subsubsection", 4: "paragraph"}
 
     def escape(self, text: str) -> str:
         return latex.escape(text)
@@ -209,7 +244,7 @@ class TexWriter(Writer):
     def code(self, text: str) -> str:
         return rf"\texttt{{{self.escape(text)}}}"
 
-    def heading(self, level: int, text: str) -> None:
+    def heading(self, level: int, text: str, anchor: str | None = None) -> None:
         command = self._HEADINGS.get(level, "paragraph")
         self.blocks.append(rf"\{command}*{{{self.escape(text)}}}")
 

@@ -20,6 +20,7 @@ from registry.cli import main
 from registry.errors import UnknownRunError
 from registry.language.parser import Namespace, parse_expression
 from registry.presentation.report_content import build_report
+from registry.presentation.report_writers import anchor
 
 PNG = b"\x89PNG"
 
@@ -55,7 +56,7 @@ def _correction(reg, case_id: str, kind: str):
 
 def _summary_rows(text: str) -> list[str]:
     """The rows of the Markdown report's summary table, header and rule excluded."""
-    lines = text.split("## Summary\n", 1)[1].lstrip("\n").splitlines()
+    lines = text.split('## <a id="summary"></a>Summary\n', 1)[1].lstrip("\n").splitlines()
     table = []
     for line in lines:
         if not line.startswith("|"):
@@ -81,7 +82,8 @@ def _expected_rows(reg) -> list[str]:
             verdict[c.case, c.label, "casimir"],
         )
         overall = integral if c.kind == "integral" else casimir
-        rows.append(f"| {c.case} | {c.label} | {c.kind} | {integral} | {casimir} | {overall} |")
+        case = f"[{c.case}](#{anchor('case', c.case)})"  # linked to the case's section
+        rows.append(f"| {case} | {c.label} | {c.kind} | {integral} | {casimir} | {overall} |")
     return rows
 
 
@@ -100,7 +102,8 @@ def test_markdown_summary_keeps_the_integral_and_casimir_columns_apart(tmp_path)
         reg.audit(jobs=0)
         report = build_report(reg, fmt="md", plots=False)
         expected = _expected_rows(reg)
-    assert f"| {ZHUKOVSKY} | H | integral | verified | refuted | verified |" in expected
+    linked = f"[{ZHUKOVSKY}](#case-{ZHUKOVSKY})"
+    assert f"| {linked} | H | integral | verified | refuted | verified |" in expected
     assert sorted(_summary_rows(report)) == sorted(expected)
 
 
@@ -114,8 +117,29 @@ def test_markdown_names_every_case_and_verdict(reg, markdown):
     assert len(expected) == 3
     assert sorted(_summary_rows(text)) == sorted(expected)
     # the paper's refuted claim and a classical true one
-    assert f"| {YEHIA_B} | I2 | casimir | refuted | refuted | refuted |" in expected
-    assert f"| {ZHUKOVSKY} | area | casimir | verified | verified | verified |" in expected
+    yehia, zhukovsky = (f"[{c}](#case-{c})" for c in (YEHIA_B, ZHUKOVSKY))
+    assert f"| {yehia} | I2 | casimir | refuted | refuted | refuted |" in expected
+    assert f"| {zhukovsky} | area | casimir | verified | verified | verified |" in expected
+
+
+def test_the_report_groups_cases_by_topic_with_contents_and_links(reg, markdown):
+    text, _ = markdown
+    contents = text.split('<a id="contents"></a>Contents', 1)[1].split("## ", 1)[0]
+    topics = {c.topic or "other" for c in map(reg.case, SEED)}
+    for name in topics:
+        assert f"[{name}](#topic-{name.replace(' ', '-')})" in contents
+        assert f'## <a id="topic-{name.replace(" ", "-")}"></a>' in text
+    for case_id in SEED:
+        assert f'### <a id="case-{case_id}"></a>{case_id}: ' in text
+        assert f"[{case_id}](#case-{case_id})" in contents
+    # each case sits under its topic's heading
+    for case_id in SEED:
+        name = (reg.case(case_id).topic or "other").replace(" ", "-")
+        before = text.split(f'<a id="case-{case_id}"></a>', 1)[0]
+        assert before.rfind(f'<a id="topic-{name}"></a>') > max(
+            before.rfind(f'<a id="topic-{other.replace(" ", "-")}"></a>')
+            for other in topics - {reg.case(case_id).topic or "other"}
+        ) or len(topics) == 1
 
 
 def test_markdown_shows_the_torque_in_math(reg, markdown):
