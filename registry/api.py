@@ -355,9 +355,71 @@ class Registry:
 
     # --- queries ----------------------------------------------------------
 
-    def cases(self) -> pd.DataFrame:
-        """One row per case (its latest version)."""
-        return frames.cases_frame(self.store)
+    def cases(
+        self,
+        *,
+        source: str | None = None,
+        author: str | None = None,
+        year: int | tuple[int, int] | None = None,
+        topic: str | None = None,
+        family: str | None = None,
+        verdict: str | Verdict | None = None,
+    ) -> pd.DataFrame:
+        """One row per case (its latest version) with its citation (authors, year, title,
+        journal, volume, pages, doi, ...), topic, aliases and the torque family its
+        newest audit found; filtered by any of: ``source`` (text in the citation, title
+        or journal), ``author`` (text in an author's name), ``year`` (a year or an
+        inclusive range), ``topic``, ``family`` (exact), ``verdict`` (some claim has it).
+        Text filters ignore case."""
+        frame = frames.cases_frame(self.store)
+        families = frames.families_frame(self.store)
+        frame = frame.merge(families, on="case", how="left")
+        frame["family"] = frame["family"].fillna("")
+        keep = [True] * len(frame)
+
+        def contains(values, text: str) -> list[bool]:
+            return [text.lower() in str(v).lower() for v in values]
+
+        if source is not None:
+            texts = frame["citation"] + " " + frame["source_title"] + " " + frame["journal"]
+            keep = [k and c for k, c in zip(keep, contains(texts, source), strict=True)]
+        if author is not None:
+            names = [" ".join(a) if isinstance(a, list) else "" for a in frame["authors"]]
+            keep = [k and c for k, c in zip(keep, contains(names, author), strict=True)]
+        if year is not None:
+            first, last = year if isinstance(year, tuple) else (year, year)
+            years = [y if y == y and y is not None else None for y in frame["year"]]
+            keep = [
+                k and y is not None and first <= y <= last for k, y in zip(keep, years, strict=True)
+            ]
+        if topic is not None:
+            keep = [
+                k and str(t).lower() == topic.lower()
+                for k, t in zip(keep, frame["topic"], strict=True)
+            ]
+        if family is not None:
+            keep = [k and f == family for k, f in zip(keep, frame["family"], strict=True)]
+        if verdict is not None:
+            having = self._cases_with_verdict(Verdict(verdict))
+            keep = [k and c in having for k, c in zip(keep, frame["case"], strict=True)]
+        rows = [i for i, k in enumerate(keep) if k]  # a list, also when empty (no rows)
+        return frame.iloc[rows].reset_index(drop=True)
+
+    def _cases_with_verdict(self, verdict: Verdict) -> set[str]:
+        """The cases some claim of which has this overall verdict (its kind's check)."""
+        latest = frames.verdicts_frame(self.store)
+        claims = frames.claims_frame(self.store)
+        kinds = {
+            (c, label): kind
+            for c, label, kind in zip(claims["case"], claims["label"], claims["kind"], strict=True)
+        }
+        return {
+            case
+            for case, claim, check, found in zip(
+                latest["case"], latest["claim"], latest["check"], latest["verdict"], strict=True
+            )
+            if kinds.get((case, claim)) == check and found == str(verdict)
+        }
 
     def claims(self) -> pd.DataFrame:
         """One row per claim of the latest case versions."""

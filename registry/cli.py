@@ -23,6 +23,7 @@ import click
 from .api import DEFAULT_SEARCH_BUDGET, Registry, default_target, discover_file, open_registry
 from .audit.case_audit import DEFAULT_BUDGET
 from .errors import RegistryError, UnknownClaimError, printable
+from .model import Verdict
 from .presentation.search_output import search_text
 from .presentation.verdict_table import disagreements, verdict_table
 from .store.database import Store
@@ -418,14 +419,57 @@ def _print_frame(frame: pd.DataFrame) -> None:
         click.echo(frame.to_string(index=False) if len(frame) else "(none)")
 
 
-@main.command()
-@_user_errors
-def cases() -> None:
-    """List the cases in the registry (latest versions).
+def _years(text: str | None) -> int | tuple[int, int] | None:
+    """``1889`` or ``1880-1900`` (inclusive)."""
+    if text is None:
+        return None
+    first, _, last = text.partition("-")
+    if not first.strip().isdigit() or (last and not last.strip().isdigit()):
+        raise click.BadParameter(f"{text!r}: expected a year or a range like 1880-1900")
+    return (int(first), int(last)) if last else int(first)
 
-    Example: registry cases
+
+@main.command()
+@click.option("--source", default=None, help="Text in the citation, title or journal.")
+@click.option("--author", default=None, help="Text in an author's name.")
+@click.option("--year", "year_text", default=None, metavar="YEAR|FROM-TO", help="Year or range.")
+@click.option("--topic", default=None, help="A topic (free rigid body, heavy top, gyrostat, ...).")
+@click.option("--family", default=None, help="The torque's family (constant, affine, ...).")
+@click.option(
+    "--verdict",
+    type=click.Choice([str(v) for v in Verdict]),
+    default=None,
+    help="Cases with a claim of this verdict (in its newest audit).",
+)
+@_user_errors
+def cases(
+    source: str | None,
+    author: str | None,
+    year_text: str | None,
+    topic: str | None,
+    family: str | None,
+    verdict: str | None,
+) -> None:
+    """List the cases in the registry (latest versions), with their sources.
+
+    Filters combine: --source, --author, --year, --topic, --family, --verdict.
+
+    Example: registry cases --author Kowalevski --year 1880-1900
     """
-    _print_frame(_registry().cases())
+    frame = _registry().cases(
+        source=source,
+        author=author,
+        year=_years(year_text),
+        topic=topic,
+        family=family,
+        verdict=verdict,
+    )
+    frame = frame.assign(
+        authors=[", ".join(a) if isinstance(a, list) else "" for a in frame["authors"]],
+        year=["" if y != y or y is None else str(int(y)) for y in frame["year"]],
+    )
+    columns = ["case", "version", "year", "authors", "topic", "family", "n_claims", "title"]
+    _print_frame(frame[columns])
 
 
 @main.command()

@@ -213,6 +213,27 @@ def corrections_frame(store: Store, run: int | None = None) -> pd.DataFrame:
 
 
 @guarded
+def families_frame(store: Store) -> pd.DataFrame:
+    """The torque family of every case's newest version, from the newest run that
+    recorded one: case, family (``constant``, ``affine``, ``psi-gamma-grad-phi``, ...)."""
+    newest = newest_versions()
+    stmt = (
+        select(CaseRow.case_id.label("case"), CorrectionRow.payload, CorrectionRow.run_id)
+        .join(CaseRow, CaseRow.id == CorrectionRow.case_pk)
+        .join(
+            newest,
+            (CaseRow.case_id == newest.c.case_id) & (CaseRow.version == newest.c.version),
+        )
+        .where(CorrectionRow.kind == "family")
+        .order_by(CaseRow.case_id, CorrectionRow.run_id.desc(), CorrectionRow.id.desc())
+    )
+    frame = _select_frame(store, stmt)
+    frame = frame.drop_duplicates("case")
+    frame["family"] = [p.get("name", "") for p in frame["payload"]]
+    return frame[["case", "family"]].reset_index(drop=True)
+
+
+@guarded
 def searches_frame(store: Store) -> pd.DataFrame:
     """One row per integral search: the case version searched, the ansatz (degree,
     weights, level set, free parameters), how many extra integrals exist for generic
