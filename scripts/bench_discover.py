@@ -1,0 +1,154 @@
+"""Benchmark of ``registry discover`` against a naive sympy search, side by side.
+
+The three searches of the issue, on families that do not name their answers:
+
+1. the heavy top A = B = 1, C = 1/lam, centre of mass (1, 0, 0), degree 4, free lam
+   (target <= 0.5 s; the answer is lam = 1 and lam = 2);
+2. the same on s = 0, degree 3 (target <= 0.3 s; lam = 1 and lam = 4);
+3. centre of mass (1, 0, z0), degree 4, free lam and z0 (target <= 10 s, complete).
+
+Each is timed in this process after one warm-up search (imports and sympy's caches
+are not what is measured), proofs of the reported integrals included. The naive
+baseline builds the whole system with sympy expressions and matrices (no blocks),
+takes its rank over Q(p) with DomainMatrix, the special values from the factored
+determinant of a random projection computed symbolically, and the integrals there
+with sympy's nullspace. It runs in a child process with a time cap: past it the
+ratio printed is a lower bound.
+
+Usage: python scripts/bench_discover.py [--repeat 5] [--baseline-cap 300]
+Nothing here is asserted by the tests: machines are shared and noisy.
+"""
+
+from __future__ import annotations
+
+import argparse
+import itertools
+import multiprocessing as mp
+import queue as queue_module
+import random
+import statistics
+import time
+from pathlib import Path
+
+import sympy as sp
+from sympy.polys.matrices import DomainMatrix
+
+from registry.api import discover_file
+from registry.language.casefile import load_case
+from registry.mathematics import mechanics as mech
+
+ROOT = Path(__file__).resolve().parents[1]
+FAMILIES = ROOT / "tests" / "data" / "families"
+
+SEARCHES = [
+    ("1 parameter, degree 4", "heavy-top-lam", dict(degree=4, free=["lam"]), 0.5),
+    ("s = 0, degree 3", "heavy-top-lam", dict(degree=3, free=["lam"], on=["s = 0"]), 0.3),
+    ("2 parameters, degree 4", "heavy-top-lam-z0", dict(degree=4, free=["lam", "z0"]), 10.0),
+]
+
+
+# --- the naive baseline ---------------------------------------------------------------
+
+
+def naive_search(name: str, degree: int, free: list[str], on: list[str] = ()) -> list:
+    """Special values of the free parameters where the kernel of A(p) grows, naively."""
+    case = load_case(FAMILIES / f"{name}.toml")
+    params = [case.parameters[f] for f in free]
+    field = mech.vector_field(case.system.inertia_exprs, case.system.potential.expr, (0, 0, 0))
+    weights = (1, 1, 1, 2, 2, 2)
+    monomials = [
+        sp.Mul(*(x**e for x, e in zip(mech.STATE, exps, strict=True)))
+        for exps in itertools.product(range(degree + 1), repeat=6)
+        if 1 <= sum(a * w for a, w in zip(exps, weights, strict=True)) <= degree
+    ]
+    coeffs = sp.symbols(f"c0:{len(monomials)}")
+    F = sum(c * m for c, m in zip(coeffs, monomials, strict=True))
+    rate = sp.numer(sp.together(sp.expand(mech.time_derivative(F, field))))
+    if on:
+        rate = sp.reduced(sp.expand(rate), [mech.S_VALUE], *mech.STATE)[1]
+    rows = [[sp.expand(c).coeff(k) for k in coeffs] for c in sp.Poly(rate, *mech.STATE).coeffs()]
+    A = sp.Matrix(rows)
+    generic = DomainMatrix.from_Matrix(A).convert_to(sp.QQ.frac_field(*params)).rank()
+    rnd = random.Random(0)
+    R = sp.Matrix(generic, A.rows, lambda i, j: rnd.randint(-3, 3))
+    S = sp.Matrix(A.cols, generic, lambda i, j: rnd.randint(-3, 3))
+    projected = (R * A * S).applyfunc(sp.expand)
+    ring = sp.ZZ[tuple(params)]
+    det = DomainMatrix.from_Matrix(projected).convert_to(ring).det()
+    special = []
+    for factor, _ in sp.factor_list(ring.to_sympy(det))[1]:
+        symbols = factor.free_symbols & set(params)
+        if len(symbols) == 1 and sp.degree(factor, *symbols) == 1:
+            (p,) = symbols
+            value = sp.solve(factor, p)[0]
+            at = A.subs(p, value)
+            if at.rank() < generic:
+                special.append((str(p), str(value), len(at.nullspace())))
+    return special
+
+
+def _run_naive(queue, name, options):
+    started = time.perf_counter()
+    found = naive_search(name, **options)
+    queue.put((time.perf_counter() - started, found))
+
+
+def naive_timed(name: str, options: dict, cap: float) -> tuple[float, bool, list]:
+    """(seconds, finished, special values) of the naive search in a child process."""
+    context = mp.get_context("fork")
+    queue = context.Queue()
+    child = context.Process(target=_run_naive, args=(queue, name, options), daemon=True)
+    started = time.perf_counter()
+    child.start()
+    try:
+        seconds, found = queue.get(timeout=cap)  # before join: the child flushes its result
+    except queue_module.Empty:
+        child.kill()
+        child.join()
+        return time.perf_counter() - started, False, []
+    child.join()
+    return seconds, True, found
+
+
+# --- ours --------------------------------------------------------------------------------
+
+
+def ours_timed(name: str, options: dict, repeat: int) -> tuple[float, object]:
+    """Median seconds of ``repeat`` searches (after one warm-up), and the last result."""
+    path = FAMILIES / f"{name}.toml"
+    discover_file(path, **options)
+    times = []
+    for _ in range(repeat):
+        started = time.perf_counter()
+        report = discover_file(path, **options)
+        times.append(time.perf_counter() - started)
+    return statistics.median(times), report.search
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeat", type=int, default=5)
+    parser.add_argument("--baseline-cap", type=float, default=300.0)
+    args = parser.parse_args()
+    for label, name, options, target in SEARCHES:
+        ours, search = ours_timed(name, options, args.repeat)
+        found = "; ".join(", ".join(s.when) for s in search.special)
+        print(
+            f"{label}: ours {ours:.3f} s (target <= {target:g} s), complete "
+            f"{search.complete}, special: {found}"
+        )
+        naive_options = {k: v for k, v in options.items() if k != "on"}
+        naive_options["on"] = options.get("on", [])
+        seconds, finished, naive = naive_timed(name, naive_options, args.baseline_cap)
+        if finished:
+            values = "; ".join(f"{p} = {v}" for p, v, _ in naive)
+            print(f"  naive sympy {seconds:.1f} s, ratio {seconds / ours:.0f}x; special: {values}")
+        else:
+            print(
+                f"  naive sympy did not finish within {args.baseline_cap:.0f} s: "
+                f"ratio > {seconds / ours:.0f}x"
+            )
+
+
+if __name__ == "__main__":
+    main()
