@@ -26,10 +26,11 @@ from .audit.outcome import CaseOutcome, outcomes
 from .audit.time_budget import TimeBudget
 from .audit.worker_pool import audit_in_workers, default_jobs
 from .discovery.search import discover, search_options
+from .discovery.survey import searched, stated_options
 from .errors import CaseFormatError, RegistryError, UnknownCaseError
 from .language.case_writer import corrected_case_text, derived_case_text
 from .language.casefile import load_case, parse_case_text
-from .model import Case, CaseAudit, Equation, Search, Verdict, VerdictChange
+from .model import Case, CaseAudit, Equation, Search, SearchOptions, Verdict, VerdictChange
 from .presentation.audit_json import audit_document
 from .presentation.search_output import search_document, statement
 from .store import conversions, frames
@@ -302,27 +303,78 @@ class Registry:
         """
         case, stored = self._search_target(target)
         options = search_options(case, degree=degree, weights=weights, on=on, free=free)
-        version = code_version()
-        if stored is not None and not fresh:
-            found = self.store.stored_search(stored.pk, options, version)
-            if found is not None:
-                number, row, rows = found
-                return SearchReport(
-                    conversions.search(row, case.id, case.content_hash, rows, options.on),
-                    number,
-                    reused=True,
-                )
+        reused = None if fresh else self._reused_search(case, stored, options)
+        if reused is not None:
+            return reused
         search = discover(case, options, budget=budget, jobs=jobs, progress=progress)
         if not record:
             return SearchReport(search)
         if stored is None:
             self.store.add_case(case)
             (stored,) = [s for s in self.store.case_versions([case.id])]
+        return self._recorded(stored, case, search)
+
+    def survey(
+        self,
+        case_ids: Sequence[str] | None = None,
+        *,
+        fresh: bool = False,
+        budget: float | None = DEFAULT_SEARCH_BUDGET,
+        jobs: int | None = None,
+        progress: Callable[[int, int, str], None] | None = None,
+    ) -> list[SearchReport]:
+        """Record the stated searches (``registry.discovery.survey.stated_options``) of
+        the latest version of every case, or of the named ones: what each system has, and
+        has not, up to the degree its claims reach. Searches already recorded by this code
+        version are reused unless ``fresh``; a system the method cannot search is recorded
+        as not searched, with the reason. ``jobs`` processes search (default: one per
+        core); each search is stored as it finishes, and only this process writes.
+        """
+        planned = [
+            (stored, case, options)
+            for stored in self.store.case_versions(list(case_ids) if case_ids else None)
+            for case in [stored.parse()]
+            for options in stated_options(case)
+        ]
+        reports: dict[int, SearchReport] = {}
+        for i, (stored, case, options) in enumerate(planned):
+            reused = None if fresh else self._reused_search(case, stored, options)
+            if reused is not None:
+                reports[i] = reused
+        todo = [i for i in range(len(planned)) if i not in reports]
+        work = [(planned[i][1], planned[i][2]) for i in todo]
+        jobs = default_jobs() if jobs is None else jobs
+        for done, (i, search) in enumerate(
+            zip(todo, searched(work, budget=budget, jobs=jobs), strict=True)
+        ):
+            if progress is not None:
+                progress(done + 1, len(todo), search.case)
+            reports[i] = self._recorded(planned[i][0], planned[i][1], search)
+        return [reports[i] for i in range(len(planned))]
+
+    def _reused_search(
+        self, case: Case, stored: StoredCase | None, options: SearchOptions
+    ) -> SearchReport | None:
+        """The stored search of this case version with these options by this code
+        version, or None."""
+        if stored is None:
+            return None
+        found = self.store.stored_search(stored.pk, options, code_version())
+        if found is None:
+            return None
+        number, row, rows = found
+        search = conversions.search(row, case.id, case.content_hash, rows, options.on)
+        return SearchReport(search, number, reused=True)
+
+    def _recorded(self, stored: StoredCase, case: Case, search: Search) -> SearchReport:
+        """Store a search of a stored case version, with a derived case per special set."""
         derived = [
-            parse_case_text(derived_case_text(case, s, options), f"<derived from {case.id}>")
+            parse_case_text(derived_case_text(case, s, search.options), f"<derived from {case.id}>")
             for s in search.special
         ]
-        number = self.store.record_search(stored.pk, search, version, statement(search), derived)
+        number = self.store.record_search(
+            stored.pk, search, code_version(), statement(search), derived
+        )
         return SearchReport(search, number, derived=tuple(c.id for c in derived))
 
     def _search_target(self, target) -> tuple[Case, StoredCase | None]:

@@ -24,7 +24,7 @@ from .api import DEFAULT_SEARCH_BUDGET, Registry, default_target, discover_file,
 from .audit.case_audit import DEFAULT_BUDGET
 from .errors import RegistryError, UnknownClaimError, printable
 from .model import Verdict
-from .presentation.search_output import search_text
+from .presentation.search_output import search_text, statement
 from .presentation.verdict_table import disagreements, verdict_table
 from .store.database import Store
 
@@ -401,6 +401,85 @@ def discover(
         click.echo(f"recorded as search {report.number}")
     for case_id in report.derived:
         click.echo(f"  derived case {case_id}: its integrals are claims for the next audit")
+
+
+@main.command()
+@click.option("--case", "case_ids", multiple=True, metavar="ID", help="Search only this case.")
+@click.option("--fresh", is_flag=True, help="Search again instead of reusing stored searches.")
+@click.option(
+    "--jobs",
+    type=click.IntRange(min=1),
+    default=None,
+    help="Processes searching (default: one per core).",
+)
+@click.option(
+    "--budget",
+    "seconds",
+    type=click.FloatRange(min=0, min_open=True),
+    default=DEFAULT_SEARCH_BUDGET,
+    show_default=True,
+    help="Seconds each search may take; then what is proven is recorded.",
+)
+@_user_errors
+def survey(case_ids: tuple[str, ...], fresh: bool, jobs: int | None, seconds: float) -> None:
+    """Record a search of every case (or the named ones) at the degree its claims reach.
+
+    \b
+    Each case is searched for polynomial integrals beyond H, |gamma|^2 and the
+    torque's Casimir:
+    - up to the largest weighted degree of its claims (at least 2), with weights
+      M=1,gamma=1 for a potential of degree >= 2 in gamma, else M=1,gamma=2;
+    - on the whole phase space, and on each level set its claims are stated on.
+    A system that is not polynomial is recorded as not searched, with the reason.
+    What a search finds becomes a claim that the next audit decides; searches
+    recorded by this code version are reused. List them with: registry searches
+
+    Example: registry survey --case kovalevskaya-1889-heavy-top
+    """
+    from tqdm import tqdm
+
+    reg = _registry()
+    bar = tqdm(total=0, unit="search", file=sys.stderr, disable=not sys.stderr.isatty())
+
+    def progress(done: int, total: int, case_id: str) -> None:
+        bar.total = total
+        bar.n = done
+        bar.set_postfix_str(case_id, refresh=True)
+
+    try:
+        with _interruptible(reg.store):
+            reports = reg.survey(
+                list(case_ids) or None, fresh=fresh, budget=seconds, jobs=jobs, progress=progress
+            )
+    finally:
+        bar.close()
+    for r in reports:
+        on = f" on {', '.join(e.text for e in r.search.options.on)}" if r.search.options.on else ""
+        click.echo(f"{r.search.case}{on}: {statement(r.search)}")
+    fresh_ones = sum(not r.reused for r in reports)
+    undecided = sum(not r.search.decided for r in reports)
+    click.echo(
+        f"{len(reports)} search(es): {fresh_ones} recorded, {len(reports) - fresh_ones} "
+        f"reused; {undecided} not decided (see their statements)"
+    )
+
+
+@main.command()
+@click.option("--case", "case_id", default=None, metavar="ID", help="Searches of this case only.")
+@_user_errors
+def searches(case_id: str | None) -> None:
+    """List the recorded integral searches, newest last, with what each established.
+
+    Example: registry searches --case kovalevskaya-1889-heavy-top
+    """
+    frame = _registry().searches()
+    if case_id is not None:
+        frame = frame[frame["case"] == case_id]
+    frame = frame.assign(
+        on=[", ".join(on) for on in frame["on"]],
+        weights=[f"M={w['M']},gamma={w['gamma']}" for w in frame["weights"]],
+    )
+    _print_frame(frame[["search", "case", "degree", "weights", "on", "complete", "statement"]])
 
 
 def _print_frame(frame: pd.DataFrame) -> None:

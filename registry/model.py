@@ -470,3 +470,9 @@ class Search:
     dimensions: tuple[tuple[int, int, int, int], ...] = ()
     seconds: float = 0.0
     method: str = ""
+
+    @property
+    def decided(self) -> bool:
+        """Whether the generic values were searched to the end (``dimensions`` then holds
+        their counts). A search refused or cut short before that establishes nothing."""
+        return bool(self.dimensions)

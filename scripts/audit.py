@@ -1,6 +1,10 @@
-"""The main job: load the seed catalog into the default database, audit it, print the verdicts.
+"""The main job: load the catalog into the default database, audit it, print the verdicts.
 
-Usage: python scripts/audit.py [--db PATH|URL] [--json]
+Before the audit every case gets its recorded search (``Registry.survey``: which
+polynomial integrals it has up to the degree its claims reach); what a search finds is
+a claim that this audit decides. Stored audits and searches are reused.
+
+Usage: python scripts/audit.py [--db PATH|URL] [--json] [--no-survey]
 """
 
 from __future__ import annotations
@@ -21,17 +25,25 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--db", default=str(ROOT / "data" / "registry.sqlite"))
     parser.add_argument("--cases", default=str(ROOT / "data" / "cases"))
     parser.add_argument("--json", action="store_true", help="print the JSON document instead")
+    parser.add_argument("--no-survey", action="store_true", help="skip the recorded searches")
     args = parser.parse_args(argv)
     with registry.open(args.db) as reg:
         refused = [r for r in reg.add(args.cases) if r.status == "refused"]
         for r in refused:
             for line in str(r.error).splitlines():
                 print(f"Error: {line}", file=sys.stderr)
+        surveyed = [] if args.no_survey else reg.survey()
         report = reg.audit()
         if args.json:
             print(json.dumps(report.document(), indent=2))
         else:
             print(verdict_table(report.outcomes(), report.run))
+            if surveyed:
+                undecided = sum(not r.search.decided for r in surveyed)
+                print(
+                    f"{len(surveyed)} recorded searches ({undecided} not decided: "
+                    "non-polynomial systems or level sets); list them with: registry searches"
+                )
     return 1 if refused else 0
 
 

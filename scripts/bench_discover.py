@@ -80,16 +80,19 @@ def naive_search(name: str, degree: int, free: list[str], on: list[str] = ()) ->
         symbols = factor.free_symbols & set(params)
         if len(symbols) == 1 and sp.degree(factor, *symbols) == 1:
             (p,) = symbols
-            value = sp.solve(factor, p)[0]
-            at = A.subs(p, value)
-            if at.rank() < generic:
-                special.append((str(p), str(value), len(at.nullspace())))
+            for value in sp.solve(factor, p):  # empty where the root breaks an assumption
+                at = A.subs(p, value)
+                if at.rank() < generic:
+                    special.append((str(p), str(value), len(at.nullspace())))
     return special
 
 
 def _run_naive(queue, name, options):
     started = time.perf_counter()
-    found = naive_search(name, **options)
+    try:
+        found = naive_search(name, **options)
+    except Exception as err:  # reported by the parent, not waited for until the cap
+        found = [("error", repr(err), 0)]
     queue.put((time.perf_counter() - started, found))
 
 

@@ -118,3 +118,63 @@ def test_the_cli_refuses_what_it_cannot_search_in_one_line(tmp_path, args, messa
     assert result.exit_code == 1, result.output
     assert result.stderr.startswith(message), result.stderr
     assert "Traceback" not in result.output
+
+
+SURVEYED = [
+    Path(__file__).resolve().parents[1] / "data" / "cases" / sub
+    for sub in (
+        "heavy-top/goryachev-1916-heavy-top.toml",
+        "heavy-top/lagrange-1788-heavy-top.toml",
+        "gyroscopic-torque/birtea-2011-radial-torque.toml",
+    )
+]
+
+
+def test_survey_records_a_search_of_every_case_and_reuses_it(tmp_path):
+    with registry.open(tmp_path / "r.sqlite") as reg:
+        reg.add(*SURVEYED)
+        reports = reg.survey(jobs=1)
+        searched = [(r.search.case, [e.text for e in r.search.options.on]) for r in reports]
+        assert searched == [
+            ("birtea-2011-radial-torque", []),
+            ("goryachev-1916-heavy-top", []),
+            ("goryachev-1916-heavy-top", ["s = 0"]),
+            ("lagrange-1788-heavy-top", []),
+        ]
+        assert not any(r.reused for r in reports)
+        radial, *_, lagrange = reports
+        # an arbitrary function in the torque: recorded, with the reason, deciding nothing
+        assert not radial.search.decided and "not rational" in radial.search.coverage[0]
+        assert lagrange.search.complete and lagrange.search.generic.integrals == ("M3",)
+        frame = reg.searches()
+        assert sorted(frame["search"]) == sorted(r.number for r in reports)
+        assert set(frame["case"]) == {p.stem for p in SURVEYED}
+        again = reg.survey(jobs=1)
+        assert all(r.reused for r in again)
+        assert [r.number for r in again] == [r.number for r in reports]
+        assert len(reg.searches()) == len(reports)
+        # what a search found is a claim the next audit decides
+        reg.audit(jobs=0)
+        v = reg.verdicts()
+        claims = reg.claims()
+        found = claims[claims.provenance == "discovered"]
+        assert list(found.case) == ["lagrange-1788-heavy-top"]
+        decided = v[(v.case == "lagrange-1788-heavy-top") & v.claim.isin(found.label)]
+        assert set(decided[decided.check == "integral"].verdict) == {"verified"}
+        assert reg.check().problems == ()
+
+
+def test_registry_survey_and_searches_commands(tmp_path):
+    db = tmp_path / "r.sqlite"
+    runner = CliRunner()
+    assert runner.invoke(main, ["--db", str(db), "add", *map(str, SURVEYED[:2])]).exit_code == 0
+    result = runner.invoke(main, ["--db", str(db), "survey", "--jobs", "1"])
+    assert result.exit_code == 0, result.output
+    lines = result.stdout.strip().splitlines()
+    assert lines[-1] == "3 search(es): 3 recorded, 0 reused; 0 not decided (see their statements)"
+    assert lines[0].startswith("goryachev-1916-heavy-top: No extra integral of weighted degree <= 2")
+    assert lines[2].startswith("lagrange-1788-heavy-top: 1 extra integral(s)")
+    listed = runner.invoke(main, ["--db", str(db), "searches", "--case", "lagrange-1788-heavy-top"])
+    assert listed.exit_code == 0, listed.output
+    (row,) = listed.stdout.strip().splitlines()[1:]
+    assert row.split()[:5] == ["3", "lagrange-1788-heavy-top", "2", "M=1,gamma=2", "True"]

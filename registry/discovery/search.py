@@ -116,9 +116,7 @@ def discover(
     free = [case.parameters[f] for f in options.free]
     try:
         with time_limit(budget):
-            generic, special = _search(state, case, free, (), jobs)
-            state.generic = generic
-            state.found = special
+            _, state.found = _search(state, case, free, (), jobs)
     except BudgetExceeded:
         state.undecided.append(
             f"time budget exceeded ({budget:g} s) after {state.done} of the "
@@ -180,9 +178,9 @@ def _search(state: _State, case: Case, free: list[sp.Symbol], when: tuple[str, .
             _expression(system, simplest(v, generic.trivial[d], columns, fld.domain), fld)
             for v, d in generic.extras
         ]
-    if not when:
-        state.known, state.counts = tuple(names), generic.counts
     found = _proven(state, case, when, integrals)
+    if not when:  # the generic values are decided, whatever happens to the locus
+        state.known, state.counts, state.generic = tuple(names), generic.counts, found
     if not free:
         return found, []
     extras = [

@@ -12,7 +12,11 @@ def statement(search: Search) -> str:
     o = search.options
     ansatz = f"of weighted degree <= {o.degree} (weights M: {o.weights[0]}, gamma: {o.weights[1]}"
     ansatz += f"; on {', '.join(eq.text for eq in o.on)})" if o.on else ")"
-    values = f"values of {', '.join(o.free)}" if o.free else "the case's parameter values"
+    values = f"values of {', '.join(o.free)}" if o.free else "values of the parameters"
+    if not search.decided:
+        return (
+            f"Nothing is established about integrals {ansatz}: " + "; ".join(search.coverage) + "."
+        )
     if search.generic.extra:
         text = f"{search.generic.extra} extra integral(s) {ansatz} exist for generic {values}"
     else:
@@ -47,6 +51,7 @@ def search_document(search: Search) -> dict:
         "generic": _set(search.generic),
         "special": [{"when": list(s.when), **_set(s)} for s in search.special],
         "complete": search.complete,
+        "decided": search.decided,
         "coverage": list(search.coverage),
         "statement": statement(search),
         "dimensions": [
@@ -79,7 +84,10 @@ def search_text(search: Search) -> str:
         for text, casimir in zip(entry.integrals, entry.casimir, strict=True):
             lines.append(f"    {text}    (integral verified; casimir {casimir})")
 
-    describe(search.generic, "generic")
+    if search.decided:
+        describe(search.generic, "generic")
+    else:
+        lines.append("generic: not decided")
     for s in search.special:
         describe(s, ", ".join(s.when))
     lines.append(f"complete: {'yes' if search.complete else 'no'}")

@@ -1,0 +1,98 @@
+"""The searches the registry records for every case of its catalog: at the degree its
+claims reach, with weights suited to its potential, on the whole phase space and on each
+level set its claims are stated on; a system the method cannot search gets a record
+that says why, so that the catalog states, case by case, what is and is not known."""
+
+from __future__ import annotations
+
+import multiprocessing as mp
+import os
+from collections.abc import Iterator, Sequence
+
+import sympy as sp
+
+from ..audit.worker_pool import die_with_parent
+from ..errors import DiscoveryError
+from ..mathematics import mechanics as mech
+from ..model import Case, Claim, IntegralSet, Provenance, Search, SearchOptions
+from .search import discover
+
+#: The smallest degree searched: below it no integral beyond H and |gamma|^2 can show.
+LEAST_DEGREE = 2
+
+
+def stated_options(case: Case) -> list[SearchOptions]:
+    """The searches recorded for ``case``, whole phase space first.
+
+    Weights M: 1, gamma: 1 where the potential has terms of degree >= 2 in gamma (which
+    make H homogeneous there), else M: 1, gamma: 2; the degree is the largest weighted
+    degree of its polynomial claims (the literature's, where it has any), at least 2.
+    """
+    weights = (1, 1) if _gamma_degree(case.system.potential.expr) >= 2 else (1, 2)
+    claims = [c for c in case.claims if c.provenance is Provenance.LITERATURE] or list(case.claims)
+    degree = max([LEAST_DEGREE, *(d for c in claims if (d := _degree(c, weights)) is not None)])
+    level_sets = list(dict.fromkeys(c.on for c in claims if c.on))
+    return [SearchOptions(degree, weights, on) for on in [(), *level_sets]]
+
+
+def not_searched(case: Case, options: SearchOptions, reason: str) -> Search:
+    """The record of a search the method refuses (a non-polynomial system, a level set
+    it cannot reduce by): nothing established, and why."""
+    return Search(
+        case=case.id,
+        content_hash=case.content_hash,
+        options=options,
+        known=(),
+        generic=IntegralSet((), 0),
+        special=(),
+        complete=False,
+        coverage=(f"not searched: {reason}",),
+    )
+
+
+def searched(
+    work: Sequence[tuple[Case, SearchOptions]], *, budget: float | None, jobs: int = 1
+) -> Iterator[Search]:
+    """The search of each (case, options), in order, in this process or in ``jobs``
+    worker processes (which die with this one); a search the method refuses comes back
+    as its ``not_searched`` record."""
+    if jobs <= 1 or len(work) <= 1:
+        yield from (_searched(item, budget) for item in work)
+        return
+    context = mp.get_context("fork" if "fork" in mp.get_all_start_methods() else "spawn")
+    pool = context.Pool(min(jobs, len(work)), initializer=die_with_parent, initargs=(os.getpid(),))
+    try:
+        yield from pool.imap(_searched_apart, [(item, budget) for item in work])
+    finally:
+        pool.terminate()
+        pool.join()
+
+
+def _searched(item: tuple[Case, SearchOptions], budget: float | None) -> Search:
+    case, options = item
+    try:
+        return discover(case, options, budget=budget)
+    except DiscoveryError as err:
+        return not_searched(case, options, str(err))
+
+
+def _searched_apart(work) -> Search:
+    return _searched(*work)
+
+
+def _degree(claim: Claim, weights: tuple[int, int]) -> int | None:
+    """The weighted degree of a claim polynomial in (M, gamma); None for any other."""
+    expr = claim.expression.expr
+    if not expr.is_polynomial(*mech.STATE):
+        return None
+    w = (weights[0],) * 3 + (weights[1],) * 3
+    monomials = sp.Poly(expr, *mech.STATE).monoms()
+    return max((sum(a * b for a, b in zip(m, w, strict=True)) for m in monomials), default=0)
+
+
+def _gamma_degree(potential: sp.Expr) -> int:
+    """The total degree of a potential in gamma (0 where it is not polynomial there)."""
+    gamma = mech.STATE[3:]
+    if not potential.is_polynomial(*gamma):
+        return 0
+    return sp.Poly(potential, *gamma).total_degree()
