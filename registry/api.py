@@ -426,7 +426,7 @@ class Registry:
         frame = frames.cases_frame(self.store)
         families = frames.families_frame(self.store)
         frame = frame.merge(families, on="case", how="left")
-        frame["family"] = frame["family"].fillna("")
+        frame["family"] = [f if isinstance(f, str) else "" for f in frame["family"]]
         keep = [True] * len(frame)
 
         def contains(values, text: str) -> list[bool]:

@@ -3,7 +3,11 @@
 1. The seed catalog (data/cases), audited fresh: all checks and repairs, in
    worker processes; then the same checks (no repairs) against a naive
    baseline that applies plain ``sympy.simplify`` to every residual.
-2. A generated stress catalog (seeded): random polynomial and rational torques
+2. The literature catalog (data/cases, sub-folders included), audited fresh in worker
+   processes (all checks and repairs) and decided by a lean independent verifier (exact
+   values at random points, expanded numerators, Groebner reduction on level sets; no
+   repairs) in as many processes: the wall times side by side, and disagreements.
+3. A generated stress catalog (seeded): random polynomial and rational torques
    mu = psi gamma + grad phi with a true claim (C = s + phi) and a false one.
    Ours against the baseline on a sample, and the time per case as the catalog
    grows, with peak memory.
@@ -108,6 +112,82 @@ def disagreements(ours: dict, naive: dict) -> list:
     return out
 
 
+# --- the lean verifier: an independent decision procedure, same claims ----------
+
+
+def lean_decide(exprs, on=(), rng: random.Random | None = None) -> str:
+    """verified / refuted / undecided for residuals that must all vanish: exact values
+    at two random rational points, then the expanded numerator (reduced by the level
+    set's Groebner basis), with none of the audit's machinery."""
+    rng = rng or random.Random(0)
+    live = [e for e in (sp.sympify(e).subs(mech.s, mech.S_VALUE) for e in exprs) if e != 0]
+    if not live:
+        return "verified"
+    symbols = sorted(set().union(*(e.free_symbols for e in live)), key=str)
+    if not on:
+        for _ in range(2):
+            point = {x: sp.Rational(rng.randint(1, 19), rng.randint(1, 7)) for x in symbols}
+            for e in live:
+                try:
+                    v = e.xreplace(point)
+                    if v.is_number and abs(complex(v.evalf(30))) > 1e-20:
+                        return "refuted"
+                except (TypeError, ValueError, ZeroDivisionError):
+                    pass
+    basis = None
+    if on:
+        polys = [sp.numer(sp.together(sp.expand(g.subs(mech.s, mech.S_VALUE)))) for g in on]
+        names = set().union(*(p.free_symbols for p in [*polys, *live]))
+        params = sorted(names - set(mech.STATE), key=str)
+        domain = sp.QQ.frac_field(*params) if params else sp.QQ
+        basis = sp.groebner(polys, *mech.STATE, order="grevlex", domain=domain)
+    for e in live:
+        numer = sp.expand(sp.numer(sp.together(e)))
+        if basis is not None and numer != 0:
+            numer = sp.numer(sp.together(basis.reduce(numer)[1]))
+        if numer != 0:
+            return "refuted" if not on else "undecided"
+    return "verified"
+
+
+def lean_case(case) -> dict:
+    """The lean verifier's verdict on every check and claim of one case."""
+    inertia, potential = case.system.inertia_exprs, case.system.potential.expr
+    field = mech.vector_field(inertia, potential, case.system.torque_exprs)
+    pi = mech.poisson_tensor(case.system.torque_exprs)
+    h = mech.hamiltonian(inertia, potential)
+    out = {
+        (case.id, "jacobi", None): lean_decide(list(mech.jacobiator(pi).values())),
+        (case.id, "energy", None): lean_decide([mech.time_derivative(h, field)]),
+        (case.id, "c1", None): lean_decide(list(pi * sp.Matrix(mech.gradient(mech.C1)))),
+        (case.id, "hamiltonian", None): lean_decide(
+            [a - b for a, b in zip(field, mech.hamiltonian_vector_field(pi, h), strict=True)]
+        ),
+    }
+    for c in case.claims:
+        on = [eq.expr for eq in c.on]
+        i = c.expression.expr
+        out[(case.id, "integral", c.label)] = lean_decide([mech.time_derivative(i, field)], on)
+        grad = sp.Matrix(mech.gradient(i))
+        out[(case.id, "casimir", c.label)] = lean_decide(list(pi * grad), on)
+        if on:
+            rates = [mech.time_derivative(g, field) for g in on]
+            out[(case.id, "invariant", c.label)] = lean_decide(rates, on)
+    return out
+
+
+def lean_audit(cases, jobs: int) -> tuple[float, dict]:
+    """The lean verifier over ``cases`` in ``jobs`` processes, as the audit runs."""
+    import multiprocessing as mp
+
+    started = time.perf_counter()
+    with mp.get_context("fork").Pool(jobs) as pool:
+        verdicts = {
+            k: v for part in pool.map(lean_case, cases, chunksize=1) for k, v in part.items()
+        }
+    return time.perf_counter() - started, verdicts
+
+
 # --- the stress catalog ----------------------------------------------------------
 
 
@@ -201,6 +281,29 @@ def main() -> None:
     )
     for key, mine, theirs in bad:
         print(f"    {key}: ours {mine}, baseline {theirs}")
+
+    catalog = [registry.load_case(p) for p in sorted((ROOT / "data" / "cases").rglob("*.toml"))]
+    claims = sum(len(c.claims) for c in catalog)
+    print(f"== literature catalog: {len(catalog)} cases, {claims} claims, {args.jobs} workers")
+    started = time.perf_counter()
+    full = dict(audit_in_workers(catalog, args.jobs, TimeBudget()))
+    wall = time.perf_counter() - started
+    lean_t, lean = lean_audit(catalog, args.jobs)
+    ours = {(a.case, r.check, r.claim): str(r.verdict) for a in full.values() for r in a.results}
+    inconclusive = sum(v == "inconclusive" for v in ours.values())
+    print(
+        f"fresh audit, all checks and repairs: {wall:.2f} s wall (target <= 15 s), "
+        f"{inconclusive} inconclusive; lean verifier, same claims, no repairs: {lean_t:.2f} s; "
+        f"ratio ours/lean {wall / lean_t:.2f} (target <= 1.0)"
+    )
+    undecided = sum(v == "undecided" for v in lean.values())
+    bad = disagreements(ours, lean)
+    print(
+        f"  disagreements where the lean verifier decides: {len(bad)} (target 0); "
+        f"it leaves {undecided} of {len(lean)} undecided"
+    )
+    for key, mine, theirs in bad:
+        print(f"    {key}: ours {mine}, lean {theirs}")
 
     print("== stress catalog (seeded)")
     sample = stress_catalog(args.baseline_sample)

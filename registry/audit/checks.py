@@ -18,6 +18,7 @@ import sympy as sp
 from ..mathematics import mechanics as mech
 from ..mathematics import symengine_bridge
 from ..mathematics.case_mechanics import CaseMechanics
+from ..mathematics.factoring import factor
 from ..mathematics.zero_test import ZeroTest, decide
 from ..model import CheckResult, Claim, Verdict
 
@@ -89,7 +90,7 @@ def readable(expr: sp.Expr) -> sp.Expr:
     if size > COMBINE_LIMIT:
         return expr
     combined = sp.together(expanded)
-    return sp.factor(combined) if size <= FACTOR_LIMIT else sp.factor_terms(combined)
+    return factor(combined) if size <= FACTOR_LIMIT else sp.factor_terms(combined)
 
 
 def _text(expr: sp.Expr) -> str:

@@ -19,6 +19,7 @@ import sympy as sp
 from ..language.printer import to_text
 from ..mathematics import mechanics as mech
 from ..mathematics.case_mechanics import CaseMechanics
+from ..mathematics.factoring import factor
 from ..mathematics.families import Family, recognise
 from ..mathematics.mechanics import AXIS, MOMENTUM
 from ..mathematics.parameter_conditions import equations_text, parameter_conditions
@@ -143,11 +144,11 @@ def tidy(expr: sp.Expr) -> sp.Expr:
     """
     if sp.count_ops(expr) > TIDY_LIMIT:
         return expr
-    combined = sp.factor(sp.cancel(sp.expand(expr)))  # one fraction: like radicals merge
+    combined = factor(sp.cancel(sp.expand(expr)))  # one fraction: like radicals merge
     groups: dict[frozenset, list[sp.Expr]] = {}
     for term in sp.Add.make_args(sp.expand(combined)):
         groups.setdefault(_irrational_parts(term), []).append(term)
-    parts = [sp.factor(sp.cancel(sp.Add(*terms))) for terms in groups.values()]
+    parts = [factor(sp.cancel(sp.Add(*terms))) for terms in groups.values()]
     return min([expr, combined, sp.factor_terms(sp.Add(*parts))], key=sp.count_ops)
 
 

@@ -26,6 +26,7 @@ from sympy.core.function import AppliedUndef
 from ..model import Verdict
 from . import mechanics as mech
 from . import symengine_bridge
+from .factoring import factor
 from .mechanics import AXIS, MOMENTUM, Vector, s
 from .potentials import closed_form, tangential_potential
 from .zero_test import Domain, decide
@@ -128,7 +129,7 @@ def _recognise(mu: Vector, domain: Domain) -> Family:
 def _combined(expr: sp.Expr) -> sp.Expr:
     """One fraction, factored: expanding first (symengine) makes sympy's cancellation
     several times cheaper than cancelling the unexpanded form."""
-    return sp.factor(sp.together(symengine_bridge.expand(expr)))
+    return factor(symengine_bridge.expand(expr))
 
 
 def _shape(mu: Vector) -> str:

@@ -47,6 +47,11 @@ def parameter_conditions(
         return ConditionSearch(reason="the residual is not polynomial in its normal form")
     if any(eq.is_number for eq in equations):
         return ConditionSearch(reason="no parameter values found that make the residual vanish")
+    equations = {_vanishing_factors(eq) for eq in equations}
+    if any(eq.is_number for eq in equations):
+        return ConditionSearch(
+            reason="no admissible parameter values found that make the residual vanish"
+        )
     unknowns = [p for p in params if any(eq.has(p) for eq in equations)]
     try:
         solutions = sp.solve(sorted(equations, key=sp.default_sort_key), unknowns, dict=True)
@@ -102,6 +107,13 @@ def _constant_atoms(atoms: Atoms, state: set) -> dict[sp.Symbol, sp.Expr]:
 def _strip_constant_factor(expr: sp.Expr) -> sp.Expr:
     coeff, rest = expr.as_coeff_Mul()
     return rest if coeff != 0 else expr
+
+
+def _vanishing_factors(expr: sp.Expr) -> sp.Expr:
+    """The factors of an equation that can vanish: those nonzero by the parameters'
+    assumptions are dropped (A*B*S12 = 0 with A, B positive is S12 = 0), which keeps
+    the system small for the solver; 1 when none can."""
+    return sp.Mul(*(f for f in sp.Mul.make_args(expr) if not f.is_nonzero))
 
 
 def _admissible(branch: Branch, protected: Sequence[sp.Expr]) -> bool:

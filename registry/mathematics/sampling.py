@@ -15,6 +15,7 @@ import itertools
 import random
 from collections.abc import Iterator, Mapping, Sequence
 from fractions import Fraction
+from functools import lru_cache
 from typing import TYPE_CHECKING
 
 import sympy as sp
@@ -249,13 +250,18 @@ def substitute_functions(expr: sp.Expr, funcs: Mapping[str, sp.Lambda]) -> sp.Ex
     return expr.xreplace(mapping)
 
 
+@lru_cache(maxsize=4096)  # one probe differentiates the same choice in many residuals
 def _derivative(value: sp.Expr, variable_count) -> sp.Expr:
     """A derivative of a concrete function (a polynomial): through Poly, which skips the
     assumption queries of ``sp.diff`` (most of the cost of probing a family)."""
     variables = [v for v, _ in variable_count]
     if all(isinstance(v, sp.Symbol) for v in variables) and value.is_polynomial(*variables):
-        poly = sp.Poly(value, *variables)
-        return poly.diff(*((v, int(n)) for v, n in variable_count)).as_expr()
+        order = [(v, int(n)) for v, n in variable_count]
+        gens = [*variables, *sorted(value.free_symbols - set(variables), key=str)]
+        try:  # over Q in all its symbols: no coefficient domain to construct
+            return sp.Poly(value, *gens, domain=sp.QQ).diff(*order).as_expr()
+        except (sp.PolynomialError, sp.polys.polyerrors.CoercionFailed):
+            return sp.Poly(value, *variables).diff(*order).as_expr()
     return sp.diff(value, *variable_count)
 
 
