@@ -51,6 +51,30 @@ class Databases:
             return str(self._folder() / f"{name}.sqlite")
         return self.server.missing_database(name)
 
+    def exists(self, target: str) -> bool:
+        """Whether the database ``target`` exists (a file, or a database of the server)."""
+        if self.backend == "sqlite":
+            return Path(target).exists()
+        with self.server.connect() as conn:
+            found = conn.execute(
+                "SELECT 1 FROM pg_database WHERE datname = %s", (database_name(target),)
+            )
+            return found.fetchone() is not None
+
+    def missing_message(self, target: str) -> str:
+        """What the registry says of the database ``target`` that does not exist."""
+        if self.backend == "sqlite":
+            return (
+                f"no registry database at {target!r}; create one by adding cases "
+                "(registry add FILES) or name another with --db"
+            )
+        name = database_name(target)
+        return (
+            f"the database server of {target!r} has no database {name!r}; creating one is "
+            f"the server administrator's job (for example: createdb {name}), then "
+            "'registry add FILES' creates the registry's tables in it"
+        )
+
     def copy(self, target: str, name: str = "copy") -> str:
         """A copy of the database ``target``; no connection may be open to it."""
         if self.backend == "sqlite":
