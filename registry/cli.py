@@ -22,7 +22,7 @@ import click
 
 from .api import DEFAULT_SEARCH_BUDGET, Registry, default_target, discover_file, open_registry
 from .audit.case_audit import DEFAULT_BUDGET
-from .errors import RegistryError, UnknownClaimError, printable
+from .errors import DatabaseMissingError, RegistryError, UnknownClaimError, printable
 from .model import Verdict
 from .presentation.search_output import search_text, statement
 from .presentation.verdict_table import disagreements, verdict_table
@@ -125,13 +125,29 @@ def _registry(create: bool = False) -> Registry:
     if "registry" not in ctx.obj:
         reg = ctx.with_resource(open_registry(ctx.obj["db"], create=create))
         if reg.store.upgraded_from is not None:
-            click.echo(
-                f"Upgraded database {reg.store.location!r} from schema revision "
-                f"{reg.store.upgraded_from}; the copy made before is {str(reg.store.backup)!r}",
-                err=True,
-            )
+            click.echo(_upgraded(reg.store), err=True)
         ctx.obj["registry"] = reg
     return ctx.obj["registry"]
+
+
+def _existing_registry() -> Registry | None:
+    """The registry named by --db if it exists (None otherwise): nothing is created."""
+    try:
+        return _registry(create=False)
+    except DatabaseMissingError:
+        return None
+
+
+def _upgraded(store: Store) -> str:
+    """What a schema upgrade did, and where the copy made before it is (an SQLite file's;
+    on a database server, backing up is the administrator's job)."""
+    done = f"Upgraded database {store.location!r} from schema revision {store.upgraded_from}"
+    if store.backup is not None:
+        return f"{done}; the copy made before is {str(store.backup)!r}"
+    return (
+        f"{done} in one transaction; no copy was made before (back up a PostgreSQL "
+        "database with pg_dump)"
+    )
 
 
 @click.group(cls=_Group, context_settings={"help_option_names": ["-h", "--help"]})
@@ -368,10 +384,8 @@ def discover(
     weights = _weights(weights_text)
     free = tuple(f.strip() for f in free_text.split(",") if f.strip())
     is_file = Path(target).is_file()
-    db_exists = Path(click.get_current_context().obj["db"]).exists() or "://" in str(
-        click.get_current_context().obj["db"]
-    )
-    reg = _registry(create=True) if record or not is_file or db_exists else None
+    # a file searched without --record needs no database, and creates none
+    reg = _registry(create=True) if record or not is_file else _existing_registry()
     quiet = as_json or not sys.stderr.isatty()
     bar = tqdm(total=0, unit="set", file=sys.stderr, disable=quiet, leave=False)
 
@@ -760,8 +774,9 @@ def runs() -> None:
 @main.command()
 @_user_errors
 def check() -> None:
-    """Verify the database: schema, SQLite integrity and foreign keys, that every
-    stored case text matches its hash and re-parses, and every stored expression.
+    """Verify the database: schema, SQLite integrity and foreign keys (on PostgreSQL,
+    the foreign keys by query), that every stored case text matches its hash and
+    re-parses, and every stored expression.
 
     Exits with status 1 when a problem is found.
 
@@ -771,6 +786,7 @@ def check() -> None:
     found = reg.check()
     click.echo(f"database {reg.store.location!r}, schema revision {found.revision}")
     click.echo(", ".join(f"{n} {name}" for name, n in found.counts.items()))
+    click.echo(f"engine: {found.engine}")
     for note in found.notes:
         click.echo(f"note: {note}")
     for problem in found.problems:

@@ -126,6 +126,32 @@ class DatabaseMissingError(StorageError, FileNotFoundError):
         )
 
 
+class ServerDatabaseMissingError(DatabaseMissingError):
+    """A database server (PostgreSQL) has no database of that name. The registry never
+    creates one there: that is the server administrator's job."""
+
+    def __init__(self, location: str, database: str):
+        self.location, self.database = location, database
+        StorageError.__init__(
+            self,
+            f"the database server of {location!r} has no database {database!r}; creating "
+            f"one is the server administrator's job (for example: createdb {database}), "
+            "then 'registry add FILES' creates the registry's tables in it",
+        )
+
+
+class ServerUnavailableError(StorageError, ConnectionError):
+    """The database server (PostgreSQL) cannot be reached: not running, wrong socket
+    folder or host, starting up or shutting down, or out of connections."""
+
+    def __init__(self, location: str, detail: str):
+        self.location, self.detail = location, detail
+        super().__init__(
+            f"cannot reach the database server of {location!r} ({detail}); is the "
+            "PostgreSQL server running, and are the host and socket folder in the URL right?"
+        )
+
+
 class DatabaseReadOnlyError(StorageError, PermissionError):
     """The database file (or its folder) cannot be written."""
 
@@ -134,6 +160,20 @@ class DatabaseReadOnlyError(StorageError, PermissionError):
         super().__init__(
             f"database {location!r} is read-only, so the registry cannot {doing}; "
             "check the permissions of the file and of its folder"
+        )
+
+
+class DatabasePermissionError(DatabaseReadOnlyError):
+    """The database server refuses this role what the registry asked (connecting, reading,
+    writing or creating tables): the server's own words are kept in ``detail``."""
+
+    def __init__(self, location: str, detail: str, role: str | None = None):
+        self.location, self.detail, self.role = location, detail, role
+        who = f"role {role!r}" if role else "this role"
+        StorageError.__init__(
+            self,
+            f"the database server of {location!r} refuses {who}: {detail}; ask the "
+            "server's administrator to grant the privileges the registry needs",
         )
 
 

@@ -1,4 +1,11 @@
-"""Shared fixtures: stores (in memory and on disk) and sample cases built in code."""
+"""Shared fixtures: stores (in memory, on disk and on a PostgreSQL server), database
+targets for the API and CLI tests, and sample cases built in code.
+
+The PostgreSQL variants run against a real server that the session starts itself
+(``postgres_server``, see ``tests/postgres_server.py``) the first time a test needs
+it, and stops at the end. Where no server can be started they are skipped with the
+reason, except in CI (``REGISTRY_CI`` set), where that is a failure.
+"""
 
 from __future__ import annotations
 
@@ -8,7 +15,9 @@ from collections.abc import Callable, Iterator
 
 import pytest
 import sympy as sp
+from databases import Databases
 from hypothesis import settings
+from postgres_server import PostgresServer, ServerUnavailable
 
 from registry.model import (
     Assumption,
@@ -105,9 +114,60 @@ def file_store(tmp_path) -> Iterator[Store]:
         yield store
 
 
-@pytest.fixture(params=["memory", "file"])
+#: Marks the PostgreSQL variant of a test (deselect them with ``-m "not postgres"``).
+POSTGRES = pytest.mark.postgres
+
+#: The backends the storage, API and CLI tests run on.
+BACKENDS = ("sqlite", pytest.param("postgres", marks=POSTGRES))
+
+
+@pytest.fixture(scope="session")
+def postgres_server() -> Iterator[PostgresServer]:
+    """A PostgreSQL server of this test session (started on first use, stopped at the end)."""
+    try:
+        server = PostgresServer.start()
+    except ServerUnavailable as why:
+        if os.environ.get("REGISTRY_CI"):
+            pytest.fail(f"REGISTRY_CI is set, but no PostgreSQL server could be started: {why}")
+        pytest.skip(f"no PostgreSQL server could be started: {why}")
+    try:
+        yield server
+    finally:
+        server.stop()
+
+
+@pytest.fixture(scope="module", params=BACKENDS)
+def backend(request) -> str:
+    """The backend of a test module's databases: each module runs once per backend."""
+    return request.param
+
+
+@pytest.fixture(scope="module")
+def module_databases(backend, tmp_path_factory, request) -> Databases:
+    """Fresh databases of the module's backend, for module-scoped fixtures."""
+    folder = tmp_path_factory.mktemp(backend)
+    return Databases(backend, lambda: folder, request)
+
+
+@pytest.fixture
+def databases(backend, tmp_path, request) -> Databases:
+    """Fresh databases of the module's backend, for one test."""
+    return Databases(backend, lambda: tmp_path, request)
+
+
+@pytest.fixture
+def db_target(databases) -> str:
+    """A fresh database for one test: an SQLite path, or a PostgreSQL URL."""
+    return databases.new()
+
+
+@pytest.fixture(params=["memory", "file", pytest.param("postgres", marks=POSTGRES)])
 def store(request, tmp_path) -> Iterator[Store]:
-    """Each test using it runs on an in-memory and on a file database."""
-    target = ":memory:" if request.param == "memory" else tmp_path / "registry.sqlite"
+    """Each test using it runs on an in-memory and on a file database, and on a database
+    of a PostgreSQL server."""
+    if request.param == "postgres":
+        target = request.getfixturevalue("postgres_server").create_database(request.node.name)
+    else:
+        target = ":memory:" if request.param == "memory" else tmp_path / "registry.sqlite"
     with Store(target) as s:
         yield s

@@ -2,6 +2,8 @@
 
 One database with two seed cases is audited once per module (fixture ``audited``);
 tests that need their own history (versions, failing cases) use a fresh database.
+The module runs on SQLite and on PostgreSQL (fixture ``backend``); the tests of SQLite
+files and in-memory databases are SQLite's own.
 """
 
 from __future__ import annotations
@@ -44,8 +46,8 @@ def verdict_of(frame: pd.DataFrame, case: str, claim: str | None, check: str) ->
 
 
 @pytest.fixture(scope="module")
-def audited(tmp_path_factory):
-    path = tmp_path_factory.mktemp("api") / "r.sqlite"
+def audited(module_databases):
+    path = module_databases.new("api")
     reg = registry.open(path)
     added = reg.add(case_file(YEHIA_B), case_file(ZHUKOVSKY))
     report = reg.audit()
@@ -56,6 +58,7 @@ def audited(tmp_path_factory):
 # --------------------------------------------------------------------------- open
 
 
+# SQLite only: files and folders (a server's database is created by its administrator)
 def test_open_creates_the_file(tmp_path):
     path = tmp_path / "r.sqlite"
     assert not path.exists()
@@ -69,6 +72,7 @@ def test_open_creates_the_file(tmp_path):
     assert nested.exists()
 
 
+# SQLite only: an in-memory database
 def test_open_in_memory(tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
     with registry.open(":memory:") as reg:
@@ -82,14 +86,15 @@ def test_open_in_memory(tmp_path, monkeypatch):
         assert fresh.cases().empty
 
 
-def test_open_sqlalchemy_url(tmp_path):
-    path = tmp_path / "url.sqlite"
-    with registry.open(f"sqlite:///{path}") as reg:
+def test_open_sqlalchemy_url(db_target, backend):
+    path = db_target
+    url = f"sqlite:///{path}" if backend == "sqlite" else path
+    with registry.open(url) as reg:
         (result,) = reg.add(case_file(ZHUKOVSKY))
         assert (result.status, result.case, result.version) == ("added", ZHUKOVSKY, 1)
         report = reg.audit()
-    assert path.exists()
-    with registry.open(path) as same:  # the URL named this very file
+    assert backend != "sqlite" or Path(path).exists()
+    with registry.open(path) as same:  # the URL named this very database
         assert list(same.cases()["case"]) == [ZHUKOVSKY]
         assert verdict_of(same.verdicts(), ZHUKOVSKY, "area", "integral") == ["verified"]
         assert list(same.runs()["run"]) == [report.run]
@@ -112,10 +117,10 @@ def test_add_returns_results(audited):
     assert [(r.status, r.case, r.version) for r in again] == [("unchanged", ZHUKOVSKY, 1)]
 
 
-def test_add_refused_file(tmp_path):
+def test_add_refused_file(tmp_path, db_target):
     bad = tmp_path / "bad.toml"
     bad.write_text(UNDECLARED, encoding="utf-8")
-    with registry.open(tmp_path / "r.sqlite") as reg:
+    with registry.open(db_target) as reg:
         results = reg.add(bad, case_file(ZHUKOVSKY))
         assert [r.status for r in results] == ["refused", "added"]
         refused = results[0]
@@ -128,14 +133,14 @@ def test_add_refused_file(tmp_path):
         assert list(reg.cases()["case"]) == [ZHUKOVSKY]
 
 
-def test_add_folder(tmp_path):
+def test_add_folder(tmp_path, db_target):
     folder = tmp_path / "cases"
     folder.mkdir()
     for case_id in (YEHIA_B, ZHUKOVSKY):
         (folder / f"{case_id}.toml").write_text(
             case_file(case_id).read_text(encoding="utf-8"), encoding="utf-8"
         )
-    with registry.open(tmp_path / "r.sqlite") as reg:
+    with registry.open(db_target) as reg:
         results = reg.add(folder)
         assert sorted((r.status, r.case) for r in results) == [
             ("added", YEHIA_B),
@@ -257,11 +262,11 @@ def test_export_case(audited):
 # ------------------------------------------------------------------------ history
 
 
-def test_history_of_a_changed_case(tmp_path):
+def test_history_of_a_changed_case(tmp_path, db_target):
     path = tmp_path / "zhukovsky.toml"
     original = case_file(ZHUKOVSKY).read_text(encoding="utf-8")
     path.write_text(original, encoding="utf-8")
-    with registry.open(tmp_path / "r.sqlite") as reg:
+    with registry.open(db_target) as reg:
         assert [(r.status, r.version) for r in reg.add(path)] == [("added", 1)]
         first = reg.audit()
 
@@ -298,7 +303,7 @@ def test_history_of_a_changed_case(tmp_path):
 # ------------------------------------------------------------------ broken cases
 
 
-def test_audit_goes_on_when_a_stored_case_cannot_be_parsed(tmp_path, monkeypatch):
+def test_audit_goes_on_when_a_stored_case_cannot_be_parsed(db_target, monkeypatch):
     real_parse = registry.store.database.parse_case_text
 
     def parse(text, *args, **kwargs):
@@ -306,7 +311,7 @@ def test_audit_goes_on_when_a_stored_case_cannot_be_parsed(tmp_path, monkeypatch
             raise ValueError("simulated: stored text no longer parses")
         return real_parse(text, *args, **kwargs)
 
-    with registry.open(tmp_path / "r.sqlite") as reg:
+    with registry.open(db_target) as reg:
         reg.add(case_file(YEHIA_B), case_file(ZHUKOVSKY))
         monkeypatch.setattr(registry.store.database, "parse_case_text", parse)
         report = reg.audit()
@@ -398,8 +403,8 @@ def test_moving_a_module_changes_the_code_version(tmp_path):
     assert registry.api.source_digest(copy) != before
 
 
-def test_unchanged_cases_are_reused_and_fresh_recomputes(tmp_path):
-    reg = registry.open(tmp_path / "r.sqlite")
+def test_unchanged_cases_are_reused_and_fresh_recomputes(db_target):
+    reg = registry.open(db_target)
     reg.add(CASES / "yehia-2003-kovalevskaya-b.toml", CASES / "zhukovsky-gyrostat.toml")
     first = reg.audit(jobs=0)
     second = reg.audit(jobs=0)
@@ -432,20 +437,21 @@ CHANGED_TITLE = 'title = "Zhukovsky & Co.: k_i at 100% #1"'
 
 
 @pytest.fixture(scope="module")
-def two_runs(tmp_path_factory) -> Path:
+def two_runs(tmp_path_factory, module_databases) -> str:
     """A one-case database audited twice: the original claim, then a sign flipped in it."""
     folder = tmp_path_factory.mktemp("diff")
+    target = module_databases.new("diff")
     original = (CASES / f"{ZHUKOVSKY}.toml").read_text(encoding="utf-8")
     original = re.sub(r"^title = .*$", CHANGED_TITLE, original, count=1, flags=re.M)
     changed = original.replace('expression = "(M1 + k1)*gamma1', 'expression = "(M1 - k1)*gamma1')
     assert changed != original
-    with registry.open(folder / "registry.sqlite") as reg:
+    with registry.open(target) as reg:
         for text in (original, changed):
             path = folder / f"{ZHUKOVSKY}.toml"
             path.write_text(text, encoding="utf-8")
             reg.add(path)
             reg.audit(jobs=0)
-    return folder / "registry.sqlite"
+    return target
 
 
 def test_diff_of_a_run_with_itself_is_empty(two_runs):

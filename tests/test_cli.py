@@ -3,6 +3,7 @@
 Most tests drive ``registry.cli.main`` through click's CliRunner; a few start real
 processes (``python -m registry`` and the ``registry`` console script). One database
 with three seed cases is audited twice per module (fixture ``audited``) and shared.
+The module runs on SQLite and on PostgreSQL (fixture ``backend``).
 """
 
 from __future__ import annotations
@@ -87,13 +88,13 @@ def claim_of(document: dict, case_id: str, label: str) -> dict:
 
 
 @pytest.fixture(scope="module")
-def audited(tmp_path_factory) -> SimpleNamespace:
+def audited(module_databases) -> SimpleNamespace:
     """A database with three seed cases, audited twice (JSON, then table).
 
     The outputs of ``runs`` and ``verdicts`` are taken right after the two audits,
     so later tests may audit this database again without changing them.
     """
-    db = tmp_path_factory.mktemp("cli") / "r.sqlite"
+    db = module_databases.new("cli")
     added = invoke(db, "add", *(str(case_file(c)) for c in SEED))
     as_json = invoke(db, "audit", "--json")
     table = invoke(db, "audit")
@@ -169,8 +170,8 @@ def test_help_in_a_real_process(how, tmp_path):
     assert not (tmp_path / "data").exists()  # --help opens no database
 
 
-def test_user_error_in_a_real_process(tmp_path):
-    db = tmp_path / "r.sqlite"
+def test_user_error_in_a_real_process(db_target):
+    db = db_target
     Store(db).close()
     done = subprocess.run(
         [_registry_script(), "--db", str(db), "audit", "--case", "no-such-case"],
@@ -188,9 +189,9 @@ def test_user_error_in_a_real_process(tmp_path):
 # ------------------------------------------------------------------------------ add
 
 
-def test_add_catalog_then_unchanged(tmp_path, monkeypatch):
+def test_add_catalog_then_unchanged(db_target, monkeypatch):
     monkeypatch.chdir(ROOT)
-    db = tmp_path / "r.sqlite"
+    db = db_target
     files = sorted(str(p.relative_to(ROOT)) for p in CASES.rglob("*.toml"))
     assert len(files) >= 3
 
@@ -217,12 +218,12 @@ def test_add_catalog_then_unchanged(tmp_path, monkeypatch):
     assert set(cases["version"]) == {1}
 
 
-def test_add_refuses_bad_files_and_keeps_good_ones(tmp_path):
+def test_add_refuses_bad_files_and_keeps_good_ones(tmp_path, db_target):
     undeclared = tmp_path / "undeclared.toml"
     undeclared.write_text(UNDECLARED, encoding="utf-8")
     zero = tmp_path / "zero.toml"
     zero.write_text(ZERO_INERTIA, encoding="utf-8")
-    db = tmp_path / "r.sqlite"
+    db = db_target
 
     result = invoke(db, "add", str(undeclared), str(case_file(ZHUKOVSKY)), str(zero))
     assert result.exit_code == 1
@@ -254,10 +255,10 @@ def test_add_refuses_bad_files_and_keeps_good_ones(tmp_path):
         assert set(reg.claims()["case"]) == {ZHUKOVSKY}
 
 
-def test_add_prints_one_error_line_per_problem(tmp_path):
+def test_add_prints_one_error_line_per_problem(tmp_path, db_target):
     both = tmp_path / "both.toml"
     both.write_text(ZERO_INERTIA.replace('"gamma1**2', '"bogus + gamma1**2'), encoding="utf-8")
-    result = invoke(tmp_path / "r.sqlite", "add", str(both))
+    result = invoke(db_target, "add", str(both))
     assert result.exit_code == 1
     errors = error_lines(result)
     assert len(errors) == 2, result.stderr
@@ -427,7 +428,7 @@ def test_audit_case_restricts_the_run(audited, document):
 # ------------------------------------------------------------------------- database
 
 
-def test_db_from_environment(audited, document, tmp_path, monkeypatch):
+def test_db_from_environment(audited, document, databases, tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)  # the default data/registry.sqlite would land here
     monkeypatch.setenv("REGISTRY_DB", str(audited.db))
     result = invoke(None, "cases")
@@ -435,14 +436,12 @@ def test_db_from_environment(audited, document, tmp_path, monkeypatch):
     for case_id in SEED:
         assert case_id in result.stdout
 
-    other = tmp_path / "other.sqlite"
-    missing = invoke(None, "cases", env={"REGISTRY_DB": str(other)})
+    other = databases.missing("other")
+    missing = invoke(None, "cases", env={"REGISTRY_DB": other})
     assert missing.exit_code == 1
-    assert error_lines(missing) == [
-        f"Error: no registry database at {str(other)!r}; create one by adding cases "
-        "(registry add FILES) or name another with --db"
-    ]
-    assert not other.exists()  # reading never creates a database
+    assert error_lines(missing) == [f"Error: {databases.missing_message(other)}"]
+    assert not databases.exists(other)  # reading never creates a database
+    other = databases.new("other")
     Store(other).close()
     empty = invoke(None, "cases", env={"REGISTRY_DB": str(other)})
     assert empty.exit_code == 0, empty.output
@@ -454,12 +453,13 @@ def test_db_from_environment(audited, document, tmp_path, monkeypatch):
     assert not (tmp_path / "data").exists()
 
 
-def test_db_accepts_a_sqlalchemy_url(tmp_path):
-    path = tmp_path / "url.sqlite"
-    result = invoke(f"sqlite:///{path}", "add", str(case_file(ZHUKOVSKY)))
+def test_db_accepts_a_sqlalchemy_url(db_target, backend):
+    path = db_target
+    url = f"sqlite:///{path}" if backend == "sqlite" else path
+    result = invoke(url, "add", str(case_file(ZHUKOVSKY)))
     assert result.exit_code == 0, result.output
     assert [(s, c) for s, c, _, _ in add_lines(result)] == [("added", ZHUKOVSKY)]
-    assert path.exists()
+    assert backend != "sqlite" or Path(path).exists()
     listed = invoke(path, "cases")
     assert ZHUKOVSKY in listed.stdout
 
@@ -467,7 +467,7 @@ def test_db_accepts_a_sqlalchemy_url(tmp_path):
 # --------------------------------------------------------------------------- export
 
 
-def test_export_case_round_trip(audited, document, tmp_path):
+def test_export_case_round_trip(audited, document, tmp_path, databases):
     out = tmp_path / "out.toml"
     result = invoke(audited.db, "export-case", YEHIA_B, "--claim", "I2", "-o", str(out))
     assert result.exit_code == 0, result.output
@@ -481,7 +481,7 @@ def test_export_case_round_trip(audited, document, tmp_path):
     assert data["system"]["torque"] == torque["torque"]
     assert data["system"]["torque"] != original["system"]["torque"]
 
-    db = tmp_path / "exported.sqlite"
+    db = databases.new("exported")
     added = invoke(db, "add", str(out))
     assert added.exit_code == 0, added.output
     assert [(s, c) for s, c, _, _ in add_lines(added)] == [("added", data["id"])]
@@ -504,8 +504,8 @@ def test_export_case_to_stdout(audited, document):
     assert [c["expression"] for c in data["claims"]] == [casimir["expression"]]
 
 
-def test_export_case_before_any_audit(tmp_path):
-    db = tmp_path / "r.sqlite"
+def test_export_case_before_any_audit(tmp_path, db_target):
+    db = db_target
     assert invoke(db, "add", str(case_file(ZHUKOVSKY))).exit_code == 0
     out = tmp_path / "out.toml"
     result = invoke(db, "export-case", ZHUKOVSKY, "-o", str(out))
@@ -517,9 +517,9 @@ def test_export_case_before_any_audit(tmp_path):
     assert not out.exists()
 
 
-def test_export_unknown_case(tmp_path):
-    Store(tmp_path / "r.sqlite").close()
-    result = invoke(tmp_path / "r.sqlite", "export-case", "no-such-case")
+def test_export_unknown_case(db_target):
+    Store(db_target).close()
+    result = invoke(db_target, "export-case", "no-such-case")
     assert result.exit_code == 1
     errors = error_lines(result)
     assert len(errors) == 1 and errors[0].startswith("Error:")
@@ -572,8 +572,8 @@ def test_usage_mistakes_are_one_error_line_and_exit_1(tmp_path, args, message):
     assert result.stdout == ""
 
 
-def test_a_file_that_cannot_be_written_is_one_error_line(tmp_path):
-    db = tmp_path / "r.sqlite"
+def test_a_file_that_cannot_be_written_is_one_error_line(tmp_path, db_target):
+    db = db_target
     invoke(db, "add", str(case_file(ZHUKOVSKY)))
     blocker = tmp_path / "file"
     blocker.write_text("not a folder")
@@ -632,8 +632,8 @@ def test_audit_json_with_the_real_bar_prints_only_json(audited):
     assert result.stderr == ""
 
 
-def test_audit_on_a_terminal_shows_each_case(tmp_path, monkeypatch, recording_bar):
-    db = str(tmp_path / "registry.sqlite")
+def test_audit_on_a_terminal_shows_each_case(db_target, monkeypatch, recording_bar):
+    db = db_target
     runner = CliRunner()
     assert runner.invoke(main, ["--db", db, "add", str(CASES / f"{ZHUKOVSKY}.toml")]).exit_code == 0
     monkeypatch.setattr("registry.cli.sys", SimpleNamespace(stderr=_Tty(), exit=sys.exit))

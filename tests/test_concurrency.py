@@ -1,11 +1,16 @@
-"""Several processes on one SQLite file at once, in real processes (issue "Trust").
+"""Several processes on one database at once, in real processes (issues "Trust" and
+"Beyond one machine"), on an SQLite file and on a PostgreSQL database (``backend``).
 
-Two audits and an add running at the same time on one database all finish (WAL
-journal, busy timeout, BEGIN IMMEDIATE, retries on "database is locked"), and
-pandas queries in another process work while the audits write. The add starts
-once both audits have recorded their runs, so that its new case versions are
-written while the audits commit results. Two processes adding the same new
-files store each case once.
+Two audits and two adds of the same files running at the same time on one database
+all finish (SQLite: WAL journal, busy timeout, BEGIN IMMEDIATE, retries on "database
+is locked"; PostgreSQL: advisory locks around "read the next version and insert it",
+lock timeouts, retries), and pandas queries in another process work while the
+audits write. The adds start once both audits have recorded their runs, so that
+their new case versions are written while the audits commit results. Nothing is
+lost or duplicated: each case content is stored once, each run is complete with
+every check of every case once, and ``registry check`` is clean afterwards. Two
+processes adding the same new files (to a registry, or to a database that has no
+tables yet) store each case once.
 """
 
 from __future__ import annotations
@@ -21,6 +26,7 @@ from pathlib import Path
 import pandas as pd
 import pytest
 from click.testing import CliRunner
+from databases import is_url, rows
 from samples import CASES
 
 import registry
@@ -118,20 +124,29 @@ def assert_clean(name: str, code: int, stdout: str, stderr: str) -> None:
     assert "Traceback" not in stderr + stdout, f"{name}:\n{stderr}"
 
 
-def assert_sound(db: Path) -> None:
-    """SQLite's own checks, then ``registry check``."""
-    with closing(sqlite3.connect(db, timeout=30)) as conn:
-        assert [r[0] for r in conn.execute("PRAGMA integrity_check")] == ["ok"]
-        assert conn.execute("PRAGMA foreign_key_check").fetchall() == []
+def assert_sound(db: str) -> None:
+    """SQLite's own checks (on a file), ``registry check``, and every case content
+    stored once."""
+    if not is_url(db):
+        with closing(sqlite3.connect(db, timeout=30)) as conn:
+            assert [r[0] for r in conn.execute("PRAGMA integrity_check")] == ["ok"]
+            assert conn.execute("PRAGMA foreign_key_check").fetchall() == []
     checked = CliRunner().invoke(main, ["--db", str(db), "check"])
     assert checked.exit_code == 0, checked.output
+    assert "problem:" not in checked.output
+    twice = rows(
+        db,
+        "SELECT case_id, content_hash FROM cases GROUP BY case_id, content_hash "
+        "HAVING count(*) > 1",
+    )
+    assert twice == [], "a case content stored more than once"
 
 
 # ---------------------------------------------------------------------- tests
 
 
-def test_two_audits_and_an_add_at_once_all_finish_while_pandas_reads(tmp_path, capsys):
-    db = tmp_path / "registry.sqlite"
+def test_two_audits_and_two_adds_at_once_all_finish_while_pandas_reads(tmp_path, db_target, capsys):
+    db = db_target
     with registry.open(db) as reg:
         seeded = {r.case: r.version for r in reg.add(CASES)}
     assert len(seeded) == len(list(CASES.rglob("*.toml"))) and set(seeded.values()) == {1}
@@ -141,21 +156,23 @@ def test_two_audits_and_an_add_at_once_all_finish_while_pandas_reads(tmp_path, c
     new_id = "zhukovsky-gyrostat-copy"
     copy_case("zhukovsky-gyrostat", incoming, new_id=new_id, title="A copy, added during audits")
 
-    names = ("audit-1", "audit-2", "add")
+    names = ("audit-1", "audit-2", "add-1", "add-2")
     commands = {
         "audit-1": ["--db", str(db), "audit", "--fresh", "--jobs", "1"],
         "audit-2": ["--db", str(db), "audit", "--fresh", "--jobs", "1"],
-        "add": ["--db", str(db), "add", str(incoming)],
+        "add-1": ["--db", str(db), "add", str(incoming)],
+        "add-2": ["--db", str(db), "add", str(incoming)],
     }
-    # the audits start together; the add as soon as both runs are recorded, so that its
-    # writes meet theirs (each audit commits a case every fraction of a second)
+    # the audits start together; the adds as soon as both runs are recorded, so that
+    # their writes meet the audits' (each commits a case every fraction of a second)
+    # and each other's (the same files, at the same time)
     procs = {name: start(commands[name], tmp_path / name) for name in names[:2]}
 
     # meanwhile, this process reads with pandas, through the API and with plain SQL
     queries, failures, seen_running = 0, [], 0
     deadline = time.monotonic() + WAIT
     with registry.open(db) as reader:
-        while "add" not in procs or any(p.poll() is None for p in procs.values()):
+        while "add-1" not in procs or any(p.poll() is None for p in procs.values()):
             assert time.monotonic() < deadline, "the processes did not finish"
             for query in (
                 reader.verdicts,
@@ -175,10 +192,11 @@ def test_two_audits_and_an_add_at_once_all_finish_while_pandas_reads(tmp_path, c
                 if "status" in frame:
                     assert set(frame["status"]) <= set(RUN_STATUSES)
                     seen_running = max(seen_running, int((frame["status"] == "running").sum()))
-            if "add" not in procs and (
+            if "add-1" not in procs and (
                 seen_running == 2 or all(p.poll() is not None for p in procs.values())
             ):
-                procs["add"] = start(commands["add"], tmp_path / "add")
+                for name in names[2:]:
+                    procs[name] = start(commands[name], tmp_path / name)
             time.sleep(0.02)
     outcomes = {name: finish(procs[name], tmp_path / name) for name in names}
 
@@ -188,10 +206,11 @@ def test_two_audits_and_an_add_at_once_all_finish_while_pandas_reads(tmp_path, c
     assert queries > 0
     assert seen_running == 2, "no query saw both audits at work"
 
-    added = add_lines(outcomes["add"][1])
-    assert sorted(added) == sorted(
-        [("new version", case_id, 2) for case_id in RETITLED] + [("added", new_id, 1)]
-    )
+    # each file stored by one add; the other found it unchanged
+    added = add_lines(outcomes["add-1"][1]) + add_lines(outcomes["add-2"][1])
+    expected = [("new version", case_id, 2) for case_id in RETITLED] + [("added", new_id, 1)]
+    expected += [("unchanged", case_id, version) for _, case_id, version in expected]
+    assert sorted(added) == sorted(expected)
 
     with registry.open(db) as reg:
         runs = reg.runs()
@@ -207,8 +226,18 @@ def test_two_audits_and_an_add_at_once_all_finish_while_pandas_reads(tmp_path, c
                 case_id: [1] for case_id in seeded
             }
             keys = verdicts.fillna({"claim": ""})[["case", "claim", "check"]]
+            assert not keys.duplicated().any(), f"run {run} recorded a check twice"
             checks.append(sorted(keys.itertuples(index=False, name=None)))
         assert checks[0] == checks[1]
+        # every check of every case: one per claim (a retitled case's new version has
+        # the same claims), and the case checks
+        claims = reg.claims()
+        for case_id in seeded:
+            labels = set(claims.loc[claims["case"] == case_id, "label"])
+            for found in checks:
+                mine = [(claim, check) for case, claim, check in found if case == case_id]
+                assert {claim for claim, _ in mine if claim} == labels, case_id
+                assert {check for claim, check in mine if not claim} >= {"jacobi", "energy", "c1"}
         added_at = cases.set_index("case").loc[new_id, "added_at"]
         overlap = [
             f"run {r.run}: {r.started_at:%H:%M:%S.%f} to {r.finished_at:%H:%M:%S.%f}"
@@ -220,8 +249,8 @@ def test_two_audits_and_an_add_at_once_all_finish_while_pandas_reads(tmp_path, c
 
 
 @pytest.mark.parametrize("database", ["existing", "new"])
-def test_two_adds_of_the_same_new_files_store_each_case_once(tmp_path, database):
-    db = tmp_path / "registry.sqlite"
+def test_two_adds_of_the_same_new_files_store_each_case_once(tmp_path, db_target, database):
+    db = db_target  # "new": no file yet, or a server database without tables
     if database == "existing":
         with registry.open(db) as reg:
             reg.add(CASES / "borisov-mamaev-1997.toml")
@@ -242,9 +271,8 @@ def test_two_adds_of_the_same_new_files_store_each_case_once(tmp_path, database)
         )  # fmt: skip
         assert said == [("added", 1), ("unchanged", 1)], case_id
 
-    with closing(sqlite3.connect(db, timeout=30)) as conn:
-        stored = conn.execute(
-            "SELECT case_id, version FROM cases WHERE case_id LIKE '%-copy' ORDER BY case_id"
-        ).fetchall()
+    stored = rows(
+        db, "SELECT case_id, version FROM cases WHERE case_id LIKE '%-copy' ORDER BY case_id"
+    )
     assert stored == sorted((case_id, 1) for case_id in ids)
     assert_sound(db)

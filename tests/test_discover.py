@@ -1,5 +1,6 @@
 """``registry discover`` and ``Registry.discover``: searches recorded, reused, queried
-as DataFrames, their integrals added as claims that the next audit decides."""
+as DataFrames, their integrals added as claims that the next audit decides; on SQLite
+and on PostgreSQL (fixture ``backend``)."""
 
 from __future__ import annotations
 
@@ -8,6 +9,7 @@ from pathlib import Path
 
 import pytest
 from click.testing import CliRunner
+from databases import rows
 
 import registry
 from registry.cli import main
@@ -16,8 +18,8 @@ FAMILIES = Path(__file__).resolve().parent / "data" / "families"
 HEAVY = FAMILIES / "heavy-top-lam.toml"
 
 
-def test_record_then_audit_verifies_every_discovered_claim(tmp_path):
-    with registry.open(tmp_path / "r.sqlite") as reg:
+def test_record_then_audit_verifies_every_discovered_claim(db_target):
+    with registry.open(db_target) as reg:
         report = reg.discover(HEAVY, degree=3, free=["lam"], on=["s = 0"], record=True)
         assert report.number == 1 and not report.reused
         assert report.derived == (
@@ -34,8 +36,8 @@ def test_record_then_audit_verifies_every_discovered_claim(tmp_path):
         assert reg.check().problems == ()
 
 
-def test_generic_integrals_become_claims_of_the_searched_version(tmp_path):
-    with registry.open(tmp_path / "r.sqlite") as reg:
+def test_generic_integrals_become_claims_of_the_searched_version(db_target):
+    with registry.open(db_target) as reg:
         reg.add(FAMILIES / "lagrange-lam.toml")
         reg.discover("family-lagrange-lam", degree=2, free=["lam"], record=True)
         case = reg.case("family-lagrange-lam")
@@ -51,8 +53,8 @@ def test_generic_integrals_become_claims_of_the_searched_version(tmp_path):
         assert again.status == "unchanged"
 
 
-def test_an_identical_search_reuses_the_stored_one_unless_fresh(tmp_path):
-    with registry.open(tmp_path / "r.sqlite") as reg:
+def test_an_identical_search_reuses_the_stored_one_unless_fresh(db_target):
+    with registry.open(db_target) as reg:
         first = reg.discover(HEAVY, degree=4, free=["lam"], record=True)
         again = reg.discover("family-heavy-top-lam", degree=4, free=["lam"])
         assert again.reused and again.number == first.number
@@ -64,8 +66,8 @@ def test_an_identical_search_reuses_the_stored_one_unless_fresh(tmp_path):
         assert not fresh.reused
 
 
-def test_searches_and_discoveries_frames_hold_negative_results_too(tmp_path):
-    with registry.open(tmp_path / "r.sqlite") as reg:
+def test_searches_and_discoveries_frames_hold_negative_results_too(db_target):
+    with registry.open(db_target) as reg:
         reg.discover(FAMILIES / "asymmetric-heavy-top.toml", degree=4, record=True)
         reg.discover(HEAVY, degree=4, free=["lam"], record=True)
         searches = reg.searches()
@@ -78,20 +80,24 @@ def test_searches_and_discoveries_frames_hold_negative_results_too(tmp_path):
         assert [list(w) for w in found.when] == [[], [], ["lam = 1"], ["lam = 2"]]
 
 
-def test_the_cli_prints_the_json_of_the_contract(tmp_path):
+def test_the_cli_prints_the_json_of_the_contract(db_target, databases):
     result = CliRunner().invoke(
-        main,
-        ["--db", str(tmp_path / "r.sqlite"), "discover", str(HEAVY), "--free", "lam", "--json"],
+        main, ["--db", db_target, "discover", str(HEAVY), "--free", "lam", "--json"]
     )
     assert result.exit_code == 0, result.output
     doc = json.loads(result.stdout)
     assert [s["when"] for s in doc["special"]] == [["lam = 1"], ["lam = 2"]]
     assert doc["complete"] is True
-    assert not (tmp_path / "r.sqlite").exists()  # a file searched without --record
+    # a file searched without --record creates no database, nor tables in an empty one
+    if databases.backend == "sqlite":
+        assert not Path(db_target).exists()
+    else:
+        assert rows(db_target, "SELECT count(*) FROM information_schema.tables "
+                    "WHERE table_schema = 'public'") == [(0,)]  # fmt: skip
 
 
-def test_the_cli_records_and_says_so(tmp_path):
-    db = tmp_path / "r.sqlite"
+def test_the_cli_records_and_says_so(db_target):
+    db = db_target
     args = ["--db", str(db), "discover", str(HEAVY), "--free", "lam", "--degree", "3",
             "--on", "s = 0", "--record"]  # fmt: skip
     result = CliRunner().invoke(main, args)
@@ -111,10 +117,8 @@ def test_the_cli_records_and_says_so(tmp_path):
         (["--on", "bogus = 0"], "Error: unknown name 'bogus'"),
     ],
 )
-def test_the_cli_refuses_what_it_cannot_search_in_one_line(tmp_path, args, message):
-    result = CliRunner().invoke(
-        main, ["--db", str(tmp_path / "r.sqlite"), "discover", str(HEAVY), *args]
-    )
+def test_the_cli_refuses_what_it_cannot_search_in_one_line(db_target, args, message):
+    result = CliRunner().invoke(main, ["--db", db_target, "discover", str(HEAVY), *args])
     assert result.exit_code == 1, result.output
     assert result.stderr.startswith(message), result.stderr
     assert "Traceback" not in result.output

@@ -10,12 +10,15 @@ from registry.errors import (
     DatabaseFullError,
     DatabaseLockedError,
     DatabaseMissingError,
+    DatabasePermissionError,
     DatabaseReadOnlyError,
     ExpressionError,
     NotADatabaseError,
     Problem,
     RegistryError,
     SchemaTooNewError,
+    ServerDatabaseMissingError,
+    ServerUnavailableError,
     StorageError,
     UnknownCaseError,
     UnknownClaimError,
@@ -85,3 +88,34 @@ def test_unknown_names_suggest_the_closest_known_one():
 def test_storage_errors_say_what_is_wrong_with_the_database(error, builtin, text):
     assert isinstance(error, StorageError) and isinstance(error, builtin)
     assert text in str(error) and "'r.sqlite'" in str(error)
+
+
+SERVER = "postgresql+psycopg://reg@/registry?host=/run/pg"
+
+
+@pytest.mark.parametrize(
+    ("error", "builtin", "text"),
+    [
+        (
+            ServerDatabaseMissingError(SERVER, "registry"),
+            FileNotFoundError,
+            "has no database 'registry'; creating one is the server administrator's job",
+        ),
+        (
+            ServerUnavailableError(SERVER, "Connection refused"),
+            ConnectionError,
+            "cannot reach the database server of ",
+        ),
+        (
+            DatabasePermissionError(SERVER, "permission denied for table cases", "reg"),
+            PermissionError,
+            "refuses role 'reg': permission denied for table cases; ask the server's",
+        ),
+    ],
+)
+def test_server_errors_say_what_the_server_refused_and_whose_job_it_is(error, builtin, text):
+    assert isinstance(error, StorageError) and isinstance(error, builtin)
+    assert text in str(error) and repr(SERVER) in str(error)
+    assert error.location == SERVER
+    # a read-only role is read-only: the registry still reads where it may not write
+    assert isinstance(error, DatabaseReadOnlyError) == isinstance(error, DatabasePermissionError)

@@ -200,11 +200,12 @@ BROWSED = ("free-rigid-body", "gyroscopic-torque")
 
 
 @pytest.fixture(scope="module")
-def browsed(tmp_path_factory):
-    """A registry holding two topic folders of the catalog, audited in this process."""
+def browsed(module_databases):
+    """A registry holding two topic folders of the catalog, audited in this process (on
+    SQLite, then on PostgreSQL: fixture ``backend``)."""
     import registry
 
-    db = tmp_path_factory.mktemp("browse") / "r.sqlite"
+    db = module_databases.new("browse")
     reg = registry.open(db)
     reg.db = db  # for the command-line test
     reg.add(*[p for p in topic_files() if p.parent.name in BROWSED])

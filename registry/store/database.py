@@ -2,9 +2,10 @@
 
 ``Store(path)``, ``Store(":memory:")`` or ``Store(url)`` opens (and creates, or
 upgrades after a backup copy) a registry database and keeps cases, audit runs and
-check results. Every method takes and returns domain objects or plain values; each
-write is one transaction. The database never does algebra: a stored case is parsed
-again from its ``text`` when it is needed (``StoredCase.parse``).
+check results: an SQLite file, or a database on a PostgreSQL server that several
+people and processes write at once. Every method takes and returns domain objects or
+plain values; each write is one transaction. The database never does algebra: a
+stored case is parsed again from its ``text`` when it is needed (``StoredCase.parse``).
 
 Around it: ``tables`` (the rows), ``conversions`` (rows to domain objects and back),
 ``engine`` (opening a database, its errors), ``frames`` (DataFrame queries),
@@ -25,10 +26,16 @@ from typing import Any, Literal
 
 from sqlalchemy import func, select
 from sqlalchemy.engine import Connection, Engine
-from sqlalchemy.exc import DBAPIError, OperationalError
+from sqlalchemy.exc import DBAPIError
 from sqlalchemy.orm import Session
 
-from ..errors import DatabaseReadOnlyError, StorageError, UnknownCaseError, UnknownRunError
+from ..errors import (
+    DatabaseMissingError,
+    DatabaseReadOnlyError,
+    StorageError,
+    UnknownCaseError,
+    UnknownRunError,
+)
 from ..language.casefile import parse_case_text
 from ..language.parser import Namespace, parse_equation, parse_expression
 from ..model import (
@@ -59,7 +66,16 @@ from .conversions import (
     search_row,
     source_fields,
 )
-from .engine import WRITE_OPTION, guarded, is_memory, make_engine, resolve, storage_error
+from .engine import (
+    WRITE_OPTION,
+    guarded,
+    hold,
+    is_memory,
+    is_server,
+    make_engine,
+    resolve,
+    storage_error,
+)
 from .processes import process_gone, this_process
 from .tables import (
     RUN_STATUSES,
@@ -143,10 +159,15 @@ class Store:
 
     Every method takes and returns domain objects or plain Python values; each
     write is one transaction. Use as a context manager or call ``close()``.
+
+    Without ``create``, a database that does not exist is a DatabaseMissingError, and
+    so is a database on a server that holds no tables yet (reading never creates one).
     """
 
     def __init__(self, url_or_path: str | Path, *, create: bool = True):
         url, self.location = resolve(url_or_path, create)
+        self.server = is_server(url)  # a database server (PostgreSQL), not an SQLite file
+        self._create = create
         self.backup: Path | None = None  # the copy made before a schema upgrade
         self.upgraded_from: str | None = None  # the revision upgraded from, if any
         self.busy = 0  # database sessions in progress
@@ -154,6 +175,11 @@ class Store:
         engine = make_engine(url, self.location)
         self._engine = engine
         self._writer = engine.execution_options(**{WRITE_OPTION: True})
+        # reads see one snapshot, as on SQLite; writes stay READ COMMITTED, so that a
+        # statement after a lock sees what the transaction that held it committed
+        self._reader = (
+            engine.execution_options(isolation_level="REPEATABLE READ") if self.server else engine
+        )
         self._file = Path(url.database) if url.get_backend_name() == "sqlite" else None
         if is_memory(url):
             self._file = None
@@ -191,12 +217,16 @@ class Store:
         """Bring the schema to the newest revision (see ``migrate``); refuse newer ones.
 
         A current database is only read, so a read-only registry file still opens.
-        An older one is copied aside first, then upgraded in one transaction.
+        An older one is copied aside first (an SQLite file; a server's database is its
+        administrator's to back up), then upgraded in one transaction. On a server, an
+        empty database gets its tables only when ``create`` is set.
         """
         with self.connect() as conn:
             state = migrate.inspect_schema(conn, self.location)
         if state.current:
             return
+        if state.empty and self.server and not self._create:
+            raise DatabaseMissingError(self.location)
         if not state.empty and self._file is not None:
             try:
                 self.backup = migrate.backup(self._file, state.revision or "")
@@ -206,6 +236,7 @@ class Store:
                     f"{state.revision}, but no backup copy could be made first ({err})"
                 ) from err
         with self._writer.begin() as conn:
+            hold(conn, "schema")  # one process builds or upgrades the schema at a time
             state = migrate.inspect_schema(conn, self.location)  # another process may have
             if not state.current:  # upgraded it meanwhile
                 migrate.upgrade(conn, state)
@@ -232,7 +263,7 @@ class Store:
                     select(RunRow).where(RunRow.id.in_(dead), RunRow.status == "running")
                 ):
                     run.status = "interrupted"
-        except OperationalError as err:
+        except DBAPIError as err:
             if not isinstance(storage_error(err, self.location), DatabaseReadOnlyError):
                 raise
 
@@ -245,13 +276,13 @@ class Store:
     @contextmanager
     def read(self) -> Iterator[Session]:
         """A session for reading (one consistent snapshot)."""
-        with self._busy(), Session(self._engine) as session:
+        with self._busy(), Session(self._reader) as session:
             yield session
 
     @contextmanager
     def connect(self) -> Iterator[Connection]:
-        """A plain connection (no ORM session), counted like a session (``_busy``)."""
-        with self._busy(), self._engine.connect() as conn:
+        """A plain connection for reading (no ORM session), counted like a session."""
+        with self._busy(), self._reader.connect() as conn:
             yield conn
 
     @contextmanager
@@ -281,6 +312,8 @@ class Store:
     def _add_case(self, session: Session, case: Case) -> AddOutcome:
         if not case.content_hash:
             raise ValueError(f"case {case.id!r} has no content_hash; parse it with casefile")
+        # two processes adding this case id (or citing this new source) take turns here
+        hold(session, f"case {case.id}", f"source {case.source.citation}\0{case.source.doi}")
         newest = session.execute(
             select(CaseRow.id, CaseRow.version, CaseRow.content_hash)
             .where(CaseRow.case_id == case.id)
@@ -388,6 +421,7 @@ class Store:
         searched version, and each special set's ``derived`` case (None to skip) stored
         as a case of its own. Returns the search's number."""
         with self.write() as session:
+            hold(session, f"claims of version {case_pk}")  # the next positions are ours
             row = search_row(case_pk, search, code_version, statement)
             session.add(row)
             session.flush()

@@ -1,6 +1,9 @@
 """Verifying a registry database: what ``registry check`` reports.
 
-The database engine's own checks and the table relations (no algebra there), then
+The database engine's own checks and the table relations (no algebra there): on SQLite
+its ``integrity_check`` and ``foreign_key_check``; on PostgreSQL, which enforces foreign
+keys itself, the same foreign-key check made by query, and whether any table's
+enforcement was switched off. Then
 every stored case version parsed again from its text, its content hash recomputed,
 its columns compared with the parse, and every stored expression (claims, derived
 Casimirs and torques, parameter conditions) parsed again in its case's names. A
@@ -13,7 +16,8 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 
-from sqlalchemy import func, select
+from sqlalchemy import func, select, text
+from sqlalchemy.engine import Connection
 
 from ..errors import CaseFormatError, ExpressionError
 from ..language.casefile import parse_case_text
@@ -26,6 +30,7 @@ from .engine import guarded
 from .tables import (
     RUN_STATUSES,
     SCHEMA_VERSION,
+    Base,
     CaseRow,
     ClaimRow,
     CorrectionRow,
@@ -40,12 +45,15 @@ from .tables import (
 
 @dataclass(frozen=True)
 class Verification:
-    """The outcome of ``verify``: the schema, what was looked at, what is wrong."""
+    """The outcome of ``verify``: the schema, what was looked at, what is wrong, and
+    the database engine that holds it (``SQLite 3.45.1``, ``PostgreSQL 15.8, schema
+    "public"``)."""
 
     revision: str | None
     counts: Mapping[str, int] = field(default_factory=dict)
     problems: tuple[str, ...] = ()
     notes: tuple[str, ...] = ()
+    engine: str = ""
 
     @property
     def ok(self) -> bool:
@@ -93,7 +101,7 @@ def verify(store: Store) -> Verification:
         f"run {run} is still running (process {pid} on {host})"
         for run, host, pid in running_runs(store)
     )
-    return Verification(revision, counts(store), tuple(problems), notes)
+    return Verification(revision, counts(store), tuple(problems), notes, engine_name(store))
 
 
 # ----------------------------------------------------------- integrity-only reads
@@ -118,10 +126,24 @@ def schema_revision(store: Store) -> tuple[str | None, str | None]:
 
 
 @guarded
+def engine_name(store: Store) -> str:
+    """The database engine and its version (and, on PostgreSQL, the schema)."""
+    with store.connect() as conn:
+        if conn.dialect.name == "sqlite":
+            return f"SQLite {conn.exec_driver_sql('SELECT sqlite_version()').scalar()}"
+        if conn.dialect.name == "postgresql":
+            version = conn.exec_driver_sql("SHOW server_version").scalar()
+            schema = conn.exec_driver_sql("SELECT current_schema()").scalar()
+            return f'PostgreSQL {str(version).split()[0]}, schema "{schema}"'
+        return conn.dialect.name
+
+
+@guarded
 def database_problems(store: Store) -> list[str]:
     """What the database engine and the table relations find wrong (no algebra):
-    SQLite's integrity and foreign-key checks, results tied to a claim of another
-    case version, and verdicts or run states outside their sets."""
+    SQLite's integrity and foreign-key checks (on PostgreSQL, the foreign keys checked
+    by query), results tied to a claim of another case version, and verdicts or run
+    states outside their sets."""
     problems = []
     with store.connect() as conn:
         if conn.dialect.name == "sqlite":
@@ -131,6 +153,10 @@ def database_problems(store: Store) -> list[str]:
                 f"foreign key: row {row} of {table} points to a missing row of {parent}"
                 for table, row, parent, _ in conn.exec_driver_sql("PRAGMA foreign_key_check")
             ]
+        else:
+            if conn.dialect.name == "postgresql":
+                problems += _unenforced(conn)
+            problems += _missing_parents(conn)
         claims = ClaimRow.__table__
         for table in (ResultRow.__table__, CorrectionRow.__table__, EvidenceRow.__table__):
             crossed = conn.execute(
@@ -165,6 +191,57 @@ def database_problems(store: Store) -> list[str]:
             f"claims row {i}: attached by search {s}, which is missing" for i, s in orphans
         ]
     return problems
+
+
+def _missing_parents(conn: Connection) -> list[str]:
+    """Rows whose foreign key points to no row, found by query: PostgreSQL enforces
+    foreign keys, but a superuser can switch that off (``session_replication_role``,
+    disabled triggers) and a restored dump may skip them."""
+    problems = []
+    for table in Base.metadata.sorted_tables:
+        for fk in sorted(table.foreign_keys, key=lambda k: k.parent.name):
+            parent = fk.column.table.alias("parent")
+            target = parent.c[fk.column.name]
+            missing = conn.execute(
+                select(table.c.id)
+                .outerjoin(parent, target == fk.parent)
+                .where(fk.parent.is_not(None), target.is_(None))
+                .order_by(table.c.id)
+            ).scalars()
+            problems += [
+                f"foreign key: row {row} of {table.name} points to a missing row of "
+                f"{fk.column.table.name}"
+                for row in missing
+            ]
+    return problems
+
+
+def _unenforced(conn: Connection) -> list[str]:
+    """Registry tables whose foreign keys PostgreSQL no longer enforces: their
+    constraint triggers disabled, or a constraint left unvalidated."""
+    names = list(Base.metadata.tables)
+    disabled = conn.execute(
+        text(
+            "SELECT DISTINCT c.relname FROM pg_trigger t JOIN pg_class c ON c.oid = t.tgrelid "
+            "JOIN pg_constraint k ON k.oid = t.tgconstraint "
+            "WHERE k.contype = 'f' AND t.tgenabled = 'D' "
+            "AND c.relnamespace = current_schema()::regnamespace AND c.relname = ANY(:names) "
+            "ORDER BY c.relname"
+        ),
+        {"names": names},
+    ).scalars()
+    unvalidated = conn.execute(
+        text(
+            "SELECT c.relname, k.conname FROM pg_constraint k JOIN pg_class c "
+            "ON c.oid = k.conrelid WHERE NOT k.convalidated "
+            "AND c.relnamespace = current_schema()::regnamespace AND c.relname = ANY(:names) "
+            "ORDER BY c.relname, k.conname"
+        ),
+        {"names": names},
+    ).all()
+    return [f"{t}: its foreign keys are not enforced (triggers disabled)" for t in disabled] + [
+        f"{t}: constraint {name} is not validated" for t, name in unvalidated
+    ]
 
 
 @guarded

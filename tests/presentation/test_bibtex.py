@@ -24,9 +24,10 @@ ZHUKOVSKY = "zhukovsky-gyrostat"
 
 
 @pytest.fixture(scope="module")
-def audited(tmp_path_factory):
-    """A database with two seed cases, audited in this process."""
-    db = tmp_path_factory.mktemp("sharing") / "registry.sqlite"
+def audited(module_databases):
+    """A database with two seed cases, audited in this process (on SQLite, then on
+    PostgreSQL: fixture ``backend``)."""
+    db = module_databases.new("sharing")
     reg = registry.open(db)
     reg.add(CASES / f"{YEHIA_B}.toml", CASES / f"{ZHUKOVSKY}.toml")
     report = reg.audit(jobs=0)

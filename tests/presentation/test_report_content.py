@@ -26,9 +26,10 @@ PNG = b"\x89PNG"
 
 
 @pytest.fixture(scope="module")
-def db(tmp_path_factory) -> Path:
-    """A database file with the three seed cases, audited once with numeric evidence."""
-    path = tmp_path_factory.mktemp("reports") / "registry.sqlite"
+def db(module_databases) -> str:
+    """A database with the three seed cases, audited once with numeric evidence (on
+    SQLite, then on PostgreSQL: fixture ``backend``)."""
+    path = module_databases.new("reports")
     with registry.open(path) as reg:
         reg.add(*(CASES / f"{c}.toml" for c in SEED))
         reg.audit(jobs=0, numeric=True)
@@ -87,7 +88,7 @@ def _expected_rows(reg) -> list[str]:
     return rows
 
 
-def test_markdown_summary_keeps_the_integral_and_casimir_columns_apart(tmp_path):
+def test_markdown_summary_keeps_the_integral_and_casimir_columns_apart(tmp_path, db_target):
     """The Hamiltonian is an integral but no Casimir: its row tells the columns apart
     (every seed claim has equal integral and casimir verdicts)."""
     text = (CASES / f"{ZHUKOVSKY}.toml").read_text(encoding="utf-8")
@@ -97,7 +98,7 @@ def test_markdown_summary_keeps_the_integral_and_casimir_columns_apart(tmp_path)
     )
     path = tmp_path / f"{ZHUKOVSKY}.toml"
     path.write_text(text, encoding="utf-8")
-    with registry.open(tmp_path / "registry.sqlite") as reg:
+    with registry.open(db_target) as reg:
         reg.add(path)
         reg.audit(jobs=0)
         report = build_report(reg, fmt="md", plots=False)

@@ -1,7 +1,9 @@
-"""Tests of the registry database (registry.store)."""
+"""Tests of the registry database (registry.store), on SQLite (in memory and in a file)
+and on PostgreSQL (fixtures ``store`` and ``db_target``)."""
 
 from __future__ import annotations
 
+import threading
 from dataclasses import replace
 from datetime import datetime
 
@@ -55,6 +57,16 @@ def audit_of(case, stored: StoredCase, integral: Verdict = Verdict.VERIFIED) -> 
 # -------------------------------------------------------------------- opening
 
 
+def test_reopening_a_database_keeps_its_content(db_target, sample_case):
+    with Store(db_target) as store:
+        store.add_case(sample_case)
+    with Store(db_target, create=False) as store:
+        assert store.case_ids() == [sample_case.id]
+        assert store.add_case(sample_case).status == "unchanged"
+        assert store.upgraded_from is None and store.backup is None
+
+
+# SQLite only: a file's path and its sqlite:/// URL name the same database
 def test_reopening_a_file_keeps_its_content(tmp_path, sample_case):
     path = str(tmp_path / "registry.sqlite")
     with Store(path) as store:
@@ -149,6 +161,40 @@ def test_constraint_violation_stores_nothing(store, sample_case):
         store.add_case(twice)
     assert {count(store, t) for t in (SourceRow, CaseRow, ClaimRow)} == {0}
     assert store.add_case(sample_case).status == "added"
+
+
+def test_two_stores_adding_the_same_new_case_at_once_store_it_once(
+    db_target, sample_case, case_factory
+):
+    """Each add reads the newest version and inserts the next one; two at once, in two
+    connections, must take turns (SQLite's write lock, PostgreSQL's advisory locks)."""
+    Store(db_target).close()  # the tables exist; the race is about the case
+    rounds = [sample_case, case_factory(text="v2"), case_factory(text="v3")]
+    for case in rounds:
+        stores = [Store(db_target) for _ in range(2)]
+        start = threading.Barrier(len(stores))
+        outcomes: list[AddOutcome] = []
+
+        def add(store: Store, case=case, start=start, outcomes=outcomes) -> None:
+            start.wait()
+            outcomes.append(store.add_case(case))
+
+        threads = [threading.Thread(target=add, args=(s,)) for s in stores]
+        for t in threads:
+            t.start()
+        for t in threads:
+            t.join(timeout=60)
+        for s in stores:
+            s.close()
+        assert sorted(o.status for o in outcomes) == sorted(
+            ["added" if case is sample_case else "new version", "unchanged"]
+        )
+        assert len({o.pk for o in outcomes}) == 1  # both name the one stored version
+    with Store(db_target) as store:
+        every = store.case_versions([sample_case.id], latest_only=False)
+        assert [s.version for s in every] == [1, 2, 3]
+        assert count(store, SourceRow) == 1
+        assert count(store, ClaimRow) == 6
 
 
 def test_case_without_hash_is_refused(store, sample_case):

@@ -1,18 +1,32 @@
-"""Opening a database: SQLite settings, where a path or URL leads, and each database
-failure turned into the one-line StorageError of its kind."""
+"""Opening a database: SQLite and PostgreSQL settings, where a path or URL leads, and
+each database failure turned into the one-line StorageError of its kind.
+
+The tests about SQLite files (WAL, folders, files that are no database) are SQLite's
+own; their PostgreSQL counterparts are a server that is not running, a database the
+server does not have, an empty database that reading leaves empty, and roles without
+the privileges the registry needs, each against the tests' real server.
+"""
 
 from __future__ import annotations
 
 import pytest
+from click.testing import CliRunner
+from conftest import POSTGRES
+from databases import rows
+from samples import CASES, ZHUKOVSKY
 from sqlalchemy import text
 from sqlalchemy.exc import OperationalError
 
+from registry.cli import main
 from registry.errors import (
     DatabaseFullError,
     DatabaseLockedError,
     DatabaseMissingError,
+    DatabasePermissionError,
     DatabaseReadOnlyError,
     NotADatabaseError,
+    ServerDatabaseMissingError,
+    ServerUnavailableError,
     StorageError,
 )
 from registry.store import engine, frames
@@ -49,11 +63,14 @@ def test_bad_url_is_a_storage_error():
         Store("nosuchdialect://host/db")
 
 
-def test_database_failure_after_opening_is_a_storage_error(memory_store):
-    with memory_store.engine.begin() as conn:
+def test_database_failure_after_opening_is_a_storage_error(store):
+    with store.engine.begin() as conn:
         conn.execute(text("DROP VIEW latest_verdicts"))
-    with pytest.raises(StorageError, match="no such table: latest_verdicts"):
-        frames.verdicts_frame(memory_store)
+    said = {"sqlite": "no such table: latest_verdicts"}
+    said["postgresql"] = 'relation "latest_verdicts" does not exist'
+    with pytest.raises(StorageError) as info:
+        frames.verdicts_frame(store)
+    assert str(info.value) == f"database {store.location!r}: {said[store.engine.dialect.name]}"
 
 
 def test_a_path_url_or_memory_resolves_to_a_sqlalchemy_url(tmp_path):
@@ -82,3 +99,160 @@ def test_each_failure_sqlite_reports_is_its_storage_error(reported, kind):
     error = engine.storage_error(failure, "r.sqlite")
     assert type(error) is kind
     assert "r.sqlite" in str(error)
+
+
+# ---------------------------------------------------------------------- PostgreSQL
+
+
+def invoke(target: str, *args: str):
+    return CliRunner().invoke(main, ["--db", target, *args])
+
+
+def test_a_postgresql_url_uses_psycopg_and_never_shows_a_password():
+    url, name = engine.resolve("postgresql://reg@/registry?host=/run/pg", create=False)
+    assert url.drivername == "postgresql+psycopg" and engine.is_server(url)
+    assert name == "postgresql://reg@/registry?host=/run/pg"  # as the user wrote it
+    url, name = engine.resolve("postgresql+psycopg://reg:secret@db.example/registry", False)
+    assert url.password == "secret" and "secret" not in name and "***" in name
+    assert not engine.is_server(engine.resolve(":memory:", create=False)[0])
+
+
+@POSTGRES
+def test_the_server_settings_of_a_registry_session(postgres_server):
+    url = postgres_server.create_database("settings") + "&options=-c%20work_mem%3D8MB"
+    with Store(url) as store, store.engine.connect() as conn:
+        shown = {
+            name: conn.exec_driver_sql(f"SHOW {name}").scalar()
+            for name in ("lock_timeout", "TimeZone", "application_name", "work_mem")
+        }
+    assert shown == {
+        "lock_timeout": f"{engine.BUSY_TIMEOUT:g}s",
+        "TimeZone": "UTC",
+        "application_name": "registry",
+        "work_mem": "8MB",  # the URL's own options are kept
+    }
+
+
+@POSTGRES
+def test_a_server_that_is_not_running_is_one_error_line(postgres_server, tmp_path):
+    url = f"postgresql+psycopg://registry@/registry?host={tmp_path}"  # no server there
+    expected = (
+        f"cannot reach the database server of {url!r} (connection to server on socket "
+        f'"{tmp_path}/.s.PGSQL.5432" failed: No such file or directory); is the PostgreSQL '
+        "server running, and are the host and socket folder in the URL right?"
+    )
+    with pytest.raises(ServerUnavailableError) as info:
+        Store(url)
+    assert str(info.value) == expected
+    for command in (["cases"], ["add", str(CASES / f"{ZHUKOVSKY}.toml")], ["check"]):
+        result = invoke(url, *command)
+        assert result.exit_code == 1
+        assert result.stderr.splitlines() == [f"Error: {expected}"]
+
+
+@POSTGRES
+def test_a_database_the_server_does_not_have_is_never_created(postgres_server):
+    url = postgres_server.missing_database("absent")
+    name = url.split("@/")[1].split("?")[0]
+    expected = (
+        f"the database server of {url!r} has no database {name!r}; creating one is the "
+        f"server administrator's job (for example: createdb {name}), then 'registry add "
+        "FILES' creates the registry's tables in it"
+    )
+    for create in (False, True):
+        with pytest.raises(ServerDatabaseMissingError) as info:
+            Store(url, create=create)
+        assert str(info.value) == expected
+        assert isinstance(info.value, DatabaseMissingError)
+    for command in (["cases"], ["add", str(CASES / f"{ZHUKOVSKY}.toml")], ["audit"]):
+        result = invoke(url, *command)
+        assert result.exit_code == 1
+        assert result.stderr.splitlines() == [f"Error: {expected}"]
+    with postgres_server.connect() as conn:
+        names = [r[0] for r in conn.execute("SELECT datname FROM pg_database")]
+    assert name not in names
+
+
+@POSTGRES
+def test_reading_an_empty_server_database_leaves_it_empty_and_add_fills_it(postgres_server):
+    url = postgres_server.create_database("empty")
+    tables = "SELECT count(*) FROM information_schema.tables WHERE table_schema = 'public'"
+    for command in (["cases"], ["runs"], ["check"], ["audit"]):
+        result = invoke(url, *command)
+        assert result.exit_code == 1
+        assert result.stderr.splitlines() == [
+            f"Error: no registry database at {url!r}; create one by adding cases "
+            "(registry add FILES) or name another with --db"
+        ]
+    assert rows(url, tables) == [(0,)]
+    added = invoke(url, "add", str(CASES / f"{ZHUKOVSKY}.toml"))
+    assert added.exit_code == 0, added.output
+    assert rows(url, tables)[0][0] > 0
+    listed = invoke(url, "cases")
+    assert listed.exit_code == 0 and ZHUKOVSKY in listed.stdout
+
+
+@POSTGRES
+@pytest.mark.parametrize(
+    ("role", "grant", "said"),
+    [
+        ("nobody", None, 'role "nobody" does not exist'),
+        ("outsider", "REVOKE CONNECT ON DATABASE {db} FROM PUBLIC", "permission denied for "
+         'database "{db}"'),
+        ("guest", "", "permission denied for schema public"),
+    ],
+)  # fmt: skip
+def test_a_role_without_the_privileges_is_told_so(postgres_server, role, grant, said):
+    url = postgres_server.create_database(f"roles {role}")
+    db = url.split("@/")[1].split("?")[0]
+    if grant is not None:
+        postgres_server.execute(f"CREATE ROLE {role} LOGIN")
+        if grant:
+            postgres_server.execute(grant.format(db=db))
+    as_role = url.replace("//registry@", f"//{role}@")
+    expected = (
+        f"the database server of {as_role!r} refuses role {role!r}: {said.format(db=db)}; "
+        "ask the server's administrator to grant the privileges the registry needs"
+    )
+    with pytest.raises(DatabasePermissionError) as info:
+        Store(as_role)  # creating the tables (guest may connect, not create)
+    assert str(info.value) == expected
+    result = invoke(as_role, "add", str(CASES / f"{ZHUKOVSKY}.toml"))
+    assert result.exit_code == 1
+    assert result.stderr.splitlines() == [f"Error: {expected}"]
+
+
+def _psycopg_error(sqlstate: str | None, message: str) -> Exception:
+    psycopg = pytest.importorskip("psycopg")
+    kind = psycopg.OperationalError if sqlstate is None else psycopg.errors.lookup(sqlstate)
+    return kind(message)
+
+
+@pytest.mark.parametrize(
+    ("sqlstate", "reported", "kind"),
+    [
+        ("55P03", "canceling statement due to lock timeout", DatabaseLockedError),
+        ("40P01", "deadlock detected", DatabaseLockedError),
+        ("40001", "could not serialize access due to concurrent update", DatabaseLockedError),
+        ("53100", 'could not extend file "base/16384/2619": No space left on device',
+         DatabaseFullError),
+        ("42501", "permission denied for table cases", DatabasePermissionError),
+        ("25006", "cannot execute INSERT in a read-only transaction", DatabaseReadOnlyError),
+        ("57P01", "terminating connection due to administrator command", ServerUnavailableError),
+        ("53300", "sorry, too many clients already", ServerUnavailableError),
+        ("3D000", 'database "registry" does not exist', ServerDatabaseMissingError),
+        (None, 'connection failed: connection to server on socket "/x/.s.PGSQL.5432" failed: '
+         'FATAL:  database "registry" does not exist', ServerDatabaseMissingError),
+        (None, 'connection failed: connection to server on socket "/x/.s.PGSQL.5432" failed: '
+         'FATAL:  password authentication failed for user "reg"', DatabasePermissionError),
+        (None, "connection is bad: connection to server at \"db.example\" (192.0.2.1), port "
+         "5432 failed: Connection refused", ServerUnavailableError),
+        ("XX000", "something else", StorageError),
+    ],
+)  # fmt: skip
+def test_each_failure_postgresql_reports_is_its_storage_error(sqlstate, reported, kind):
+    failure = OperationalError("statement", {}, _psycopg_error(sqlstate, reported))
+    error = engine.storage_error(failure, "postgresql+psycopg://reg@/registry")
+    assert type(error) is kind
+    assert "'postgresql+psycopg://reg@/registry'" in str(error)
+    assert "\n" not in str(error)

@@ -1,22 +1,27 @@
 """``registry check`` finds what was damaged in a database, and says nothing of a sound one;
 database failures (missing, read-only, full, locked) get their own one-line errors;
-runs whose process died are marked interrupted on the next start."""
+runs whose process died are marked interrupted on the next start.
+
+Every test runs on an SQLite file and on a PostgreSQL database (fixture ``backend``),
+except those about SQLite itself, each with its PostgreSQL counterpart where one
+makes sense (a read-only role for a read-only file, a table lock for a write lock).
+"""
 
 from __future__ import annotations
 
-import shutil
 import sqlite3
 import subprocess
 import sys
 import threading
 import time
-from contextlib import closing
-from pathlib import Path
+from datetime import UTC, datetime
 
 import pytest
 from click.testing import CliRunner
+from conftest import POSTGRES
+from databases import connection, execute, rows
 from samples import CASES, ZHUKOVSKY
-from sqlalchemy import event
+from sqlalchemy import event, insert, select
 
 import registry
 from registry.cli import main
@@ -29,62 +34,62 @@ from registry.errors import (
 from registry.store import engine
 from registry.store.database import Store
 from registry.store.integrity import verify
+from registry.store.tables import RunRow
 
 YEHIA_B = "yehia-2003-kovalevskaya-b"
 PICK = [ZHUKOVSKY, YEHIA_B, "affine-nonsymmetric"]
 
 
 @pytest.fixture(scope="module")
-def audited_db(tmp_path_factory) -> Path:
+def audited_db(module_databases) -> str:
     """A database with three seed cases, audited once with repairs (so it holds derived
     Casimirs, torques and parameter conditions)."""
-    path = tmp_path_factory.mktemp("audited") / "registry.sqlite"
-    reg = registry.open(path)
+    target = module_databases.new("audited")
+    reg = registry.open(target)
     reg.add(*(CASES / f"{c}.toml" for c in PICK))
     reg.audit(jobs=0)
     reg.store.close()
-    return path
+    return target
 
 
 @pytest.fixture
-def db(audited_db, tmp_path) -> Path:
+def db(audited_db, databases) -> str:
     """A private copy of the audited database, to damage."""
-    copy = tmp_path / "registry.sqlite"
-    shutil.copy(audited_db, copy)
-    return copy
+    return databases.copy(audited_db)
 
 
-def damage(path: Path, *statements: str) -> None:
+def damage(target: str, *statements: str) -> None:
     """Change the database behind the registry's back (foreign keys off, as a careless
     tool would)."""
-    with closing(sqlite3.connect(path)) as conn:
-        conn.execute("PRAGMA foreign_keys=OFF")
-        for sql in statements:
-            conn.execute(sql)
-        conn.commit()
+    execute(target, *statements, foreign_keys=False)
 
 
-def problems(path: Path) -> list[str]:
-    with Store(path) as store:
+def problems(target: str) -> list[str]:
+    with Store(target) as store:
         return list(verify(store).problems)
 
 
-def pk_of(path: Path, case_id: str) -> int:
-    with closing(sqlite3.connect(path)) as conn:
-        return conn.execute("SELECT id FROM cases WHERE case_id = ?", (case_id,)).fetchone()[0]
+def pk_of(target: str, case_id: str) -> int:
+    ((pk,),) = rows(target, "SELECT id FROM cases WHERE case_id = :c", c=case_id)
+    return pk
 
 
 # ---------------------------------------------------------------- registry check
 
 
-def test_a_sound_database_passes(db):
+def test_a_sound_database_passes(db, backend):
     result = CliRunner().invoke(main, ["--db", str(db), "check"])
     assert result.exit_code == 0, result.output
     lines = result.stdout.splitlines()
     assert lines[0] == f"database {str(db)!r}, schema revision 0004"
     assert lines[1].startswith("3 case versions, 3 claims, 1 runs, ")
+    engine = "SQLite 3." if backend == "sqlite" else "PostgreSQL "
+    assert lines[2].startswith(f"engine: {engine}")
+    if backend == "postgres":
+        assert lines[2].endswith(', schema "public"')
     assert lines[-1] == "ok: integrity, foreign keys, hashes and every stored expression"
-    found = verify(Store(db))
+    with Store(db) as store:
+        found = verify(store)
     assert found.ok and found.counts["corrections"] > 0  # derived texts were looked at
 
 
@@ -101,8 +106,7 @@ def test_an_edited_case_text_is_found(db):
 
 def test_an_edited_column_is_found(db):
     damage(db, f"UPDATE cases SET potential = 'gamma3' WHERE case_id = '{YEHIA_B}'")
-    with closing(sqlite3.connect(db)) as conn:
-        (text,) = conn.execute("SELECT text FROM cases WHERE case_id = ?", (YEHIA_B,)).fetchone()
+    ((text,),) = rows(db, "SELECT text FROM cases WHERE case_id = :c", c=YEHIA_B)
     case = registry.parse_case_text(text)
     assert problems(db) == [
         f"case {YEHIA_B} version 1: potential: stored as 'gamma3', but the case text says "
@@ -139,10 +143,9 @@ def test_a_stored_text_that_no_longer_parses_is_found(db):
 
 
 def test_broken_references_and_unknown_values_are_found(db):
-    with closing(sqlite3.connect(db)) as conn:
-        (crossed,) = conn.execute(
-            "SELECT min(id) FROM check_results WHERE case_pk = ?", (pk_of(db, ZHUKOVSKY),)
-        ).fetchone()
+    ((crossed,),) = rows(
+        db, "SELECT min(id) FROM check_results WHERE case_pk = :pk", pk=pk_of(db, ZHUKOVSKY)
+    )
     damage(
         db,
         "UPDATE check_results SET run_id = 99 WHERE id = 1",
@@ -169,9 +172,18 @@ def test_the_cli_lists_the_problems_and_exits_1(db):
     assert result.stderr.splitlines() == ["Error: 1 problem(s) found in the database"]
 
 
+@POSTGRES
+@pytest.mark.parametrize("backend", ["postgres"], indirect=True)
+def test_foreign_keys_the_server_no_longer_enforces_are_found(db):
+    damage(db, "ALTER TABLE check_results DISABLE TRIGGER ALL")
+    assert problems(db) == ["check_results: its foreign keys are not enforced (triggers disabled)"]
+
+
 # ---------------------------------------------------------------- database errors
 
 
+# SQLite only: a database file that does not exist (on PostgreSQL: test_engine.py,
+# a database the server does not have)
 def test_a_missing_database_is_reported_and_not_created(tmp_path):
     missing = tmp_path / "nowhere.sqlite"
     with pytest.raises(DatabaseMissingError):
@@ -186,6 +198,8 @@ def test_a_missing_database_is_reported_and_not_created(tmp_path):
     assert not missing.exists()
 
 
+# SQLite only: a read-only file (on PostgreSQL: the read-only role below)
+@pytest.mark.parametrize("backend", ["sqlite"], indirect=True)
 def test_a_read_only_database_is_read_but_not_written(db):
     url = f"sqlite:///file:{db}?mode=ro&uri=true"
     reg = registry.open(url)
@@ -201,6 +215,33 @@ def test_a_read_only_database_is_read_but_not_written(db):
     assert result.stderr.splitlines() == [f"Error: {info.value}"]
 
 
+@POSTGRES
+@pytest.mark.parametrize("backend", ["postgres"], indirect=True)
+def test_a_read_only_role_reads_but_does_not_write(db, databases):
+    databases.server.execute(
+        "DO $$ BEGIN CREATE ROLE reader LOGIN; EXCEPTION WHEN duplicate_object THEN NULL; END $$"
+    )
+    execute(db, "GRANT SELECT ON ALL TABLES IN SCHEMA public TO reader")
+    url = db.replace("//registry@", "//reader@")
+    reg = registry.open(url)
+    assert set(reg.cases()["case"]) == set(PICK)  # reading works
+    assert reg.check().ok
+    with pytest.raises(DatabaseReadOnlyError) as info:
+        reg.add(CASES / "borisov-mamaev-1997.toml")
+    assert str(info.value) == (
+        f"the database server of {url!r} refuses role 'reader': permission denied for table "
+        "sources; ask the server's administrator to grant the privileges the registry needs"
+    )
+    result = CliRunner().invoke(main, ["--db", url, "add", str(CASES / "axis-torque.toml")])
+    assert result.exit_code == 1
+    (line,) = result.stderr.splitlines()
+    assert line.startswith(f"Error: the database server of {url!r} refuses role 'reader': ")
+    reg.close()
+
+
+# SQLite only: the file's page limit stands for a full disk; PostgreSQL's "disk full"
+# (SQLSTATE 53100) is mapped in test_engine.py, a real one would need a full filesystem
+@pytest.mark.parametrize("backend", ["sqlite"], indirect=True)
 def test_a_full_disk_stores_nothing_of_the_change(db, monkeypatch):
     def tiny(sa_engine, file_db):
         original(sa_engine, file_db)
@@ -230,6 +271,8 @@ def test_a_full_disk_stores_nothing_of_the_change(db, monkeypatch):
     assert dict(zip(after["case"], after["version"], strict=True)) == {**before, **dict(stored)}
 
 
+# SQLite's write lock; PostgreSQL's lock timeout is the test after this one
+@pytest.mark.parametrize("backend", ["sqlite"], indirect=True)
 def test_a_locked_database_is_retried_then_reported(db, monkeypatch):
     monkeypatch.setattr(engine, "BUSY_TIMEOUT", 0.1)
     monkeypatch.setattr(engine, "LOCK_ATTEMPTS", 2)
@@ -251,7 +294,41 @@ def test_a_locked_database_is_retried_then_reported(db, monkeypatch):
         holder.close()
 
 
+@POSTGRES
+@pytest.mark.parametrize("backend", ["postgres"], indirect=True)
+def test_a_lock_held_too_long_on_the_server_is_retried_then_reported(db, monkeypatch):
+    monkeypatch.setattr(engine, "BUSY_TIMEOUT", 0.1)
+    monkeypatch.setattr(engine, "LOCK_ATTEMPTS", 2)
+    reg = registry.open(db)
+    with connection(db) as holder:  # another session keeps new case versions out
+        holder.exec_driver_sql("LOCK TABLE cases IN SHARE ROW EXCLUSIVE MODE")
+        with pytest.raises(DatabaseLockedError) as info:
+            reg.add(CASES / "axis-torque.toml")
+        assert str(info.value) == (
+            f"database {db!r} is locked by another process (waited 0.2 s); "
+            "run the command again when the other registry command has finished"
+        )
+        assert set(reg.cases()["case"]) == set(PICK)  # reading goes on meanwhile
+    # a lock released while the registry retries is waited out
+    monkeypatch.setattr(engine, "LOCK_ATTEMPTS", 20)
+    with connection(db) as holder:
+        holder.exec_driver_sql("LOCK TABLE cases IN SHARE ROW EXCLUSIVE MODE")
+        threading.Timer(0.5, holder.get_transaction().rollback).start()
+        assert reg.add(CASES / "axis-torque.toml")[0].status == "added"
+    reg.close()
+
+
 # ------------------------------------------------------------- interrupted runs
+
+
+def insert_run(target: str, **values) -> int:
+    """A run row written behind the registry's back; returns its number."""
+    row = dict(
+        started_at=datetime(2026, 1, 1, tzinfo=UTC), status="running", code_version="test",
+        sympy_version="", python_version="", options={},
+    )  # fmt: skip
+    with connection(target) as conn:
+        return conn.execute(insert(RunRow).values(**row, **values).returning(RunRow.id)).scalar()
 
 
 def test_a_run_whose_process_died_is_marked_interrupted_on_the_next_start(db):
@@ -260,14 +337,9 @@ def test_a_run_whose_process_died_is_marked_interrupted_on_the_next_start(db):
     reg = registry.open(db)
     alive = reg.store.start_run({}, "test")  # this process: alive
     reg.store.close()
-    with closing(sqlite3.connect(db)) as conn, conn:
-        orphan = conn.execute(
-            "INSERT INTO audit_runs (started_at, status, code_version, sympy_version, "
-            "python_version, options, host, pid, pid_started) "
-            "SELECT started_at, 'running', 'test', '', '', '{}', host, ?, '1' "
-            "FROM audit_runs WHERE id = ?",
-            (dead.pid, alive),
-        ).lastrowid
+    with connection(db) as conn:
+        host = conn.execute(select(RunRow.host).where(RunRow.id == alive)).scalar()
+    orphan = insert_run(db, host=host, pid=dead.pid, pid_started="1")
     runs = registry.open(db).runs().set_index("run")["status"]
     assert runs[orphan] == "interrupted"
     assert runs[alive] == "running"  # its process (this one) is alive
@@ -275,12 +347,7 @@ def test_a_run_whose_process_died_is_marked_interrupted_on_the_next_start(db):
 
 
 def test_a_run_on_another_host_is_left_alone(db):
-    with closing(sqlite3.connect(db)) as conn, conn:
-        conn.execute(
-            "INSERT INTO audit_runs (started_at, status, code_version, sympy_version, "
-            "python_version, options, host, pid) VALUES "
-            "('2026-01-01 00:00:00', 'running', 't', '', '', '{}', 'elsewhere', 1)"
-        )
+    insert_run(db, host="elsewhere", pid=1)
     reg = registry.open(db)
     assert list(reg.runs()["status"]) == ["complete", "running"]
     assert verify(reg.store).notes == ("run 2 is still running (process 1 on elsewhere)",)
@@ -298,13 +365,13 @@ def test_an_interrupted_audit_in_process_is_recorded(db, monkeypatch):
     assert list(reg.runs()["status"]) == ["complete", "interrupted"]
 
 
-def test_a_signal_during_a_database_session_waits_for_its_end(tmp_path):
+def test_a_signal_during_a_database_session_waits_for_its_end(db_target):
     import os
     import signal
 
     from registry.cli import _interruptible
 
-    store = Store(tmp_path / "r.sqlite")
+    store = Store(db_target)
     finished = False
     with pytest.raises(KeyboardInterrupt), _interruptible(store):
         with store.write():

@@ -1,25 +1,39 @@
 """Schema migrations: a new database is built by the revisions and matches the models;
 a database of the first released schema (a dump kept in tests/data) is upgraded
-with its data intact after a backup copy; a newer schema is refused."""
+with its data intact after a backup copy; a newer schema is refused.
+
+On SQLite and on PostgreSQL (fixture ``backend``), except what is SQLite's own: the
+dump of a registry 0.1.0 file (before Alembic), and the backup copy. On PostgreSQL the
+same data is loaded into a database built by revision 0001, and upgraded in place in
+one transaction, with no copy (that is the administrator's pg_dump).
+"""
 
 from __future__ import annotations
 
+import json
 import sqlite3
 from contextlib import closing
+from datetime import UTC, datetime
 from pathlib import Path
 
 import pytest
 from alembic.autogenerate import compare_metadata
 from alembic.runtime.migration import MigrationContext
 from click.testing import CliRunner
+from conftest import POSTGRES
+from databases import connection, is_url
 from samples import TEST_DATA
-from sqlalchemy import create_engine, inspect, text
+from sqlalchemy import JSON, Boolean, DateTime, MetaData, create_engine, insert, inspect, text
+from sqlalchemy import column as sql_column
+from sqlalchemy import select as sql_select
+from sqlalchemy import table as sql_table
 
 import registry
 from registry.cli import main
 from registry.errors import NotADatabaseError, SchemaTooNewError
 from registry.store import migrate
 from registry.store.database import Store
+from registry.store.integrity import verify
 from registry.store.tables import SCHEMA_VERSION, Base, latest_verdicts
 
 FIRST_SCHEMA_DUMP = TEST_DATA / "registry-schema-1.sql"
@@ -43,14 +57,51 @@ ADDED = (
 )  # fmt: skip
 
 
-def rows(path: Path, table: str) -> list[dict]:
+def rows(target: Path | str, table: str) -> list[dict]:
     """The rows of ``table`` (columns of schema 1 only), in id order."""
-    with closing(sqlite3.connect(path)) as conn:
-        names = [r[1] for r in conn.execute(f"PRAGMA table_info({table})")]
-        old = [n for n in names if n not in ADDED]
-        columns = ", ".join(f'"{n}"' for n in old)
-        query = f"SELECT {columns} FROM {table} ORDER BY id"
-        return [dict(zip(old, r, strict=True)) for r in conn.execute(query)]
+    with connection(target) as conn:
+        old = [c["name"] for c in inspect(conn).get_columns(table) if c["name"] not in ADDED]
+        found = sql_table(table, *(sql_column(n) for n in old))
+        return [dict(r._mapping) for r in conn.execute(sql_select(found).order_by(found.c.id))]
+
+
+def first_schema(target: str, scratch: Path) -> str:
+    """A database of the first released schema holding the dump's data: on SQLite the
+    file exactly as registry 0.1.0 left it; on PostgreSQL (which 0.1.0 did not support)
+    a database built by revision 0001 holding the same rows."""
+    if not is_url(target):
+        return str(first_schema_db(Path(target)))
+    dump = first_schema_db(scratch / "first-schema.sqlite")
+    with connection(target) as conn:
+        migrate.command.upgrade(migrate._config(conn), migrate.FIRST_REVISION)
+        found = MetaData()
+        found.reflect(conn)
+        for name in TABLES:  # parents before children
+            table = found.tables[name]
+            values = [_typed(table, row) for row in rows_all(dump, name)]
+            if values:
+                conn.execute(insert(table), values)
+            # rows came with their ids: the next id follows them
+            conn.execute(
+                text(f"SELECT setval(pg_get_serial_sequence('{name}', 'id'), max(id)) FROM {name}")
+            )
+    return target
+
+
+def _typed(table, row: dict) -> dict:
+    """A row read from SQLite (JSON as text, booleans as 0/1, naive UTC times) in the
+    Python types PostgreSQL's columns take."""
+    out = {}
+    for name, value in row.items():
+        kind = table.c[name].type
+        if value is not None and isinstance(kind, JSON):
+            value = json.loads(value)
+        elif value is not None and isinstance(kind, Boolean):
+            value = bool(value)
+        elif value is not None and isinstance(kind, DateTime):
+            value = datetime.fromisoformat(value).replace(tzinfo=UTC)
+        out[name] = value
+    return out
 
 
 def upgraded(table: str, row: dict) -> dict:
@@ -67,8 +118,8 @@ def test_revisions_form_one_chain_ending_at_the_schema_version():
     assert int(migrate.head()) == SCHEMA_VERSION
 
 
-def test_a_new_database_built_by_the_revisions_matches_the_models(tmp_path):
-    with Store(tmp_path / "new.sqlite") as store, store.engine.connect() as conn:
+def test_a_new_database_built_by_the_revisions_matches_the_models(db_target):
+    with Store(db_target) as store, store.engine.connect() as conn:
         assert compare_metadata(MigrationContext.configure(conn), Base.metadata) == []
         assert MigrationContext.configure(conn).get_current_revision() == migrate.head()
         view = [c["name"] for c in inspect(conn).get_columns("latest_verdicts")]
@@ -78,6 +129,7 @@ def test_a_new_database_built_by_the_revisions_matches_the_models(tmp_path):
     assert store.upgraded_from is None and store.backup is None  # nothing to upgrade
 
 
+# SQLite only: registry 0.1.0's file, and the backup copy (PostgreSQL: the next test)
 def test_the_first_released_schema_is_upgraded_with_its_data_intact(tmp_path):
     path = first_schema_db(tmp_path / "old.sqlite")
     before = {t: rows(path, t) for t in TABLES}
@@ -122,19 +174,51 @@ def test_the_first_released_schema_is_upgraded_with_its_data_intact(tmp_path):
     ]
 
 
-def test_the_cli_says_that_it_upgraded_and_where_the_copy_is(tmp_path):
-    path = first_schema_db(tmp_path / "old.sqlite")
-    result = CliRunner().invoke(main, ["--db", str(path), "runs"])
+@POSTGRES
+@pytest.mark.parametrize("backend", ["postgres"], indirect=True)
+def test_a_server_database_of_the_first_schema_is_upgraded_in_place(db_target, tmp_path):
+    target = first_schema(db_target, tmp_path)
+    before = {t: rows(target, t) for t in TABLES}
+    assert before["cases"] and before["check_results"]
+
+    with Store(target) as store:
+        assert store.upgraded_from == "0001"
+        assert store.backup is None  # a server's database is its administrator's to copy
+        with store.engine.connect() as conn:
+            assert compare_metadata(MigrationContext.configure(conn), Base.metadata) == []
+        assert verify(store).ok  # foreign keys, hashes and every stored expression
+
+    after = {t: rows(target, t) for t in TABLES}
+    assert after == {t: [upgraded(t, r) for r in before[t]] for t in TABLES}
+    reg = registry.open(target)
+    assert set(reg.verdicts()["case"]) == {
+        "zhukovsky-gyrostat",
+        "yehia-2003-kovalevskaya-b",
+        "grioli-1957-charged-body",
+    }
+    old_runs = len(reg.runs())
+    reg.audit(["zhukovsky-gyrostat"], jobs=0)
+    assert len(reg.runs()) == old_runs + 1
+    reg.close()
+
+
+def test_the_cli_says_that_it_upgraded_and_where_the_copy_is(db_target, backend, tmp_path):
+    target = first_schema(db_target, tmp_path)
+    result = CliRunner().invoke(main, ["--db", target, "runs"])
     assert result.exit_code == 0, result.output
-    backup = tmp_path / "old.sqlite.schema-0001.bak"
-    assert result.stderr.splitlines()[0] == (
-        f"Upgraded database {str(path)!r} from schema revision 0001; "
-        f"the copy made before is {str(backup)!r}"
-    )
+    done = f"Upgraded database {target!r} from schema revision 0001"
+    if backend == "sqlite":
+        copy = f"{target}.schema-0001.bak"
+        assert result.stderr.splitlines()[0] == f"{done}; the copy made before is {copy!r}"
+    else:
+        assert result.stderr.splitlines()[0] == (
+            f"{done} in one transaction; no copy was made before (back up a PostgreSQL "
+            "database with pg_dump)"
+        )
 
 
-def test_a_newer_revision_is_refused_with_a_clear_message(tmp_path):
-    path = tmp_path / "new.sqlite"
+def test_a_newer_revision_is_refused_with_a_clear_message(db_target):
+    path = db_target
     with Store(path) as store, store.engine.begin() as conn:
         conn.execute(text("UPDATE alembic_version SET version_num = '0099'"))
     expected = (
@@ -149,6 +233,7 @@ def test_a_newer_revision_is_refused_with_a_clear_message(tmp_path):
     assert result.stderr.splitlines() == [f"Error: {expected}"]
 
 
+# SQLite only: databases from before Alembic are registry 0.1.0's files
 def test_a_newer_schema_from_before_alembic_is_refused(tmp_path):
     path = first_schema_db(tmp_path / "old.sqlite")
     with closing(sqlite3.connect(path)) as conn, conn:
@@ -158,22 +243,24 @@ def test_a_newer_schema_from_before_alembic_is_refused(tmp_path):
     assert not list(tmp_path.glob("*.bak"))  # refused before any copy or change
 
 
-def test_a_database_of_another_program_is_refused_untouched(tmp_path):
-    path = tmp_path / "other.sqlite"
-    with closing(sqlite3.connect(path)) as conn, conn:
-        conn.execute("CREATE TABLE notes (body TEXT)")
+def test_a_database_of_another_program_is_refused_untouched(db_target):
+    path = db_target
+    with connection(path) as conn:
+        conn.execute(text("CREATE TABLE notes (body TEXT)"))
     with pytest.raises(NotADatabaseError) as info:
         Store(path)
     assert str(info.value) == (
         f"{str(path)!r} is not a usable registry database (it holds other tables: notes)"
     )
-    with closing(sqlite3.connect(path)) as conn:
-        assert [r[0] for r in conn.execute("SELECT name FROM sqlite_master")] == ["notes"]
+    with connection(path) as conn:
+        assert inspect(conn).get_table_names() == ["notes"]
+        assert inspect(conn).get_view_names() == []
 
 
-def test_a_failed_upgrade_leaves_the_database_as_it_was(tmp_path, monkeypatch):
-    path = first_schema_db(tmp_path / "old.sqlite")
+def test_a_failed_upgrade_leaves_the_database_as_it_was(db_target, tmp_path, monkeypatch):
+    path = first_schema(db_target, tmp_path)
     before = {t: rows(path, t) for t in TABLES}
+    revision_before = _revision(path)
 
     def broken(conn, state):
         migrate.command.stamp(migrate._config(conn), migrate.FIRST_REVISION)
@@ -183,21 +270,28 @@ def test_a_failed_upgrade_leaves_the_database_as_it_was(tmp_path, monkeypatch):
     monkeypatch.setattr(migrate, "upgrade", broken)
     with pytest.raises(RuntimeError):
         Store(path)
-    with closing(sqlite3.connect(path)) as conn:
-        names = {r[0] for r in conn.execute("SELECT name FROM sqlite_master")}
-        columns = {r[1] for r in conn.execute("PRAGMA table_info(audit_runs)")}
-    assert "alembic_version" not in names and "host" not in columns
+    with connection(path) as conn:
+        columns = {c["name"] for c in inspect(conn).get_columns("audit_runs")}
+    assert _revision(path) == revision_before and "host" not in columns
     assert {t: rows(path, t) for t in TABLES} == before
     monkeypatch.undo()
     with Store(path) as store:  # and the next open upgrades it
         assert store.upgraded_from == "0001"
 
 
-def test_evidence_stored_before_revision_0003_keeps_the_verdict_it_was_compared_with(tmp_path):
+def _revision(target: str) -> str | None:
+    """The Alembic revision a database records (None: none, as before Alembic)."""
+    with connection(target) as conn:
+        return MigrationContext.configure(conn).get_current_revision()
+
+
+def test_evidence_stored_before_revision_0003_keeps_the_verdict_it_was_compared_with(
+    db_target, tmp_path
+):
     """Before 0003 the drift was compared with the verdict the claim's kind names; the
     upgrade records that kind, so the history does not claim an integral comparison."""
-    path = first_schema_db(tmp_path / "old.sqlite")
-    engine = create_engine(f"sqlite:///{path}")
+    path = first_schema(db_target, tmp_path)
+    engine = create_engine(path if is_url(path) else f"sqlite:///{path}")
     with engine.begin() as conn:
         config = migrate._config(conn)
         migrate.command.stamp(config, migrate.FIRST_REVISION)
@@ -207,7 +301,7 @@ def test_evidence_stored_before_revision_0003_keeps_the_verdict_it_was_compared_
             conn.execute(
                 text(
                     "INSERT INTO evidence (run_id, case_pk, claim_id, drift, floor, runs, "
-                    "contradicts, note) VALUES (1, :case, :claim, 1e-12, 1e-12, 3, 0, '')"
+                    "contradicts, note) VALUES (1, :case, :claim, 1e-12, 1e-12, 3, FALSE, '')"
                 ),
                 {"case": case_pk, "claim": claim_id},
             )
@@ -219,8 +313,7 @@ def test_evidence_stored_before_revision_0003_keeps_the_verdict_it_was_compared_
     assert {kind for _, _, kind in claims} == {"casimir", "integral"}  # both kinds occur
 
 
-def rows_all(path: Path, table: str) -> list[dict]:
+def rows_all(path: Path | str, table: str) -> list[dict]:
     """Every column of every row of ``table``, in id order."""
-    with closing(sqlite3.connect(path)) as conn:
-        conn.row_factory = sqlite3.Row
-        return [dict(r) for r in conn.execute(f"SELECT * FROM {table} ORDER BY id")]
+    with connection(path) as conn:
+        return [dict(r._mapping) for r in conn.execute(text(f"SELECT * FROM {table} ORDER BY id"))]

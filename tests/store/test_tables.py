@@ -1,10 +1,11 @@
 """The tables and the view: the schema version they record, foreign keys enforced by
-the database, and the ``latest_verdicts`` view usable from plain SQL."""
+the database, and the ``latest_verdicts`` view usable from plain SQL, on SQLite and on
+PostgreSQL (fixture ``store``); names that fit PostgreSQL's 63 bytes."""
 
 from __future__ import annotations
 
 import pytest
-from sqlalchemy import insert, text
+from sqlalchemy import insert, inspect, text
 from sqlalchemy.exc import IntegrityError
 from sqlalchemy.orm import Session
 from test_database import audit_of, count
@@ -13,8 +14,8 @@ from registry.store import tables
 from registry.store.tables import ResultRow, RunRow
 
 
-def test_memory_store_has_schema_version(memory_store):
-    with memory_store.engine.connect() as conn:
+def test_a_store_has_schema_version(store):
+    with store.engine.connect() as conn:
         value = conn.scalar(text("SELECT value FROM meta WHERE key = 'schema_version'"))
     assert value == str(tables.SCHEMA_VERSION) == "4"
 
@@ -33,12 +34,12 @@ def test_foreign_keys_are_enforced(store, sample_case):
     assert count(store, RunRow) == 0
 
 
-def test_view_is_queryable_with_plain_sql(file_store, sample_case):
-    file_store.add_case(sample_case)
-    (stored,) = file_store.case_versions()
-    run = file_store.start_run({}, code_version="x")
-    file_store.record_case(run, stored.pk, audit_of(sample_case, stored))
-    with file_store.engine.connect() as conn:
+def test_view_is_queryable_with_plain_sql(store, sample_case):
+    store.add_case(sample_case)
+    (stored,) = store.case_versions()
+    run = store.start_run({}, code_version="x")
+    store.record_case(run, stored.pk, audit_of(sample_case, stored))
+    with store.engine.connect() as conn:
         rows = conn.execute(
             text('SELECT "case", claim, "check", verdict FROM latest_verdicts ORDER BY result')
         ).all()
@@ -63,6 +64,24 @@ def test_the_orm_tables_are_the_registry_tables():
     }
     assert tables.latest_verdicts.name == tables.VIEW_NAME == "latest_verdicts"
     assert tables.RUN_STATUSES[0] == "running"
+
+
+def test_every_name_fits_postgresql(store):
+    """PostgreSQL cuts identifiers at 63 bytes (with a mere notice): every table, column,
+    index and constraint name the schema uses must fit, as the database reports them."""
+    names = {tables.VIEW_NAME}
+    for table in tables.Base.metadata.tables.values():
+        names |= {table.name, *(c.name for c in table.columns)}
+        names |= {i.name for i in table.indexes}
+    with store.engine.connect() as conn:
+        found = inspect(conn)
+        for table in found.get_table_names():
+            names |= {i["name"] for i in found.get_indexes(table)}
+            names |= {k["name"] for k in found.get_foreign_keys(table) if k["name"]}
+            names |= {u["name"] for u in found.get_unique_constraints(table) if u["name"]}
+    too_long = sorted(n for n in names if len(n.encode()) > 63)
+    assert too_long == []
+    assert {i.name for t in tables.Base.metadata.tables.values() for i in t.indexes} <= names
 
 
 def test_times_are_stored_aware_in_utc(store, sample_case):
