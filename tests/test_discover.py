@@ -134,8 +134,8 @@ SURVEYED = [
 ]
 
 
-def test_survey_records_a_search_of_every_case_and_reuses_it(tmp_path):
-    with registry.open(tmp_path / "r.sqlite") as reg:
+def test_survey_records_a_search_of_every_case_and_reuses_it(db_target):
+    with registry.open(db_target) as reg:
         reg.add(*SURVEYED)
         reports = reg.survey(jobs=1)
         searched = [(r.search.case, [e.text for e in r.search.options.on]) for r in reports]
@@ -168,8 +168,8 @@ def test_survey_records_a_search_of_every_case_and_reuses_it(tmp_path):
         assert reg.check().problems == ()
 
 
-def test_registry_survey_and_searches_commands(tmp_path):
-    db = tmp_path / "r.sqlite"
+def test_registry_survey_and_searches_commands(db_target):
+    db = db_target
     runner = CliRunner()
     assert runner.invoke(main, ["--db", str(db), "add", *map(str, SURVEYED[:2])]).exit_code == 0
     result = runner.invoke(main, ["--db", str(db), "survey", "--jobs", "1"])
