@@ -69,10 +69,12 @@ class Field:
 
 
 def _matrix(rows: int, cols: int, entries: Iterable[tuple[int, int, object]], field: Field):
-    dense = [[field.zero] * cols for _ in range(rows)]
+    """A sparse matrix (the systems are a few entries per row of thousands)."""
+    sparse: dict[int, dict[int, object]] = {}
     for r, c, v in entries:
-        dense[r][c] = v
-    return DomainMatrix(dense, (rows, cols), field.domain)
+        if v:
+            sparse.setdefault(r, {})[c] = v
+    return DomainMatrix(sparse, (rows, cols), field.domain)
 
 
 def nullspace(rows: int, cols: int, entries: Iterable[tuple[int, int, object]], field: Field):
@@ -81,7 +83,19 @@ def nullspace(rows: int, cols: int, entries: Iterable[tuple[int, int, object]], 
         return []
     if rows == 0:
         return [[field.one if i == j else field.zero for i in range(cols)] for j in range(cols)]
-    return _matrix(rows, cols, entries, field).nullspace().to_list()
+    matrix = _matrix(rows, cols, entries, field)
+    if not field.domain.is_FractionField:
+        return matrix.nullspace().to_list()
+    # Over Q(p), fraction-free elimination in Z[p] (denominators cleared row by row)
+    # is an order of magnitude faster than elimination with gcds in Q(p). Each vector,
+    # divided by its last nonzero entry (its free column), is the field's own basis.
+    _, over_ring = matrix.clear_denoms_rowwise(convert=True)
+    basis = over_ring.nullspace().convert_to(field.domain).to_list()
+    return [[v / last for v in vector] for vector in basis for last in [_last_nonzero(vector)]]
+
+
+def _last_nonzero(vector: Sequence) -> object:
+    return next(v for v in reversed(vector) if v)
 
 
 def rank(rows: int, cols: int, entries: Iterable[tuple[int, int, object]], field: Field) -> int:
