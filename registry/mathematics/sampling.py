@@ -258,10 +258,12 @@ def _derivative(value: sp.Expr, variable_count) -> sp.Expr:
     if all(isinstance(v, sp.Symbol) for v in variables) and value.is_polynomial(*variables):
         order = [(v, int(n)) for v, n in variable_count]
         gens = [*variables, *sorted(value.free_symbols - set(variables), key=str)]
-        try:  # over Q in all its symbols: no coefficient domain to construct
-            return sp.Poly(value, *gens, domain=sp.QQ).diff(*order).as_expr()
-        except (sp.PolynomialError, sp.polys.polyerrors.CoercionFailed):
-            return sp.Poly(value, *variables).diff(*order).as_expr()
+        if not value.has(sp.Float):  # floats are never made rational
+            try:  # over Q in all its symbols: no coefficient domain to construct
+                return sp.Poly(value, *gens, domain=sp.QQ).diff(*order).as_expr()
+            except (sp.PolynomialError, sp.polys.polyerrors.CoercionFailed):
+                pass
+        return sp.Poly(value, *variables).diff(*order).as_expr()
     return sp.diff(value, *variable_count)
 
 
