@@ -45,3 +45,21 @@ def test_a_familys_functions_become_polynomials_and_their_derivatives_follow():
     assert sp.expand(value - (sp.diff(instance, gamma1) + instance)) == 0
     assert sp.Poly(instance, *AXIS).total_degree() <= 2
     assert substitute_functions(S_VALUE, concrete) is S_VALUE  # nothing to replace
+
+
+def test_derivatives_of_concrete_functions_are_those_of_sympy():
+    f = sp.Function("f")
+    expr = (
+        k * sp.Derivative(f(gamma1, gamma2, gamma3), gamma1)
+        + sp.Derivative(f(gamma1, gamma2, gamma3), gamma2, 2)
+        + gamma3 * sp.Derivative(f(gamma1, gamma2, gamma3), gamma1, gamma3)
+    )
+    for seed in range(3):
+        funcs = concrete_functions({"f": (f, (gamma1, gamma2, gamma3))}, random.Random(seed))
+        lam = funcs["f"]
+        expected = expr.subs(f(gamma1, gamma2, gamma3), lam(gamma1, gamma2, gamma3)).doit()
+        assert sp.expand(substitute_functions(expr, funcs) - expected) == 0
+    # a choice with a float coefficient keeps it (never made rational)
+    floaty = {"f": sp.Lambda((gamma1, gamma2, gamma3), sp.Float(0.5) * gamma1**2 + k * gamma2)}
+    got = substitute_functions(sp.Derivative(f(gamma1, gamma2, gamma3), gamma1), floaty)
+    assert got == sp.Float(1.0) * gamma1 and got.has(sp.Float)
