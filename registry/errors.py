@@ -216,3 +216,52 @@ class SchemaTooNewError(StorageError):
             f"database {location!r} has schema {found}, newer than this registry supports "
             f"({supported}); upgrade the registry package to open it"
         )
+
+
+class SchedulerError(RegistryError):
+    """A Dask scheduler that cannot be used (``--scheduler``, ``REGISTRY_SCHEDULER``)."""
+
+    def __init__(self, address: str, message: str):
+        self.address = address
+        super().__init__(message)
+
+    def __str__(self) -> str:
+        return self.args[0]
+
+
+class SchedulerAddressError(SchedulerError, ValueError):
+    """A scheduler address that is neither ``PROTOCOL://HOST:PORT`` nor ``local:N``."""
+
+    def __init__(self, address: str, reason: str):
+        self.reason = reason
+        super().__init__(
+            address,
+            f"bad Dask scheduler address {_quote(address)}: {reason} "
+            "(expected tcp://HOST:PORT, or local:N for N local worker processes)",
+        )
+
+
+class SchedulerUnreachableError(SchedulerError, ConnectionError):
+    """No Dask scheduler answered at the address within the time the registry waits."""
+
+    def __init__(self, address: str, waited: float, detail: str = ""):
+        self.waited = waited
+        self.detail = detail
+        why = f" ({detail})" if detail else ""
+        super().__init__(
+            address,
+            f"no Dask scheduler answered at {_quote(address)} within {waited:g} s{why}; "
+            "start one (dask scheduler) or check the address",
+        )
+
+
+class DaskMissingError(SchedulerError, ImportError):
+    """``--scheduler`` was given but Dask distributed is not installed."""
+
+    def __init__(self, address: str, missing: str = "distributed"):
+        self.missing = missing
+        super().__init__(
+            address,
+            f"--scheduler {_quote(address)} needs Dask distributed, which is not installed "
+            f"(no module {missing!r}); install with pip install -e '.[dask]'",
+        )

@@ -27,6 +27,7 @@ ALLOWED: dict[str, set[str]] = {
     "language": BASE | {"mathematics"},
     "audit": BASE | {"mathematics", "language"},
     "discovery": BASE | {"mathematics", "language", "audit"},
+    "distributed": BASE | {"mathematics", "language", "audit", "discovery"},
     "store": BASE | {"language"},
 }
 #: Layers that may import anything but these.
@@ -134,11 +135,16 @@ def test_every_folder_of_the_package_is_a_known_layer():
         ("store/bad.py", "from .. import cli\n", "store may import only"),
         ("presentation/bad.py", "from ..cli import main\n", "presentation must not import cli"),
         ("api.py", "import registry.cli\n", "api must not import cli"),
+        (
+            "distributed/bad.py",
+            "from ..store.database import Store\n",
+            "distributed may import only audit, discovery, distributed, errors, language",
+        ),
     ],
 )
 def test_a_wrong_import_is_named_with_its_file_and_rule(tmp_path, file, text, expected):
     package = tmp_path / "registry"
-    for folder in ("mathematics", "store", "presentation", "audit"):
+    for folder in ("mathematics", "store", "presentation", "audit", "distributed"):
         (package / folder).mkdir(parents=True)
         (package / folder / "__init__.py").write_text("")
     (package / "__init__.py").write_text("")

@@ -1,0 +1,186 @@
+"""Where the computing runs: a Dask distributed scheduler, for one command.
+
+``--scheduler ADDRESS`` (else the ``REGISTRY_SCHEDULER`` environment variable) names
+a running scheduler, ``tcp://HOST:PORT`` (or ``tls://``, ``ws://``, ``wss://``,
+``ucx://``); ``local:N`` starts a ``LocalCluster`` of N worker processes (one thread
+each, bound to 127.0.0.1, no dashboard) for the duration of the command and closes it
+after; ``local`` alone starts one worker per core. Without either, the local worker
+pool (``audit/worker_pool.py``) does the work.
+
+>>> parse_scheduler("local:2")
+SchedulerAddress(text='local:2', workers=2)
+>>> parse_scheduler("127.0.0.1:8786").text
+'tcp://127.0.0.1:8786'
+>>> parse_scheduler("local:0")
+Traceback (most recent call last):
+...
+registry.errors.SchedulerAddressError: bad Dask scheduler address 'local:0': ...
+"""
+
+from __future__ import annotations
+
+import logging
+import os
+from collections.abc import Callable, Iterator, Mapping
+from contextlib import ExitStack, contextmanager
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+from urllib.parse import urlsplit
+
+from ..audit.worker_pool import default_jobs
+from ..errors import (
+    DaskMissingError,
+    SchedulerAddressError,
+    SchedulerError,
+    SchedulerUnreachableError,
+)
+
+if TYPE_CHECKING:
+    from distributed import Client
+
+#: The environment variable read when --scheduler is not given.
+SCHEDULER_ENV = "REGISTRY_SCHEDULER"
+#: Seconds to wait for a scheduler to answer before the command gives up.
+CONNECT_TIMEOUT = 10.0
+#: Protocols of Dask's communication layer that take HOST:PORT.
+PROTOCOLS = ("tcp", "tls", "ws", "wss", "ucx")
+
+
+@dataclass(frozen=True)
+class SchedulerAddress:
+    """A parsed ``--scheduler``: a scheduler's address, or ``local:N`` (``workers`` = N)."""
+
+    text: str
+    workers: int | None = None
+
+    @property
+    def local(self) -> bool:
+        """Whether the command starts its own LocalCluster."""
+        return self.workers is not None
+
+
+def scheduler_option(option: str | None, environ: Mapping[str, str] | None = None) -> str | None:
+    """The scheduler a command should use: ``option`` if given, else $REGISTRY_SCHEDULER,
+    else None (the local worker pool). An empty value counts as not given."""
+    if option:
+        return option
+    env = os.environ if environ is None else environ
+    return env.get(SCHEDULER_ENV) or None
+
+
+def parse_scheduler(text: str) -> SchedulerAddress:
+    """Check a scheduler address without contacting it; SchedulerAddressError if it is
+    neither ``PROTOCOL://HOST:PORT`` (a bare ``HOST:PORT`` means tcp) nor ``local[:N]``."""
+    given = text
+    text = text.strip()
+    if text == "local":
+        return SchedulerAddress("local", default_jobs())
+    if text.startswith("local:"):
+        count = text.removeprefix("local:")
+        if not count.isdigit() or int(count) < 1:
+            raise SchedulerAddressError(given, "local:N needs a whole number N >= 1")
+        return SchedulerAddress(f"local:{int(count)}", int(count))
+    if "://" not in text:
+        text = f"tcp://{text}"
+    protocol = text.split("://", 1)[0]
+    if protocol not in PROTOCOLS:
+        raise SchedulerAddressError(given, f"unknown protocol {protocol!r}")
+    parts = urlsplit(text)
+    try:
+        port = parts.port
+    except ValueError:
+        port = None
+    if not parts.hostname or port is None or parts.path or parts.query:
+        raise SchedulerAddressError(given, "it needs a host and a port")
+    return SchedulerAddress(text)
+
+
+def _distributed():
+    """The ``distributed`` module; DaskMissingError naming the install command if absent."""
+    try:
+        import distributed
+    except ImportError as err:
+        raise DaskMissingError("", err.name or "distributed") from err
+    return distributed
+
+
+@contextmanager
+def cluster_client(
+    scheduler: str | Client, *, timeout: float = CONNECT_TIMEOUT
+) -> Iterator[Client]:
+    """A Dask client connected for the duration of the block.
+
+    ``scheduler`` is an address (checked by ``parse_scheduler``), ``local:N``, or a
+    ``distributed.Client`` the caller already holds (used as it is, and left open).
+    For ``local:N`` a LocalCluster of N worker processes with one thread each is
+    started on 127.0.0.1 and closed when the block ends. SchedulerAddressError,
+    SchedulerUnreachableError and DaskMissingError are one-line user errors.
+    """
+    if not isinstance(scheduler, str):
+        yield scheduler
+        return
+    address = parse_scheduler(scheduler)
+    try:
+        distributed = _distributed()
+    except DaskMissingError as err:
+        raise DaskMissingError(scheduler, err.missing) from err
+    with ExitStack() as stack:
+        if address.local:
+            cluster = stack.enter_context(
+                distributed.LocalCluster(
+                    n_workers=address.workers,
+                    threads_per_worker=1,
+                    processes=True,
+                    host="127.0.0.1",
+                    dashboard_address=None,
+                    # the scheduler's HTTP endpoint (health, metrics) still starts: on a
+                    # free port of 127.0.0.1, not on 8787 where another cluster may be
+                    scheduler_kwargs={"dashboard_address": "127.0.0.1:0"},
+                    silence_logs=logging.ERROR,
+                )
+            )
+            client = stack.enter_context(distributed.Client(cluster, timeout=timeout))
+        else:
+            try:
+                client = distributed.Client(address.text, timeout=timeout)
+            except (OSError, TimeoutError) as err:
+                detail = "" if "Timed out" in str(err) else str(err)  # the timeout says it all
+                raise SchedulerUnreachableError(scheduler, timeout, detail) from err
+            stack.enter_context(client)
+        yield client
+
+
+def describe(client: Client) -> dict[str, Any]:
+    """What a run records of the cluster it used: the scheduler's address, the number of
+    workers and threads when it started, and the version of Dask distributed."""
+    nthreads = client.nthreads()
+    return {
+        "address": client.scheduler.address,
+        "workers": len(nthreads),
+        "threads": sum(nthreads.values()),
+        "distributed": _distributed().__version__,
+    }
+
+
+def threads(client: Client) -> int:
+    """Worker threads the cluster has now (at least 1: a cluster still starting counts
+    as one, and tasks wait for its workers)."""
+    return max(1, sum(client.nthreads().values()))
+
+
+def check_same_code(client: Client, version_of: Callable[[], str]) -> None:
+    """SchedulerError unless every worker of the cluster gives the answer this process
+    gives to ``version_of()`` (a picklable function): a run records results under this
+    process's code version, so its workers must run the same code. Workers that join
+    later are not asked."""
+    mine = version_of()
+    wrong = {w: v for w, v in client.run(version_of).items() if v != mine}
+    if wrong:
+        worker, theirs = sorted(wrong.items())[0]
+        others = f" (and {len(wrong) - 1} other worker(s))" if len(wrong) > 1 else ""
+        raise SchedulerError(
+            client.scheduler.address,
+            f"Dask worker {worker}{others} runs registry {theirs}, this command {mine}: "
+            "start the workers from the same code, or the run would record their "
+            "results under the wrong code version",
+        )
