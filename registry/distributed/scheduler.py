@@ -122,10 +122,16 @@ def cluster_client(
     address = parse_scheduler(scheduler)
     try:
         distributed = _distributed()
-    except DaskMissingError as err:
-        raise DaskMissingError(scheduler, err.missing) from err
+        from dask.config import set as dask_config
+    except (DaskMissingError, ImportError) as err:
+        missing = err.missing if isinstance(err, DaskMissingError) else err.name or "dask"
+        raise DaskMissingError(scheduler, missing) from err
     with ExitStack() as stack:
         if address.local:
+            # a worker is sent only the tasks it can run at once: the tail of a run is
+            # shared out evenly, and a worker that dies held no task queued behind
+            saturation = {"distributed.scheduler.worker-saturation": 1.0}
+            stack.enter_context(dask_config(saturation))
             cluster = stack.enter_context(
                 distributed.LocalCluster(
                     n_workers=address.workers,

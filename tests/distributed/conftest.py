@@ -5,6 +5,8 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 
+import dask
+import distributed  # noqa: F401 - its config defaults, before any dask.config.set
 import pytest
 
 
@@ -26,3 +28,15 @@ def thread_cluster() -> Iterator[object]:
         Client(cluster) as client,
     ):
         yield client
+
+
+@pytest.fixture(scope="module")
+def process_cluster():
+    """A client of a LocalCluster of two worker processes (one thread each), restarted
+    by their nannies when they die; the scheduler gives a task up when the second worker
+    running it dies (``allowed-failures`` 1, to keep the tests short)."""
+    from registry.distributed.scheduler import cluster_client
+
+    with dask.config.set({"distributed.scheduler.allowed-failures": 1}):
+        with cluster_client("local:2") as client:
+            yield client

@@ -10,13 +10,6 @@ import sys
 
 import pytest
 
-from registry.errors import (
-    DaskMissingError,
-    RegistryError,
-    SchedulerAddressError,
-    SchedulerError,
-    SchedulerUnreachableError,
-)
 from registry.distributed.scheduler import (
     SCHEDULER_ENV,
     SchedulerAddress,
@@ -27,6 +20,13 @@ from registry.distributed.scheduler import (
     scheduler_option,
     threads,
 )
+from registry.errors import (
+    DaskMissingError,
+    RegistryError,
+    SchedulerAddressError,
+    SchedulerError,
+    SchedulerUnreachableError,
+)
 
 
 @pytest.mark.parametrize(
@@ -34,7 +34,10 @@ from registry.distributed.scheduler import (
     [
         ("tcp://127.0.0.1:8786", SchedulerAddress("tcp://127.0.0.1:8786")),
         ("127.0.0.1:8786", SchedulerAddress("tcp://127.0.0.1:8786")),
-        ("tls://scheduler.cluster.example:8786", SchedulerAddress("tls://scheduler.cluster.example:8786")),
+        (
+            "tls://scheduler.cluster.example:8786",
+            SchedulerAddress("tls://scheduler.cluster.example:8786"),
+        ),
         ("tcp://[::1]:8786", SchedulerAddress("tcp://[::1]:8786")),
         (" local:3 ", SchedulerAddress("local:3", 3)),
         ("local:02", SchedulerAddress("local:2", 2)),

@@ -1,0 +1,144 @@
+"""run_calls: each index exactly once; a worker that dies takes no results with it (its
+batch is done elsewhere, and the events say so); a batch whose workers keep dying is
+tried item by item, and only the item that kills them is lost; leaving the loop
+early stops what runs."""
+
+from __future__ import annotations
+
+import os
+import signal
+import time
+from pathlib import Path
+
+import pytest
+
+from registry.distributed.tasks import Failure, pack, run_calls
+
+# ------------------------------------------------------- calls the workers run
+
+
+def square(n: int) -> int:
+    return n * n
+
+
+def sleep_then_mark(item: tuple[str, float]):
+    """Writes this process's id to ``item[0]``, then sleeps ``item[1]`` seconds."""
+    Path(item[0]).write_text(str(os.getpid()))
+    time.sleep(item[1])
+    return item
+
+
+def kill_my_worker(item: tuple[str, str]):
+    """``("always", _)`` kills its Dask worker every time; ``("once", marker)`` only when
+    ``marker`` does not exist yet (it creates it); anything else is returned."""
+    how, marker = item
+    if how == "always" or (how == "once" and not os.path.exists(marker)):
+        if how == "once":
+            Path(marker).touch()
+        os.kill(os.getppid(), signal.SIGKILL)  # the parent of this child: the worker
+        time.sleep(60)
+    return item
+
+
+# ------------------------------------------------------------------ helpers
+
+
+def alive(pid: int) -> bool:
+    try:
+        state = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0]
+    except OSError:
+        return False
+    return state not in ("Z", "X")
+
+
+# -------------------------------------------------------------------- tests
+
+
+def test_pack_keeps_groups_whole_where_they_fit():
+    assert pack([[0, 1, 2], [3], [4, 5], [6]], 2) == [[0, 1], [2, 3], [4, 5], [6]]
+    assert pack([[0], [1], [2]], 5) == [[0, 1, 2]]
+    assert pack([[3, 1, 2]], 1) == [[3], [1], [2]]
+    assert pack([], 3) == []
+
+
+def test_every_index_comes_once_with_its_result(process_cluster):
+    items = list(range(20))
+    batches = pack([[i] for i in items], 3)
+    found = list(run_calls(process_cluster, square, items, batches=batches))
+    assert sorted(i for i, _ in found) == items
+    assert all(value == i * i for i, value in found)
+
+
+def test_batches_must_partition_the_items(thread_cluster):
+    with pytest.raises(ValueError, match="every item index exactly once"):
+        list(run_calls(thread_cluster, square, [1, 2], batches=[[0], [0]]))
+
+
+def test_leaving_the_loop_early_stops_the_running_child(thread_cluster, tmp_path):
+    marker = tmp_path / "pid"
+    items = [(str(tmp_path / "first"), 0.0), (str(marker), 120.0)]  # one worker thread
+    calls = run_calls(thread_cluster, sleep_then_mark, items)
+    assert next(calls) == (0, items[0])
+    deadline = time.monotonic() + 30
+    while not marker.exists() and time.monotonic() < deadline:
+        time.sleep(0.05)
+    child = int(marker.read_text())
+    assert alive(child)
+    calls.close()  # what a Ctrl-C does to the loop
+    deadline = time.monotonic() + 10
+    while alive(child) and time.monotonic() < deadline:
+        time.sleep(0.05)
+    assert not alive(child), "the child of a cancelled task kept running"
+
+
+def test_a_worker_that_dies_takes_no_results_with_it(process_cluster, tmp_path):
+    items = [("once", str(tmp_path / "killed-once")), ("fine", "a"), ("fine", "b")]
+    events = []
+    found = dict(
+        run_calls(
+            process_cluster,
+            kill_my_worker,
+            items,
+            deadline=60,
+            batches=[[0, 1, 2]],
+            label=lambda item: item[0],
+            on_event=events.append,
+        )
+    )
+    assert found == dict(enumerate(items))
+    kinds = [e.kind for e in events]
+    assert kinds == ["worker-lost", "retried"], [str(e) for e in events]
+    lost, retried = events
+    assert lost.items == ("once", "fine", "fine")
+    assert (
+        str(lost) == f"once, fine, fine: worker {lost.worker} lost while holding them; rescheduled"
+    )
+    assert str(retried) == (
+        f"once, fine, fine: done on worker {retried.worker} after losing {lost.worker}"
+    )
+
+
+def test_an_item_that_kills_every_worker_is_given_up_alone(process_cluster, tmp_path):
+    items = [("always", ""), ("fine", "a"), ("fine", "b")]
+    events = []
+    found = dict(
+        run_calls(
+            process_cluster,
+            kill_my_worker,
+            items,
+            deadline=60,
+            batches=[[0, 1, 2]],
+            label=lambda item: f"{item[0]}-{item[1]}",
+            on_event=events.append,
+        )
+    )
+    assert (found[1], found[2]) == (items[1], items[2])
+    assert isinstance(found[0], Failure) and found[0].kind == "lost"
+    assert "KilledWorker" in found[0].reason
+    kinds = [e.kind for e in events]
+    assert [k for k in kinds if k != "worker-lost"] == ["split", "retrying", "given-up"], [
+        str(e) for e in events
+    ]
+    assert kinds.count("worker-lost") == 6  # 2 per try: allowed-failures is 1 here
+    assert events[-1].items == ("always-",)
+    assert str(events[-1]).startswith("always-: given up (KilledWorker: ")
