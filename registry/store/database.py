@@ -535,6 +535,14 @@ class Store:
                 session.add(result_row(run_id, case_pk, claim_id, result, reused))
 
     @guarded
+    def update_run_options(self, run_id: int, **changes: Any) -> None:
+        """Add or replace keys of a run's options, in one transaction: what a run learns
+        as it goes (the events of a Dask cluster: a worker lost, its cases retried)."""
+        with self.write() as session:
+            run = get_run(session, run_id)
+            run.options = {**(run.options or {}), **changes}  # a new dict: JSON is not tracked
+
+    @guarded
     def finish_run(self, run_id: int, status: str = "complete") -> None:
         """Mark a run ``complete``, ``failed`` or ``interrupted`` and stamp its end time."""
         if status not in RUN_STATUSES or status == "running":
