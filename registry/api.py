@@ -27,6 +27,9 @@ from .audit.time_budget import TimeBudget
 from .audit.worker_pool import audit_in_workers, default_jobs
 from .discovery.search import discover, search_options
 from .discovery.survey import searched, stated_options
+from .distributed.audits import audit_on_cluster
+from .distributed.scheduler import check_same_code, cluster_client, describe
+from .distributed.tasks import Event
 from .errors import CaseFormatError, RegistryError, UnknownCaseError
 from .language.case_writer import corrected_case_text, derived_case_text
 from .language.casefile import load_case, parse_case_text
@@ -39,6 +42,7 @@ from .store.integrity import Verification, verify
 
 if TYPE_CHECKING:
     import pandas as pd
+    from distributed import Client
 
 #: Where the registry lives when neither --db nor REGISTRY_DB says otherwise.
 DEFAULT_DB = Path("data") / "registry.sqlite"
@@ -198,6 +202,7 @@ class Registry:
         budget: TimeBudget | None = None,
         numeric: bool = False,
         progress: Callable[[str], None] | None = None,
+        scheduler: str | Client | None = None,
     ) -> AuditReport:
         """Audit the latest version of every case (or the named ones) and store the run.
 
@@ -209,7 +214,24 @@ class Registry:
         Each case's results are committed as it finishes;
         a case that fails to load or crashes is recorded as ``error``, one that
         overruns its budget as ``inconclusive``, and the others go on.
+
+        With ``scheduler`` (a Dask scheduler's address ``tcp://HOST:PORT``, ``local:N``
+        for a LocalCluster of N worker processes started for this audit, or a
+        ``distributed.Client`` already connected), the cases are audited on that Dask
+        cluster instead of ``jobs`` local workers, with the same results case by
+        case; only this process writes to the database. The run's options record
+        the scheduler, the cluster and what happened on it (``events``: workers
+        lost, cases retried elsewhere).
         """
+        if scheduler is None:
+            return self._audit(case_ids, fresh, jobs, budget, numeric, progress, None, None)
+        with cluster_client(scheduler) as client:
+            check_same_code(client, code_version)
+            given = scheduler if isinstance(scheduler, str) else client.scheduler.address
+            return self._audit(case_ids, fresh, jobs, budget, numeric, progress, client, given)
+
+    def _audit(self, case_ids, fresh, jobs, budget, numeric, progress, client, scheduler):
+        """``audit``, with ``client`` the Dask client of ``scheduler`` (or both None)."""
         budget = budget or DEFAULT_BUDGET
         jobs = default_jobs() if jobs is None else jobs
         stored = self.store.case_versions(list(case_ids) if case_ids else None)
@@ -221,7 +243,15 @@ class Registry:
             "budget": asdict(budget),
             "numeric": numeric,
         }
+        if client is not None:
+            options.update(jobs=None, scheduler=scheduler, cluster=describe(client), events=[])
         run = self.store.start_run(options, version)
+        events: list[str] = []
+
+        def happened(event: Event) -> None:  # recorded at once: a later crash keeps it
+            events.append(str(event))
+            self.store.update_run_options(run, events=list(events))
+
         audits: dict[int, CaseAudit] = {}
         cases: dict[str, Case] = {}
         todo: list[tuple[int, Case]] = []
@@ -243,7 +273,9 @@ class Registry:
                     self.store.record_case(run, row.pk, prior, reused=True)
                 else:
                     todo.append((i, case))
-            computed = self._compute([c for _, c in todo], jobs, budget, numeric, progress)
+            computed = self._compute(
+                [c for _, c in todo], jobs, budget, numeric, progress, client, happened
+            )
             with closing(computed):  # stops the workers at once if recording fails
                 for k, audit in computed:
                     i = todo[k][0]
@@ -260,14 +292,17 @@ class Registry:
         return AuditReport(run, ordered, cases, versions)
 
     @staticmethod
-    def _compute(cases, jobs, budget, numeric, progress):
-        """(index, audit) for each case, in workers or (jobs == 0) in this process."""
+    def _compute(cases, jobs, budget, numeric, progress, client=None, on_event=None):
+        """(index, audit) for each case: on the Dask cluster of ``client``, in workers, or
+        (jobs == 0) in this process."""
 
         def started(case: Case) -> None:
             if progress is not None:
                 progress(case.id)
 
-        if jobs == 0:
+        if client is not None:
+            yield from audit_on_cluster(client, cases, budget, numeric, started, on_event)
+        elif jobs == 0:
             for k, case in enumerate(cases):
                 started(case)
                 yield k, audit_case(case, budget=budget, numeric=numeric)

@@ -22,6 +22,7 @@ import click
 
 from .api import DEFAULT_SEARCH_BUDGET, Registry, default_target, discover_file, open_registry
 from .audit.case_audit import DEFAULT_BUDGET
+from .distributed.scheduler import SCHEDULER_ENV, scheduler_option
 from .errors import DatabaseMissingError, RegistryError, UnknownClaimError, printable
 from .model import Verdict
 from .presentation.search_output import search_text, statement
@@ -204,6 +205,14 @@ def add(paths: tuple[str, ...]) -> None:
     help="Worker processes (default: one per core; 0: in this process).",
 )
 @click.option(
+    "--scheduler",
+    metavar="ADDRESS",
+    default=None,
+    help="Audit on a Dask cluster: a scheduler's address (tcp://HOST:PORT), or local:N to "
+    "start N local Dask worker processes for this command "
+    f"(default: ${SCHEDULER_ENV}; without it, --jobs local workers).",
+)
+@click.option(
     "--budget",
     "check_budget",
     type=click.FloatRange(min=0, min_open=True),
@@ -228,6 +237,7 @@ def audit(
     as_json: bool,
     fresh: bool,
     jobs: int | None,
+    scheduler: str | None,
     check_budget: float | None,
     numeric: bool,
     strict: bool,
@@ -247,10 +257,19 @@ def audit(
     - where the numbers stand on a smaller set (one instance of a family's
       functions, said in the output), a flat drift cannot contradict a refutation.
 
+    \b
+    On a Dask cluster (--scheduler, or $REGISTRY_SCHEDULER; --jobs overrides the
+    variable): each case is audited in a child process of a Dask worker under the
+    same budgets, a case whose worker dies is audited again on another, and the
+    results are those of the local workers, case by case.
+
     Example: registry audit --case yehia-2003-kovalevskaya-b --json
     """
     from tqdm import tqdm
 
+    if jobs is not None and scheduler is not None:
+        raise click.UsageError("give --jobs (local workers) or --scheduler (Dask), not both")
+    scheduler = None if jobs is not None else scheduler_option(scheduler)
     reg = _registry()
     total = len(reg.store.case_versions(list(case_ids) or None))
     quiet = as_json or not sys.stderr.isatty()
@@ -270,6 +289,7 @@ def audit(
                 budget=budget,
                 numeric=numeric or strict,
                 progress=progress,
+                scheduler=scheduler,
             )
     finally:
         bar.close()

@@ -142,7 +142,9 @@ def cluster_client(
                     # the scheduler's HTTP endpoint (health, metrics) still starts: on a
                     # free port of 127.0.0.1, not on 8787 where another cluster may be
                     scheduler_kwargs={"dashboard_address": "127.0.0.1:0"},
-                    silence_logs=logging.ERROR,
+                    # Dask's own log lines (a worker's last heartbeat as the cluster closes)
+                    # are not the command's output: its errors come back as exceptions
+                    silence_logs=logging.CRITICAL,
                 )
             )
             client = stack.enter_context(distributed.Client(cluster, timeout=timeout))

@@ -1,0 +1,91 @@
+"""Audits on a Dask cluster: the local worker pool's work, through ``tasks.run_calls``.
+
+Each case is audited by ``audit_case`` in a child process of a Dask worker, under the
+same ``TimeBudget`` as in the local pool: every check is interrupted by SIGALRM in the
+child when its time is up, and the whole case is killed at
+``TimeBudget.case_deadline(count_checks(case))``. Cases sharing a torque go to one
+task, largest first, as in the local pool (``worker_pool.batches``); small groups
+share a task, so that Dask's cost per task and a child's start stay small beside
+the work. A killed case, or one whose child crashed, gets exactly the result the
+local pool gives it (``worker_pool.killed``, ``worker_pool.crashed``): the verdicts
+do not depend on where a case was audited.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Iterator, Sequence
+from functools import partial
+from typing import TYPE_CHECKING
+
+from ..audit.case_audit import audit_case, count_checks
+from ..audit.time_budget import TimeBudget
+from ..audit.worker_pool import batches, crashed, killed
+from ..model import Case, CaseAudit
+from .scheduler import threads
+from .children import Failure
+from .tasks import Event, pack, run_calls
+
+if TYPE_CHECKING:
+    from distributed import Client
+
+#: Tasks per worker thread the cases are cut into: enough that the last tasks to finish
+#: leave little idle time, few enough that each task's cost is small beside its work.
+TASKS_PER_THREAD = 4
+#: Cases per task at most: what a worker lost takes with it, and must do again.
+MAX_BATCH = 25
+
+
+def plan(cases: Sequence[Case], n_threads: int, max_batch: int = MAX_BATCH) -> list[list[int]]:
+    """The cases' indices cut into tasks: torque groups kept together (largest first),
+    about ``TASKS_PER_THREAD`` tasks per worker thread, none larger than ``max_batch``."""
+    size = math.ceil(len(cases) / max(1, n_threads * TASKS_PER_THREAD))
+    groups = [[i for i, _ in group] for group in batches(cases)]
+    return pack(groups, max(1, min(max_batch, size)))
+
+
+def as_audit(case: Case, outcome: CaseAudit | Failure) -> CaseAudit:
+    """A case's audit from what its call gave: the audit itself, or the local pool's
+    record of a killed or crashed worker."""
+    if isinstance(outcome, CaseAudit):
+        return outcome
+    if outcome.kind == "killed":
+        return killed(case, outcome.seconds or 0.0)
+    if outcome.kind == "crashed":
+        return crashed(case, f"worker died ({outcome.exitcode})")
+    return crashed(case, outcome.reason)
+
+
+def audit_on_cluster(
+    client: Client,
+    cases: Sequence[Case],
+    budget: TimeBudget,
+    numeric: bool = False,
+    done: Callable[[Case], None] | None = None,
+    on_event: Callable[[Event], None] | None = None,
+) -> Iterator[tuple[int, CaseAudit]]:
+    """Audit ``cases`` on the cluster of ``client``; yield (index, audit) as each arrives.
+
+    The counterpart of ``worker_pool.audit_in_workers``, with the same results case by
+    case; ``done`` is called with each case as its audit arrives, ``on_event`` with what
+    happened on the cluster (a worker lost, its cases done elsewhere).
+    """
+    audit = partial(audit_case, budget=budget, numeric=numeric)
+    calls = run_calls(
+        client,
+        audit,
+        cases,
+        deadline=lambda case: budget.case_deadline(count_checks(case)),
+        batches=plan(cases, threads(client)),
+        label=lambda case: case.id,
+        on_event=on_event,
+        name="registry-audit",
+    )
+    try:
+        for index, outcome in calls:
+            case = cases[index]
+            if done is not None:
+                done(case)
+            yield index, as_audit(case, outcome)
+    finally:
+        calls.close()
