@@ -22,8 +22,9 @@ import multiprocessing as mp
 import os
 import random
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, field, replace
+from typing import Any
 
 import sympy as sp
 from sympy import QQ
@@ -65,6 +66,16 @@ METHOD = (
 #: Progress callback: (candidates done, candidates known so far, what is being done).
 Progress = Callable[[int, int, str], None]
 
+#: Runs calls elsewhere (``registry.distributed.searches``: on a Dask cluster).
+#: ``mapper(fn, items, seconds)`` yields ``(index, value)`` as the calls complete, in any
+#: order, each index once: ``value`` is ``fn(items[index])``, or an exception saying why
+#: there is none; ``seconds`` bounds each call (None: no bound). Closing the iterator
+#: stops what still runs.
+Mapper = Callable[[Callable[[Any], Any], Sequence[Any], float | None], Iterator[tuple[int, Any]]]
+#: Seconds a call given to a mapper may run past the search's budget before it is
+#: killed: the budget's own alarm, here, stops the search first.
+MAPPER_GRACE = 5.0
+
 
 @dataclass
 class _State:
@@ -95,6 +106,7 @@ def discover(
     jobs: int = 1,
     seed: int = 0,
     progress: Progress | None = None,
+    mapper: Mapper | None = None,
 ) -> Search:
     """Search ``case`` for first integrals (module docstring).
 
@@ -102,7 +114,10 @@ def discover(
     stay symbolic and generic. ``budget`` bounds the whole search in seconds: when it
     runs out, what was proven so far is returned with ``complete`` false and the
     coverage saying where the search stopped. ``jobs`` > 1 searches candidate sets in
-    that many processes.
+    that many processes; a ``mapper`` searches them where it runs its calls (a Dask
+    cluster), with the same results. A candidate set the mapper could not search (its
+    call killed, lost, or failed) is named in the coverage, and the search is then not
+    complete.
     """
     started = time.perf_counter()
     options = options or SearchOptions()
@@ -114,9 +129,13 @@ def discover(
         )
     state = _State(options, seed, progress=progress)
     free = [case.parameters[f] for f in options.free]
+    elsewhere = None
+    if mapper is not None:
+        seconds = None if budget is None else budget + MAPPER_GRACE
+        elsewhere = (mapper, seconds)
     try:
         with time_limit(budget):
-            _, state.found = _search(state, case, free, (), jobs)
+            _, state.found = _search(state, case, free, (), jobs, elsewhere)
     except BudgetExceeded:
         state.undecided.append(
             f"time budget exceeded ({budget:g} s) after {state.done} of the "
@@ -160,8 +179,17 @@ def search_options(
     return SearchOptions(degree, tuple(weights), equations, tuple(free))
 
 
-def _search(state: _State, case: Case, free: list[sp.Symbol], when: tuple[str, ...], jobs: int = 1):
-    """(integrals of the case for generic values of ``free``, special sets found in it)."""
+def _search(
+    state: _State,
+    case: Case,
+    free: list[sp.Symbol],
+    when: tuple[str, ...],
+    jobs: int = 1,
+    elsewhere: tuple[Mapper, float | None] | None = None,
+):
+    """(integrals of the case for generic values of ``free``, special sets found in it);
+    the candidate sets searched in ``jobs`` processes, or by ``elsewhere`` (a mapper and
+    the seconds each of its calls may take)."""
     rnd = state.rnd(when)
     m = CaseMechanics(case)
     system, params = _system(state.options, m, free)
@@ -196,7 +224,7 @@ def _search(state: _State, case: Case, free: list[sp.Symbol], when: tuple[str, .
             candidates.append((sub, [p for p in free if p not in assignment], sub_when))
     state.total += len(candidates)
     special: list[IntegralSet] = []
-    for g, more, undecided in _each(state, candidates, jobs):
+    for g, more, undecided in _each(state, candidates, jobs, elsewhere):
         if g.extra > generic.extra:
             special.append(g)
         special.extend(more)
@@ -204,9 +232,12 @@ def _search(state: _State, case: Case, free: list[sp.Symbol], when: tuple[str, .
     return found, special
 
 
-def _each(state: _State, candidates, jobs: int):
-    """Search each candidate set, in this process or in ``jobs`` processes; results come
-    in the candidates' order either way."""
+def _each(state: _State, candidates, jobs: int, elsewhere=None):
+    """Search each candidate set, in this process, in ``jobs`` processes or through the
+    mapper of ``elsewhere``; results come in the candidates' order in every case."""
+    if elsewhere is not None and candidates:
+        yield from _each_elsewhere(state, candidates, *elsewhere)
+        return
     if jobs <= 1 or len(candidates) <= 1:
         for sub, rest, when in candidates:
             if state.progress is not None:
@@ -231,6 +262,35 @@ def _each(state: _State, candidates, jobs: int):
     finally:
         pool.terminate()  # at once, also when the budget ran out in the middle
         pool.join()
+
+
+def _each_elsewhere(state: _State, candidates, mapper: Mapper, seconds: float | None):
+    """``_each`` through a mapper: its results, which come in any order, are put back in
+    the candidates' order; a candidate set it could not search is undecided."""
+    bare = replace(state, progress=None, found=[], undecided=[])
+    work = [(bare, sub, rest, when) for sub, rest, when in candidates]
+    calls = mapper(_search_apart, work, seconds)
+    arrived: dict[int, Any] = {}
+    following = 0
+    try:
+        for index, value in calls:
+            arrived[index] = value
+            while following in arrived:
+                value = arrived.pop(following)
+                when = candidates[following][2]
+                following += 1
+                if state.progress is not None:
+                    state.progress(state.done, state.total, ", ".join(when))
+                state.done += 1
+                if isinstance(value, BaseException):
+                    why = f"candidate set {', '.join(when)} not searched ({value})"
+                    yield IntegralSet(when, 0), [], [why]
+                else:
+                    yield value
+    finally:
+        close = getattr(calls, "close", None)
+        if close is not None:
+            close()  # at once, also when the budget ran out in the middle
 
 
 def _search_apart(work):
