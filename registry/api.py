@@ -15,7 +15,7 @@ import hashlib
 import os
 from collections.abc import Callable, Iterable, Sequence
 from contextlib import closing
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, replace
 from functools import cache
 from importlib import metadata
 from pathlib import Path
@@ -29,6 +29,7 @@ from .discovery.search import discover, search_options
 from .discovery.survey import searched, stated_options
 from .distributed.audits import audit_on_cluster
 from .distributed.scheduler import check_same_code, cluster_client, describe
+from .distributed.searches import discover_on_cluster
 from .distributed.tasks import Event
 from .errors import CaseFormatError, RegistryError, UnknownCaseError
 from .language.case_writer import corrected_case_text, derived_case_text
@@ -121,6 +122,9 @@ class SearchReport:
     number: int | None = None
     reused: bool = False
     derived: tuple[str, ...] = ()
+    #: What happened on the Dask cluster that ran the search (workers lost, candidate
+    #: sets searched again elsewhere), one line each; empty without a scheduler.
+    events: tuple[str, ...] = ()
 
     def document(self) -> dict:
         """The JSON document of CASE_FORMAT.md (section Discovery) for this search."""
@@ -130,6 +134,8 @@ class SearchReport:
             document["reused"] = self.reused
         if self.derived:
             document["derived_cases"] = list(self.derived)
+        if self.events:
+            document["events"] = list(self.events)
         return document
 
 
@@ -141,6 +147,10 @@ class AuditReport:
     audits: tuple[CaseAudit, ...]
     cases: dict[str, Case] = field(default_factory=dict)
     versions: dict[str, int] = field(default_factory=dict)
+    #: What happened on the Dask cluster that ran the audit (workers lost, cases audited
+    #: again elsewhere), one line each, as recorded in the run's options; empty without
+    #: a scheduler.
+    events: tuple[str, ...] = ()
 
     def outcomes(self) -> tuple[CaseOutcome, ...]:
         """What the run found, case by case, as typed objects (what every renderer reads)."""
@@ -289,7 +299,7 @@ class Registry:
             self.store.finish_run(run, status)
         ordered = tuple(audits[i] for i in sorted(audits))
         versions = {row.case_id: row.version for row in stored}
-        return AuditReport(run, ordered, cases, versions)
+        return AuditReport(run, ordered, cases, versions, tuple(events))
 
     @staticmethod
     def _compute(cases, jobs, budget, numeric, progress, client=None, on_event=None):
@@ -324,6 +334,7 @@ class Registry:
         budget: float | None = DEFAULT_SEARCH_BUDGET,
         jobs: int = 1,
         progress=None,
+        scheduler: str | Client | None = None,
     ) -> SearchReport:
         """Search a case (a case file, a stored case's id, or a ``Case``) for first
         integrals of weighted ``degree`` <= K (``weights`` of M and gamma), on the level
@@ -335,19 +346,24 @@ class Registry:
         case file added first if need be): its generic integrals become claims of the
         searched version, and each special set a derived case holding its integrals as
         claims, so that the next audit decides them like any literature claim.
+
+        With ``scheduler`` (as for ``audit``: an address, ``local:N`` or a connected
+        ``distributed.Client``), the candidate parameter sets are searched on that Dask
+        cluster instead of ``jobs`` local processes, with the same result; the report's
+        ``events`` say what happened there. Only this process writes to the database.
         """
         case, stored = self._search_target(target)
         options = search_options(case, degree=degree, weights=weights, on=on, free=free)
         reused = None if fresh else self._reused_search(case, stored, options)
         if reused is not None:
             return reused
-        search = discover(case, options, budget=budget, jobs=jobs, progress=progress)
+        search, events = _run_search(case, options, budget, jobs, progress, scheduler)
         if not record:
-            return SearchReport(search)
+            return SearchReport(search, events=events)
         if stored is None:
             self.store.add_case(case)
             (stored,) = [s for s in self.store.case_versions([case.id])]
-        return self._recorded(stored, case, search)
+        return replace(self._recorded(stored, case, search), events=events)
 
     def survey(
         self,
@@ -614,11 +630,32 @@ def discover_file(
     budget: float | None = DEFAULT_SEARCH_BUDGET,
     jobs: int = 1,
     progress=None,
+    scheduler: str | Client | None = None,
 ) -> SearchReport:
     """Search a case file without a database (``Registry.discover`` has the options)."""
     case = load_case(path)
     options = search_options(case, degree=degree, weights=weights, on=on, free=free)
-    return SearchReport(discover(case, options, budget=budget, jobs=jobs, progress=progress))
+    search, events = _run_search(case, options, budget, jobs, progress, scheduler)
+    return SearchReport(search, events=events)
+
+
+def _run_search(case, options, budget, jobs, progress, scheduler) -> tuple[Search, tuple[str, ...]]:
+    """A search in this process, in ``jobs`` processes, or on the Dask cluster of
+    ``scheduler``; and what happened on the cluster, one line each."""
+    if scheduler is None:
+        return discover(case, options, budget=budget, jobs=jobs, progress=progress), ()
+    events: list[str] = []
+    with cluster_client(scheduler) as client:
+        check_same_code(client, code_version)
+        search = discover_on_cluster(
+            client,
+            case,
+            options,
+            budget=budget,
+            progress=progress,
+            on_event=lambda event: events.append(str(event)),
+        )
+    return search, tuple(events)
 
 
 def open_registry(target: str | os.PathLike | None = None, *, create: bool = True) -> Registry:

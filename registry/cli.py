@@ -293,6 +293,8 @@ def audit(
             )
     finally:
         bar.close()
+    for event in report.events:
+        click.echo(f"note: {event}", err=True)
     if as_json:
         click.echo(json.dumps(report.document(), indent=2, ensure_ascii=False))
     else:
@@ -371,9 +373,16 @@ def _weights(text: str) -> tuple[int, int]:
 @click.option(
     "--jobs",
     type=click.IntRange(min=1),
-    default=1,
-    show_default=True,
-    help="Processes searching the candidate parameter values.",
+    default=None,
+    help="Processes searching the candidate parameter values (default: 1).",
+)
+@click.option(
+    "--scheduler",
+    metavar="ADDRESS",
+    default=None,
+    help="Search the candidate parameter values on a Dask cluster: a scheduler's address "
+    "(tcp://HOST:PORT), or local:N to start N local Dask worker processes "
+    f"(default: ${SCHEDULER_ENV}; --jobs overrides the variable).",
 )
 @_user_errors
 def discover(
@@ -386,7 +395,8 @@ def discover(
     record: bool,
     fresh: bool,
     seconds: float,
-    jobs: int,
+    jobs: int | None,
+    scheduler: str | None,
 ) -> None:
     """Search a case (a case file or a stored case's id) for first integrals.
 
@@ -401,6 +411,10 @@ def discover(
     """
     from tqdm import tqdm
 
+    if jobs is not None and scheduler is not None:
+        raise click.UsageError("give --jobs (local processes) or --scheduler (Dask), not both")
+    scheduler = None if jobs is not None else scheduler_option(scheduler)
+    jobs = 1 if jobs is None else jobs
     weights = _weights(weights_text)
     free = tuple(f.strip() for f in free_text.split(",") if f.strip())
     is_file = Path(target).is_file()
@@ -414,7 +428,15 @@ def discover(
         bar.n = done
         bar.set_postfix_str(where, refresh=True)
 
-    options = dict(degree=degree, weights=weights, on=on, free=free, budget=seconds, jobs=jobs)
+    options = dict(
+        degree=degree,
+        weights=weights,
+        on=on,
+        free=free,
+        budget=seconds,
+        jobs=jobs,
+        scheduler=scheduler,
+    )
     try:
         if reg is None:
             report = discover_file(target, progress=progress, **options)
@@ -425,6 +447,8 @@ def discover(
                 )
     finally:
         bar.close()
+    for event in report.events:
+        click.echo(f"note: {event}", err=True)
     if as_json:
         click.echo(json.dumps(report.document(), indent=2, ensure_ascii=False))
         return

@@ -1,0 +1,81 @@
+"""Integral searches on a Dask cluster: the candidate sets of the rank-drop locus are
+searched on the workers and the search is the one made locally; a candidate that
+cannot be searched there is named in the coverage, never dropped in silence."""
+
+from __future__ import annotations
+
+import time
+from dataclasses import replace
+from pathlib import Path
+
+import registry
+from registry.discovery.search import discover, search_options
+from registry.distributed.searches import _label, cluster_mapper, discover_on_cluster
+from registry.errors import DiscoveryError
+from registry.language.casefile import load_case
+
+FAMILIES = Path(__file__).resolve().parents[1] / "data" / "families"
+
+
+def family(name: str):
+    return load_case(FAMILIES / f"{name}.toml")
+
+
+def same(one, two) -> bool:
+    """Two searches with the same outcome (not the same running time)."""
+    return replace(one, seconds=0.0) == replace(two, seconds=0.0)
+
+
+def nap(seconds: float) -> float:
+    time.sleep(seconds)
+    return seconds
+
+
+def test_the_candidate_sets_searched_on_the_cluster_give_the_local_search(process_cluster):
+    case = family("heavy-top-lam-z0")
+    options = search_options(case, degree=4, free=("lam", "z0"))
+    here = discover(case, options, budget=300)
+    in_processes = discover(case, options, budget=300, jobs=2)
+    seen, events = [], []
+    on_cluster = discover_on_cluster(
+        process_cluster,
+        case,
+        options,
+        budget=300,
+        progress=lambda done, total, where: seen.append((done, total, where)),
+        on_event=events.append,
+    )
+    assert same(on_cluster, here) and same(on_cluster, in_processes)
+    assert on_cluster.complete
+    assert {s.when for s in on_cluster.special} == {("lam = 1",), ("lam = 2", "z0 = 0")}
+    # every candidate set went through the cluster, reported in the candidates' order
+    assert [done for done, _, _ in seen] == list(range(len(seen))) and len(seen) >= 2
+    assert events == []
+
+
+def test_a_call_past_its_deadline_comes_back_as_a_discovery_error(process_cluster):
+    mapper = cluster_mapper(process_cluster, label=str)
+    found = dict(mapper(nap, [0.0, 30.0], 1.0))
+    assert found[0] == 0.0
+    assert isinstance(found[1], DiscoveryError)
+    assert str(found[1]).startswith("killed on worker tcp://127.0.0.1:")
+    assert str(found[1]).endswith("deadline of 1 s exceeded; child process killed")
+
+
+def test_candidates_are_named_by_their_equations():
+    assert _label(("state", "case", [], ("lam = 2", "z0 = 0"))) == "lam = 2, z0 = 0"
+
+
+def test_registry_discover_with_a_scheduler_records_the_same_search(tmp_path, process_cluster):
+    path = FAMILIES / "heavy-top-lam-z0.toml"
+    local = registry.open(tmp_path / "local.sqlite")
+    on_dask = registry.open(tmp_path / "dask.sqlite")
+    options = dict(degree=4, free=("lam", "z0"), record=True)
+    expected = local.discover(path, **options)
+    got = on_dask.discover(path, scheduler=process_cluster, **options)
+    assert same(got.search, expected.search)
+    assert got.derived == expected.derived and len(got.derived) == 2
+    assert got.events == () and "events" not in got.document()
+    assert got.number == expected.number == 1
+    columns = ["case", "complete", "statement"]
+    assert on_dask.searches()[columns].equals(local.searches()[columns])
