@@ -1,9 +1,18 @@
 """Dask clusters for the tests: in this process (workers as threads, so that a
-monkeypatched check reaches the child processes they fork), or in processes."""
+monkeypatched check reaches the child processes they fork), in processes of a
+LocalCluster, or as separate ``dask scheduler`` and ``dask worker`` processes."""
 
 from __future__ import annotations
 
+import json
+import os
+import subprocess
+import sys
+import time
 from collections.abc import Iterator
+from contextlib import contextmanager
+from dataclasses import dataclass
+from pathlib import Path
 
 import dask
 import distributed  # noqa: F401 - its config defaults, before any dask.config.set
@@ -40,3 +49,116 @@ def process_cluster():
     with dask.config.set({"distributed.scheduler.allowed-failures": 1}):
         with cluster_client("local:2") as client:
             yield client
+
+
+# ------------------------------------------ a cluster of separate dask processes
+
+#: The directory that holds the package under test: the workers must import the same code.
+SOURCE = str(Path(__file__).resolve().parents[2])
+
+
+def dask_command(*args: str) -> list[str]:
+    """The ``dask`` command line of this environment (``dask scheduler``, ``dask worker``)."""
+    script = Path(sys.executable).parent / "dask"
+    return [str(script), *args] if script.exists() else [sys.executable, "-m", "dask", *args]
+
+
+def source_environment() -> dict[str, str]:
+    """This environment, with the package under test first on the workers' path."""
+    path = os.environ.get("PYTHONPATH", "")
+    return {**os.environ, "PYTHONPATH": os.pathsep.join(p for p in (SOURCE, path) if p)}
+
+
+@dataclass
+class DaskProcesses:
+    """A ``dask scheduler`` and ``dask worker`` processes started for a test."""
+
+    address: str
+    scheduler: subprocess.Popen
+    workers: list[subprocess.Popen]
+    logs: Path
+
+    def log(self) -> str:
+        """What the processes wrote (for a failing test's message)."""
+        return "\n".join(p.read_text(errors="replace") for p in sorted(self.logs.glob("*.log")))
+
+
+def _stop(procs: list[subprocess.Popen]) -> None:
+    for proc in procs:
+        if proc.poll() is None:
+            proc.terminate()
+    for proc in procs:
+        try:
+            proc.wait(timeout=10)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+            proc.wait()
+
+
+def _address(file: Path, scheduler: subprocess.Popen, deadline: float) -> str:
+    """The scheduler's address, once it has written its scheduler file."""
+    while True:
+        try:
+            return json.loads(file.read_text())["address"]
+        except (OSError, ValueError, KeyError):
+            assert scheduler.poll() is None, (file.parent / "scheduler.log").read_text()
+            assert time.monotonic() < deadline, "the scheduler did not start"
+            time.sleep(0.1)
+
+
+@contextmanager
+def dask_processes(where: Path, n_workers: int = 2) -> Iterator[DaskProcesses]:
+    """A scheduler and ``n_workers`` workers (one thread each, no nanny: a worker killed
+    stays dead), each a ``dask`` process of its own on 127.0.0.1, for the block only."""
+    from distributed import Client
+
+    where.mkdir(parents=True, exist_ok=True)
+    file = where / "scheduler.json"
+    env = source_environment()
+    started: list[subprocess.Popen] = []
+
+    def start(name: str, *args: str) -> subprocess.Popen:
+        with open(where / f"{name}.log", "wb") as log:
+            proc = subprocess.Popen(
+                dask_command(*args), stdout=log, stderr=subprocess.STDOUT, env=env
+            )
+        started.append(proc)
+        return proc
+
+    try:
+        here = "--host 127.0.0.1".split()
+        scheduler = start(
+            "scheduler",
+            "scheduler",
+            *here,
+            *"--port 0 --dashboard-address 127.0.0.1:0 --scheduler-file".split(),
+            str(file),
+        )
+        address = _address(file, scheduler, time.monotonic() + 60)
+        one = "--nthreads 1 --nworkers 1 --no-nanny --no-dashboard".split()
+        workers = [
+            start(
+                f"worker-{i}",
+                "worker",
+                "--scheduler-file",
+                str(file),
+                *here,
+                *one,
+                "--name",
+                f"worker-{i}",
+            )
+            for i in range(n_workers)
+        ]
+        with Client(address, timeout=30) as client:
+            client.wait_for_workers(n_workers, timeout=60)
+        yield DaskProcesses(address, scheduler, workers, where)
+    finally:
+        _stop(started[1:])
+        _stop(started[:1])
+
+
+@pytest.fixture
+def separate_processes(tmp_path) -> Iterator[DaskProcesses]:
+    """A ``dask scheduler`` and two ``dask worker`` processes (see ``dask_processes``)."""
+    with dask_processes(tmp_path / "dask") as cluster:
+        yield cluster
