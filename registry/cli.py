@@ -208,8 +208,8 @@ def add(paths: tuple[str, ...]) -> None:
     "--scheduler",
     metavar="ADDRESS",
     default=None,
-    help="Audit on a Dask cluster: a scheduler's address (tcp://HOST:PORT), or local:N to "
-    "start N local Dask worker processes for this command "
+    help="Audit on a Dask cluster: a scheduler's address (tcp://HOST:PORT) or scheduler file "
+    "(FILE.json), or local:N to start N local Dask worker processes for this command "
     f"(default: ${SCHEDULER_ENV}; without it, --jobs local workers).",
 )
 @click.option(
@@ -381,7 +381,8 @@ def _weights(text: str) -> tuple[int, int]:
     metavar="ADDRESS",
     default=None,
     help="Search the candidate parameter values on a Dask cluster: a scheduler's address "
-    "(tcp://HOST:PORT), or local:N to start N local Dask worker processes "
+    "(tcp://HOST:PORT) or scheduler file (FILE.json), or local:N to start N local Dask "
+    "worker processes "
     f"(default: ${SCHEDULER_ENV}; --jobs overrides the variable).",
 )
 @_user_errors

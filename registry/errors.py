@@ -230,14 +230,16 @@ class SchedulerError(RegistryError):
 
 
 class SchedulerAddressError(SchedulerError, ValueError):
-    """A scheduler address that is neither ``PROTOCOL://HOST:PORT`` nor ``local:N``."""
+    """A scheduler address that is neither ``PROTOCOL://HOST:PORT``, a scheduler file
+    nor ``local:N``."""
 
     def __init__(self, address: str, reason: str):
         self.reason = reason
         super().__init__(
             address,
             f"bad Dask scheduler address {_quote(address)}: {reason} "
-            "(expected tcp://HOST:PORT, or local:N for N local worker processes)",
+            "(expected tcp://HOST:PORT, a scheduler file FILE.json, or local:N for N local "
+            "worker processes)",
         )
 
 

@@ -2,10 +2,12 @@
 
 ``--scheduler ADDRESS`` (else the ``REGISTRY_SCHEDULER`` environment variable) names
 a running scheduler, ``tcp://HOST:PORT`` (or ``tls://``, ``ws://``, ``wss://``,
-``ucx://``); ``local:N`` starts a ``LocalCluster`` of N worker processes (one thread
-each, bound to 127.0.0.1, no dashboard) for the duration of the command and closes it
-after; ``local`` alone starts one worker per core. Without either, the local worker
-pool (``audit/worker_pool.py``) does the work.
+``ucx://``), or the JSON scheduler file it wrote (``dask scheduler --scheduler-file
+FILE.json``: what the jobs of a batch system share); ``local:N`` starts a
+``LocalCluster`` of N worker processes (one thread each, bound to 127.0.0.1, no
+dashboard) for the duration of the command and closes it after; ``local`` alone
+starts one worker per core. Without either, the local worker pool
+(``audit/worker_pool.py``) does the work.
 
 >>> parse_scheduler("local:2")
 SchedulerAddress(text='local:2', workers=2)
@@ -19,11 +21,13 @@ registry.errors.SchedulerAddressError: bad Dask scheduler address 'local:0': ...
 
 from __future__ import annotations
 
+import json
 import logging
 import os
 from collections.abc import Callable, Iterator, Mapping
 from contextlib import ExitStack, contextmanager
 from dataclasses import dataclass
+from pathlib import Path
 from typing import TYPE_CHECKING, Any
 from urllib.parse import urlsplit
 
@@ -70,9 +74,12 @@ def scheduler_option(option: str | None, environ: Mapping[str, str] | None = Non
 
 def parse_scheduler(text: str) -> SchedulerAddress:
     """Check a scheduler address without contacting it; SchedulerAddressError if it is
-    neither ``PROTOCOL://HOST:PORT`` (a bare ``HOST:PORT`` means tcp) nor ``local[:N]``."""
+    neither ``PROTOCOL://HOST:PORT`` (a bare ``HOST:PORT`` means tcp), a scheduler file
+    ``*.json`` (the address in it), nor ``local[:N]``."""
     given = text
     text = text.strip()
+    if text.endswith(".json"):
+        return SchedulerAddress(_address_in(Path(text).expanduser(), given))
     if text == "local":
         return SchedulerAddress("local", default_jobs())
     if text.startswith("local:"):
@@ -93,6 +100,22 @@ def parse_scheduler(text: str) -> SchedulerAddress:
     if not parts.hostname or port is None or parts.path or parts.query:
         raise SchedulerAddressError(given, "it needs a host and a port")
     return SchedulerAddress(text)
+
+
+def _address_in(file: Path, given: str) -> str:
+    """The scheduler's address written in a scheduler file, checked like any other."""
+    try:
+        found = json.loads(file.read_text(encoding="utf-8")).get("address")
+    except FileNotFoundError:
+        raise SchedulerAddressError(given, "no such scheduler file") from None
+    except (OSError, ValueError, AttributeError) as err:
+        raise SchedulerAddressError(given, f"not a scheduler file ({err})") from None
+    if not isinstance(found, str) or found.endswith(".json") or found.startswith("local"):
+        raise SchedulerAddressError(given, "not a scheduler file (no address in it)")
+    try:
+        return parse_scheduler(found).text
+    except SchedulerAddressError as err:
+        raise SchedulerAddressError(given, f"its address {found!r}: {err.reason}") from None
 
 
 def _distributed():

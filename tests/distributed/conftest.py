@@ -74,6 +74,7 @@ class DaskProcesses:
     """A ``dask scheduler`` and ``dask worker`` processes started for a test."""
 
     address: str
+    file: Path  # the scheduler file, holding the address
     scheduler: subprocess.Popen
     workers: list[subprocess.Popen]
     logs: Path
@@ -151,7 +152,7 @@ def dask_processes(where: Path, n_workers: int = 2) -> Iterator[DaskProcesses]:
         ]
         with Client(address, timeout=30) as client:
             client.wait_for_workers(n_workers, timeout=60)
-        yield DaskProcesses(address, scheduler, workers, where)
+        yield DaskProcesses(address, file, scheduler, workers, where)
     finally:
         _stop(started[1:])
         _stop(started[:1])

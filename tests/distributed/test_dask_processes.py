@@ -93,11 +93,12 @@ def test_an_audit_on_separate_dask_processes_gives_the_local_pools_verdicts(
 
 
 def test_a_search_on_separate_dask_processes_is_the_local_search(tmp_path, separate_processes):
+    """The cluster named by its scheduler file, as the jobs of a batch system find it."""
     args = ["discover", str(FAMILY), "--degree", "4", "--free", "lam,z0", "--json"]
     db = tmp_path / "none.sqlite"
     local = registry_run(db, *args, "--jobs", "2")
     assert local.returncode == 0, local.stderr
-    remote = registry_run(db, *args, "--scheduler", separate_processes.address)
+    remote = registry_run(db, *args, "--scheduler", str(separate_processes.file))
     assert remote.returncode == 0, remote.stderr + separate_processes.log()
     expected, got = json.loads(local.stdout), json.loads(remote.stdout)
     for document in (expected, got):

@@ -4,6 +4,7 @@ not installed; local:N starts a LocalCluster of N worker processes for the block
 
 from __future__ import annotations
 
+import json
 import os
 import socket
 import sys
@@ -48,6 +49,35 @@ def test_addresses_are_parsed_without_contacting_anything(text, expected):
     assert parse_scheduler(text).local == (expected.workers is not None)
 
 
+def test_a_scheduler_file_gives_the_address_written_in_it(tmp_path):
+    file = tmp_path / "scheduler.json"
+    file.write_text(json.dumps({"type": "Scheduler", "address": "tcp://10.1.2.3:8786"}))
+    assert parse_scheduler(str(file)) == SchedulerAddress("tcp://10.1.2.3:8786")
+    assert parse_scheduler(f" {file} ").text == "tcp://10.1.2.3:8786"
+
+
+@pytest.mark.parametrize(
+    ("content", "reason"),
+    [
+        (None, "no such scheduler file"),
+        ("{", "not a scheduler file (Expecting property name enclosed in double quotes: "
+         "line 1 column 2 (char 1))"),
+        ('{"type": "Scheduler"}', "not a scheduler file (no address in it)"),
+        ('{"address": "local:2"}', "not a scheduler file (no address in it)"),
+        ('{"address": "tcp://10.1.2.3"}',
+         "its address 'tcp://10.1.2.3': it needs a host and a port"),
+    ],
+)  # fmt: skip
+def test_a_bad_scheduler_file_is_one_line(tmp_path, content, reason):
+    file = tmp_path / "scheduler.json"
+    if content is not None:
+        file.write_text(content)
+    with pytest.raises(SchedulerAddressError) as caught:
+        parse_scheduler(str(file))
+    assert caught.value.reason == reason
+    assert str(caught.value).startswith(f"bad Dask scheduler address {str(file)!r}: {reason} ")
+
+
 def test_local_alone_means_one_worker_per_core():
     found = parse_scheduler("local")
     assert found.local and found.workers >= 1
@@ -73,7 +103,8 @@ def test_a_bad_address_is_one_line_naming_it_and_what_is_expected(text, reason):
     err = caught.value
     assert str(err) == (
         f"bad Dask scheduler address {text!r}: {reason} "
-        "(expected tcp://HOST:PORT, or local:N for N local worker processes)"
+        "(expected tcp://HOST:PORT, a scheduler file FILE.json, or local:N for N local "
+        "worker processes)"
     )
     assert (err.address, err.reason) == (text, reason)
     assert isinstance(err, ValueError) and isinstance(err, SchedulerError)
