@@ -6,14 +6,14 @@ child when its time is up, and the whole case is killed at
 ``TimeBudget.case_deadline(count_checks(case))``. Cases sharing a torque go to one
 task, largest first, as in the local pool (``worker_pool.batches``); small groups
 share a task, so that Dask's cost per task and a child's start stay small beside
-the work. A killed case, or one whose child crashed, gets exactly the result the
+the work, and the tasks shrink as the run goes (``tasks.guided``), so that its end
+leaves few workers idle. A killed case, or one whose child crashed, gets exactly the result the
 local pool gives it (``worker_pool.killed``, ``worker_pool.crashed``): the verdicts
 do not depend on where a case was audited.
 """
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable, Iterator, Sequence
 from functools import partial
 from typing import TYPE_CHECKING
@@ -22,26 +22,27 @@ from ..audit.case_audit import audit_case, count_checks
 from ..audit.time_budget import TimeBudget
 from ..audit.worker_pool import batches, crashed, killed
 from ..model import Case, CaseAudit
-from .scheduler import threads
 from .children import Failure
-from .tasks import Event, pack, run_calls
+from .scheduler import threads
+from .tasks import Event, guided, run_calls
 
 if TYPE_CHECKING:
     from distributed import Client
 
-#: Tasks per worker thread the cases are cut into: enough that the last tasks to finish
-#: leave little idle time, few enough that each task's cost is small beside its work.
-TASKS_PER_THREAD = 4
+#: A task takes at most 1/(SHARES_PER_THREAD x worker threads) of the cases still to
+#: plan: large tasks first (each task's cost is small beside its work), single cases
+#: at the end (the last to finish leave little idle time).
+SHARES_PER_THREAD = 2
 #: Cases per task at most: what a worker lost takes with it, and must do again.
 MAX_BATCH = 25
 
 
 def plan(cases: Sequence[Case], n_threads: int, max_batch: int = MAX_BATCH) -> list[list[int]]:
-    """The cases' indices cut into tasks: torque groups kept together (largest first),
-    about ``TASKS_PER_THREAD`` tasks per worker thread, none larger than ``max_batch``."""
-    size = math.ceil(len(cases) / max(1, n_threads * TASKS_PER_THREAD))
+    """The cases' indices cut into tasks: torque groups kept together where they fit
+    (largest first), tasks shrinking as the cases left do (``tasks.guided``), none
+    larger than ``max_batch``."""
     groups = [[i for i, _ in group] for group in batches(cases)]
-    return pack(groups, max(1, min(max_batch, size)))
+    return guided(groups, SHARES_PER_THREAD * max(1, n_threads), max_batch)
 
 
 def as_audit(case: Case, outcome: CaseAudit | Failure) -> CaseAudit:

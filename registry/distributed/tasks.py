@@ -22,6 +22,7 @@ the culprit). Only the client sees the results: it does all the writing.
 
 from __future__ import annotations
 
+import math
 import queue
 import uuid
 from collections.abc import Callable, Iterable, Iterator, Sequence
@@ -83,6 +84,51 @@ def pack(groups: Iterable[Sequence[int]], size: int) -> list[list[int]]:
             current = []
     if current:
         out.append(current)
+    return out
+
+
+def guided(groups: Iterable[Sequence[int]], parts: int, largest: int) -> list[list[int]]:
+    """Groups of item indices packed into batches that shrink with the work left: each
+    takes about 1/``parts`` of the items not yet packed (at least 1, at most ``largest``),
+    a group kept whole where it fits, cut where it does not. The first batches are
+    the largest and the last ones single items, so that the last to finish keep the
+    other workers idle only briefly ("guided self-scheduling").
+
+    >>> [len(b) for b in guided([[i] for i in range(20)], 4, 3)]
+    [3, 3, 3, 3, 2, 2, 1, 1, 1, 1]
+    >>> guided([[0, 1, 2], [3], [4, 5]], 2, 10)
+    [[0, 1, 2], [3], [4], [5]]
+    """
+    groups = [list(g) for g in groups]
+    left = sum(len(g) for g in groups)
+    out: list[list[int]] = []
+    current: list[int] = []
+    target = 0
+
+    def close(batch: list[int]) -> None:
+        nonlocal left
+        out.append(batch)
+        left -= len(batch)
+
+    for group in groups:
+        while group:
+            if not current:
+                target = max(1, min(largest, math.ceil(left / max(1, parts))))
+                if len(group) > target:  # cut
+                    close(group[:target])
+                    group = group[target:]
+                    continue
+            elif len(current) + len(group) > target:
+                close(current)
+                current = []
+                continue
+            current.extend(group)
+            group = []
+            if len(current) >= target:
+                close(current)
+                current = []
+    if current:
+        close(current)
     return out
 
 

@@ -12,7 +12,7 @@ from pathlib import Path
 
 import pytest
 
-from registry.distributed.tasks import Failure, pack, run_calls
+from registry.distributed.tasks import Failure, guided, pack, run_calls
 
 # ------------------------------------------------------- calls the workers run
 
@@ -59,6 +59,18 @@ def test_pack_keeps_groups_whole_where_they_fit():
     assert pack([[0], [1], [2]], 5) == [[0, 1, 2]]
     assert pack([[3, 1, 2]], 1) == [[3], [1], [2]]
     assert pack([], 3) == []
+
+
+def test_guided_batches_shrink_with_the_work_left_and_keep_groups_whole_where_they_fit():
+    sizes = [len(b) for b in guided([[i] for i in range(1000)], 4, 25)]
+    assert sum(sizes) == 1000 and max(sizes) == 25
+    assert sizes == sorted(sizes, reverse=True)  # the largest first
+    assert sizes[-4:] == [1, 1, 1, 1]  # single items at the end, one per part
+    assert len(sizes) == 50  # 37 full batches while a quarter of the rest exceeds 25
+    grouped = guided([[0, 1, 2, 3], [4, 5], [6], [7, 8, 9]], 2, 10)
+    assert grouped == [[0, 1, 2, 3], [4, 5, 6], [7, 8], [9]]  # [4, 5] not cut: it fits
+    assert [i for b in grouped for i in b] == list(range(10))  # in order, each once
+    assert guided([], 4, 25) == []
 
 
 def test_every_index_comes_once_with_its_result(process_cluster):
