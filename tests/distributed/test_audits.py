@@ -11,6 +11,7 @@ from pathlib import Path
 import pytest
 import sympy as sp
 from click.testing import CliRunner
+from dask_clusters import process_cluster  # noqa: F401 - a fixture
 from test_workers import slow_case
 
 import registry

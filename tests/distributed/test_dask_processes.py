@@ -17,7 +17,7 @@ import time
 from pathlib import Path
 
 import pytest
-from conftest import source_environment
+from dask_clusters import separate_processes, source_environment  # noqa: F401 - a fixture
 
 import registry
 
