@@ -29,7 +29,7 @@ from .discovery.search import discover, search_options
 from .discovery.survey import searched, stated_options
 from .distributed.audits import audit_on_cluster
 from .distributed.scheduler import check_same_code, cluster_client, describe
-from .distributed.searches import discover_on_cluster
+from .distributed.searches import cluster_mapper, discover_on_cluster
 from .distributed.tasks import Event
 from .errors import CaseFormatError, RegistryError, UnknownCaseError
 from .language.case_writer import corrected_case_text, derived_case_text
@@ -373,13 +373,15 @@ class Registry:
         budget: float | None = DEFAULT_SEARCH_BUDGET,
         jobs: int | None = None,
         progress: Callable[[int, int, str], None] | None = None,
+        scheduler: str | Client | None = None,
     ) -> list[SearchReport]:
         """Record the stated searches (``registry.discovery.survey.stated_options``) of
         the latest version of every case, or of the named ones: what each system has, and
         has not, up to the degree its claims reach. Searches already recorded by this code
         version are reused unless ``fresh``; a system the method cannot search is recorded
         as not searched, with the reason. ``jobs`` processes search (default: one per
-        core); each search is stored as it finishes, and only this process writes.
+        core), or the Dask cluster of ``scheduler`` (as for ``audit``), one task per
+        search; each search is stored as it finishes, and only this process writes.
         """
         planned = [
             (stored, case, options)
@@ -395,12 +397,19 @@ class Registry:
         todo = [i for i in range(len(planned)) if i not in reports]
         work = [(planned[i][1], planned[i][2]) for i in todo]
         jobs = default_jobs() if jobs is None else jobs
-        for done, (i, search) in enumerate(
-            zip(todo, searched(work, budget=budget, jobs=jobs), strict=True)
-        ):
-            if progress is not None:
-                progress(done + 1, len(todo), search.case)
-            reports[i] = self._recorded(planned[i][0], planned[i][1], search)
+
+        def record(results: Iterable[Search]) -> None:
+            for done, (i, search) in enumerate(zip(todo, results, strict=True)):
+                if progress is not None:
+                    progress(done + 1, len(todo), search.case)
+                reports[i] = self._recorded(planned[i][0], planned[i][1], search)
+
+        if scheduler is None or not work:
+            record(searched(work, budget=budget, jobs=jobs))
+        else:
+            with cluster_client(scheduler) as client:
+                check_same_code(client, code_version)
+                record(searched(work, budget=budget, mapper=cluster_mapper(client)))
         return [reports[i] for i in range(len(planned))]
 
     def _reused_search(

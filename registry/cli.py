@@ -479,8 +479,22 @@ def discover(
     show_default=True,
     help="Seconds each search may take; then what is proven is recorded.",
 )
+@click.option(
+    "--scheduler",
+    metavar="ADDRESS",
+    default=None,
+    help="Search on a Dask cluster, one task per search: a scheduler's address "
+    "(tcp://HOST:PORT) or scheduler file (FILE.json), or local:N to start N local Dask "
+    f"worker processes (default: ${SCHEDULER_ENV}; --jobs overrides the variable).",
+)
 @_user_errors
-def survey(case_ids: tuple[str, ...], fresh: bool, jobs: int | None, seconds: float) -> None:
+def survey(
+    case_ids: tuple[str, ...],
+    fresh: bool,
+    jobs: int | None,
+    seconds: float,
+    scheduler: str | None,
+) -> None:
     """Record a search of every case (or the named ones) at the degree its claims reach.
 
     \b
@@ -497,6 +511,9 @@ def survey(case_ids: tuple[str, ...], fresh: bool, jobs: int | None, seconds: fl
     """
     from tqdm import tqdm
 
+    if jobs is not None and scheduler is not None:
+        raise click.UsageError("give --jobs (local processes) or --scheduler (Dask), not both")
+    scheduler = None if jobs is not None else scheduler_option(scheduler)
     reg = _registry()
     bar = tqdm(total=0, unit="search", file=sys.stderr, disable=not sys.stderr.isatty())
 
@@ -508,7 +525,12 @@ def survey(case_ids: tuple[str, ...], fresh: bool, jobs: int | None, seconds: fl
     try:
         with _interruptible(reg.store):
             reports = reg.survey(
-                list(case_ids) or None, fresh=fresh, budget=seconds, jobs=jobs, progress=progress
+                list(case_ids) or None,
+                fresh=fresh,
+                budget=seconds,
+                jobs=jobs,
+                progress=progress,
+                scheduler=scheduler,
             )
     finally:
         bar.close()

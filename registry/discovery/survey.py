@@ -15,7 +15,7 @@ from ..audit.worker_pool import die_with_parent
 from ..errors import DiscoveryError
 from ..mathematics import mechanics as mech
 from ..model import Case, Claim, IntegralSet, Provenance, Search, SearchOptions
-from .search import discover
+from .search import MAPPER_GRACE, Mapper, discover
 
 #: The smallest degree searched: below it no integral beyond H and |gamma|^2 can show.
 LEAST_DEGREE = 2
@@ -51,11 +51,19 @@ def not_searched(case: Case, options: SearchOptions, reason: str) -> Search:
 
 
 def searched(
-    work: Sequence[tuple[Case, SearchOptions]], *, budget: float | None, jobs: int = 1
+    work: Sequence[tuple[Case, SearchOptions]],
+    *,
+    budget: float | None,
+    jobs: int = 1,
+    mapper: Mapper | None = None,
 ) -> Iterator[Search]:
-    """The search of each (case, options), in order, in this process or in ``jobs``
-    worker processes (which die with this one); a search the method refuses comes back
-    as its ``not_searched`` record."""
+    """The search of each (case, options), in order, in this process, in ``jobs``
+    worker processes (which die with this one), or through ``mapper`` (a Dask cluster);
+    a search the method refuses, or that came back with no result, is recorded as
+    ``not_searched`` with the reason."""
+    if mapper is not None:
+        yield from _mapped(work, budget, mapper)
+        return
     if jobs <= 1 or len(work) <= 1:
         yield from (_searched(item, budget) for item in work)
         return
@@ -66,6 +74,23 @@ def searched(
     finally:
         pool.terminate()
         pool.join()
+
+
+def _mapped(work, budget: float | None, mapper: Mapper) -> Iterator[Search]:
+    """``searched`` through a mapper, whose results come in any order: put back in the
+    work's order, each as soon as those before it are in."""
+    seconds = None if budget is None else budget + MAPPER_GRACE
+    arrived: dict[int, Search] = {}
+    following = 0
+    for index, outcome in mapper(_searched_apart, [(item, budget) for item in work], seconds):
+        if isinstance(outcome, Exception):  # the cluster gave no result for it
+            outcome = not_searched(*work[index], f"no result from the cluster: {outcome}")
+        arrived[index] = outcome
+        while following in arrived:
+            yield arrived.pop(following)
+            following += 1
+    for index in range(following, len(work)):
+        yield arrived.pop(index, None) or not_searched(*work[index], "no result from the cluster")
 
 
 def _searched(item: tuple[Case, SearchOptions], budget: float | None) -> Search:

@@ -81,3 +81,21 @@ def test_registry_discover_with_a_scheduler_records_the_same_search(tmp_path, pr
     assert got.number == expected.number == 1
     columns = ["case", "complete", "statement"]
     assert on_dask.searches()[columns].equals(local.searches()[columns])
+
+
+def test_the_survey_on_the_cluster_records_what_local_processes_record(process_cluster, tmp_path):
+    cases = Path(__file__).resolve().parents[2] / "data" / "cases"
+    files = [
+        cases / "heavy-top" / "goryachev-1916-heavy-top.toml",
+        cases / "heavy-top" / "lagrange-1788-heavy-top.toml",
+        cases / "gyroscopic-torque" / "birtea-2011-radial-torque.toml",
+    ]
+    found = {}
+    for where, options in (("local", {"jobs": 2}), ("cluster", {"scheduler": process_cluster})):
+        with registry.open(tmp_path / f"{where}.sqlite") as reg:
+            reg.add(*files)
+            found[where] = [r.search for r in reg.survey(**options)]
+            assert all(r.reused for r in reg.survey(**options))  # stored, then reused
+    assert len(found["cluster"]) == 4
+    assert all(same(a, b) for a, b in zip(found["cluster"], found["local"], strict=True))
+    assert [s.decided for s in found["cluster"]] == [False, True, True, True]

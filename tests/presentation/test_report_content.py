@@ -137,10 +137,14 @@ def test_the_report_groups_cases_by_topic_with_contents_and_links(reg, markdown)
     for case_id in SEED:
         name = (reg.case(case_id).topic or "other").replace(" ", "-")
         before = text.split(f'<a id="case-{case_id}"></a>', 1)[0]
-        assert before.rfind(f'<a id="topic-{name}"></a>') > max(
-            before.rfind(f'<a id="topic-{other.replace(" ", "-")}"></a>')
-            for other in topics - {reg.case(case_id).topic or "other"}
-        ) or len(topics) == 1
+        assert (
+            before.rfind(f'<a id="topic-{name}"></a>')
+            > max(
+                before.rfind(f'<a id="topic-{other.replace(" ", "-")}"></a>')
+                for other in topics - {reg.case(case_id).topic or "other"}
+            )
+            or len(topics) == 1
+        )
 
 
 def test_markdown_shows_the_torque_in_math(reg, markdown):
