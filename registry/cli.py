@@ -151,6 +151,18 @@ def _upgraded(store: Store) -> str:
     )
 
 
+def _scheduler_flag(what: str):
+    """The --scheduler option of a command that can send its work to a Dask cluster."""
+    return click.option(
+        "--scheduler",
+        metavar="ADDRESS",
+        default=None,
+        help=f"{what} on a Dask cluster: a scheduler's address (tcp://HOST:PORT) or "
+        "scheduler file (FILE.json), or local:N to start N local Dask worker processes "
+        f"for this command (default: ${SCHEDULER_ENV}; --jobs overrides the variable).",
+    )
+
+
 @click.group(cls=_Group, context_settings={"help_option_names": ["-h", "--help"]})
 @click.option(
     "--db",
@@ -204,14 +216,7 @@ def add(paths: tuple[str, ...]) -> None:
     default=None,
     help="Worker processes (default: one per core; 0: in this process).",
 )
-@click.option(
-    "--scheduler",
-    metavar="ADDRESS",
-    default=None,
-    help="Audit on a Dask cluster: a scheduler's address (tcp://HOST:PORT) or scheduler file "
-    "(FILE.json), or local:N to start N local Dask worker processes for this command "
-    f"(default: ${SCHEDULER_ENV}; without it, --jobs local workers).",
-)
+@_scheduler_flag("Audit")
 @click.option(
     "--budget",
     "check_budget",
@@ -267,9 +272,7 @@ def audit(
     """
     from tqdm import tqdm
 
-    if jobs is not None and scheduler is not None:
-        raise click.UsageError("give --jobs (local workers) or --scheduler (Dask), not both")
-    scheduler = None if jobs is not None else scheduler_option(scheduler)
+    scheduler = _cluster(jobs, scheduler, local="workers")
     reg = _registry()
     total = len(reg.store.case_versions(list(case_ids) or None))
     quiet = as_json or not sys.stderr.isatty()
@@ -376,15 +379,7 @@ def _weights(text: str) -> tuple[int, int]:
     default=None,
     help="Processes searching the candidate parameter values (default: 1).",
 )
-@click.option(
-    "--scheduler",
-    metavar="ADDRESS",
-    default=None,
-    help="Search the candidate parameter values on a Dask cluster: a scheduler's address "
-    "(tcp://HOST:PORT) or scheduler file (FILE.json), or local:N to start N local Dask "
-    "worker processes "
-    f"(default: ${SCHEDULER_ENV}; --jobs overrides the variable).",
-)
+@_scheduler_flag("Search the candidate parameter values")
 @_user_errors
 def discover(
     target: str,
@@ -410,25 +405,13 @@ def discover(
     Example: registry discover data/cases/heavy-top/kovalevskaya-1889-heavy-top.toml
     --degree 4 --free lam --json
     """
-    from tqdm import tqdm
-
-    if jobs is not None and scheduler is not None:
-        raise click.UsageError("give --jobs (local processes) or --scheduler (Dask), not both")
-    scheduler = None if jobs is not None else scheduler_option(scheduler)
+    scheduler = _cluster(jobs, scheduler)
     jobs = 1 if jobs is None else jobs
     weights = _weights(weights_text)
     free = tuple(f.strip() for f in free_text.split(",") if f.strip())
     is_file = Path(target).is_file()
     # a file searched without --record needs no database, and creates none
     reg = _registry(create=True) if record or not is_file else _existing_registry()
-    quiet = as_json or not sys.stderr.isatty()
-    bar = tqdm(total=0, unit="set", file=sys.stderr, disable=quiet, leave=False)
-
-    def progress(done: int, total: int, where: str) -> None:
-        bar.total = total
-        bar.n = done
-        bar.set_postfix_str(where, refresh=True)
-
     options = dict(
         degree=degree,
         weights=weights,
@@ -438,7 +421,7 @@ def discover(
         jobs=jobs,
         scheduler=scheduler,
     )
-    try:
+    with _counting_bar("set", quiet=as_json) as progress:
         if reg is None:
             report = discover_file(target, progress=progress, **options)
         else:
@@ -446,8 +429,6 @@ def discover(
                 report = reg.discover(
                     target, record=record, fresh=fresh, progress=progress, **options
                 )
-    finally:
-        bar.close()
     for event in report.events:
         click.echo(f"note: {event}", err=True)
     if as_json:
@@ -479,14 +460,7 @@ def discover(
     show_default=True,
     help="Seconds each search may take; then what is proven is recorded.",
 )
-@click.option(
-    "--scheduler",
-    metavar="ADDRESS",
-    default=None,
-    help="Search on a Dask cluster, one task per search: a scheduler's address "
-    "(tcp://HOST:PORT) or scheduler file (FILE.json), or local:N to start N local Dask "
-    f"worker processes (default: ${SCHEDULER_ENV}; --jobs overrides the variable).",
-)
+@_scheduler_flag("Search, one task per search,")
 @_user_errors
 def survey(
     case_ids: tuple[str, ...],
@@ -509,31 +483,17 @@ def survey(
 
     Example: registry survey --case kovalevskaya-1889-heavy-top
     """
-    from tqdm import tqdm
-
-    if jobs is not None and scheduler is not None:
-        raise click.UsageError("give --jobs (local processes) or --scheduler (Dask), not both")
-    scheduler = None if jobs is not None else scheduler_option(scheduler)
+    scheduler = _cluster(jobs, scheduler)
     reg = _registry()
-    bar = tqdm(total=0, unit="search", file=sys.stderr, disable=not sys.stderr.isatty())
-
-    def progress(done: int, total: int, case_id: str) -> None:
-        bar.total = total
-        bar.n = done
-        bar.set_postfix_str(case_id, refresh=True)
-
-    try:
-        with _interruptible(reg.store):
-            reports = reg.survey(
-                list(case_ids) or None,
-                fresh=fresh,
-                budget=seconds,
-                jobs=jobs,
-                progress=progress,
-                scheduler=scheduler,
-            )
-    finally:
-        bar.close()
+    with _counting_bar("search") as progress, _interruptible(reg.store):
+        reports = reg.survey(
+            list(case_ids) or None,
+            fresh=fresh,
+            budget=seconds,
+            jobs=jobs,
+            progress=progress,
+            scheduler=scheduler,
+        )
     for r in reports:
         on = f" on {', '.join(e.text for e in r.search.options.on)}" if r.search.options.on else ""
         click.echo(f"{r.search.case}{on}: {statement(r.search)}")
@@ -561,6 +521,34 @@ def searches(case_id: str | None) -> None:
         weights=[f"M={w['M']},gamma={w['gamma']}" for w in frame["weights"]],
     )
     _print_frame(frame[["search", "case", "degree", "weights", "on", "complete", "statement"]])
+
+
+def _cluster(jobs: int | None, scheduler: str | None, local: str = "processes") -> str | None:
+    """The Dask scheduler to use: --scheduler, else $REGISTRY_SCHEDULER unless --jobs
+    asks for local ``local``; both options at once is a usage error."""
+    if jobs is not None and scheduler is not None:
+        raise click.UsageError(f"give --jobs (local {local}) or --scheduler (Dask), not both")
+    return None if jobs is not None else scheduler_option(scheduler)
+
+
+@contextmanager
+def _counting_bar(unit: str, quiet: bool = False) -> Iterator:
+    """A progress bar on stderr (none when it is not a terminal, or ``quiet``), as the
+    callback (done, total, what) that searches report to."""
+    from tqdm import tqdm
+
+    disable = quiet or not sys.stderr.isatty()
+    bar = tqdm(total=0, unit=unit, file=sys.stderr, disable=disable, leave=False)
+
+    def progress(done: int, total: int, where: str) -> None:
+        bar.total = total
+        bar.n = done
+        bar.set_postfix_str(where, refresh=True)
+
+    try:
+        yield progress
+    finally:
+        bar.close()
 
 
 def _print_frame(frame: pd.DataFrame) -> None:

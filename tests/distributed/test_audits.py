@@ -178,9 +178,9 @@ def test_a_check_stuck_where_the_alarm_cannot_reach_is_killed_at_the_case_deadli
 # --------------------------------------------------------------- the command line
 
 
-@pytest.mark.parametrize("command", ["audit", "discover"])
+@pytest.mark.parametrize("command", ["audit", "discover", "survey"])
 def test_jobs_and_scheduler_together_are_one_error_line(tmp_path, command):
-    target = [] if command == "audit" else [str(SEED / "axis-torque.toml")]
+    target = [str(SEED / "axis-torque.toml")] if command == "discover" else []
     args = ["--db", str(tmp_path / "r.sqlite"), command, *target]
     result = CliRunner().invoke(main, [*args, "--jobs", "2", "--scheduler", "local:2"])
     assert result.exit_code == 1
