@@ -265,32 +265,41 @@ def _each(state: _State, candidates, jobs: int, elsewhere=None):
 
 
 def _each_elsewhere(state: _State, candidates, mapper: Mapper, seconds: float | None):
-    """``_each`` through a mapper: its results, which come in any order, are put back in
-    the candidates' order; a candidate set it could not search is undecided."""
+    """``_each`` through a mapper, in the candidates' order; a candidate set it could
+    not search is undecided."""
     bare = replace(state, progress=None, found=[], undecided=[])
     work = [(bare, sub, rest, when) for sub, rest, when in candidates]
-    calls = mapper(_search_apart, work, seconds)
+    for index, value in in_order(mapper(_search_apart, work, seconds), len(work)):
+        when = candidates[index][2]
+        if state.progress is not None:
+            state.progress(state.done, state.total, ", ".join(when))
+        state.done += 1
+        if isinstance(value, BaseException):
+            why = f"candidate set {', '.join(when)} not searched ({value})"
+            yield IntegralSet(when, 0), [], [why]
+        else:
+            yield value
+
+
+def in_order(calls: Iterator[tuple[int, Any]], count: int) -> Iterator[tuple[int, Any]]:
+    """A mapper's (index, result) pairs, which come in any order, in the order of the
+    indices 0..count-1, each as soon as those before it are in; an index the mapper
+    never returned comes as a DiscoveryError. The mapper is closed at the end (at once,
+    also when the consumer stops in the middle: the budget ran out)."""
     arrived: dict[int, Any] = {}
     following = 0
     try:
         for index, value in calls:
             arrived[index] = value
             while following in arrived:
-                value = arrived.pop(following)
-                when = candidates[following][2]
+                yield following, arrived.pop(following)
                 following += 1
-                if state.progress is not None:
-                    state.progress(state.done, state.total, ", ".join(when))
-                state.done += 1
-                if isinstance(value, BaseException):
-                    why = f"candidate set {', '.join(when)} not searched ({value})"
-                    yield IntegralSet(when, 0), [], [why]
-                else:
-                    yield value
+        for index in range(following, count):
+            yield index, arrived.pop(index, DiscoveryError("no result came back"))
     finally:
         close = getattr(calls, "close", None)
         if close is not None:
-            close()  # at once, also when the budget ran out in the middle
+            close()
 
 
 def _search_apart(work):

@@ -15,7 +15,7 @@ from ..audit.worker_pool import die_with_parent
 from ..errors import DiscoveryError
 from ..mathematics import mechanics as mech
 from ..model import Case, Claim, IntegralSet, Provenance, Search, SearchOptions
-from .search import MAPPER_GRACE, Mapper, discover
+from .search import MAPPER_GRACE, Mapper, discover, in_order
 
 #: The smallest degree searched: below it no integral beyond H and |gamma|^2 can show.
 LEAST_DEGREE = 2
@@ -77,20 +77,13 @@ def searched(
 
 
 def _mapped(work, budget: float | None, mapper: Mapper) -> Iterator[Search]:
-    """``searched`` through a mapper, whose results come in any order: put back in the
-    work's order, each as soon as those before it are in."""
+    """``searched`` through a mapper, in the work's order."""
     seconds = None if budget is None else budget + MAPPER_GRACE
-    arrived: dict[int, Search] = {}
-    following = 0
-    for index, outcome in mapper(_searched_apart, [(item, budget) for item in work], seconds):
-        if isinstance(outcome, Exception):  # the cluster gave no result for it
+    calls = mapper(_searched_apart, [(item, budget) for item in work], seconds)
+    for index, outcome in in_order(calls, len(work)):
+        if isinstance(outcome, BaseException):  # the cluster gave no result for it
             outcome = not_searched(*work[index], f"no result from the cluster: {outcome}")
-        arrived[index] = outcome
-        while following in arrived:
-            yield arrived.pop(following)
-            following += 1
-    for index in range(following, len(work)):
-        yield arrived.pop(index, None) or not_searched(*work[index], "no result from the cluster")
+        yield outcome
 
 
 def _searched(item: tuple[Case, SearchOptions], budget: float | None) -> Search:
