@@ -18,6 +18,7 @@ import threading
 import time
 from collections.abc import Callable, Iterator, Sequence
 from multiprocessing.connection import wait
+from typing import Any
 
 import sympy as sp
 
@@ -99,6 +100,20 @@ def _serve(conn, budget: TimeBudget, numeric: bool, parent: int) -> None:
                 conn.send(audit_case(case, budget=budget, numeric=numeric))
             except BaseException as exc:  # report, never hang the parent
                 conn.send(exc)
+
+
+def in_processes(fn: Callable[[Any], Any], items: Sequence[Any], jobs: int) -> Iterator[Any]:
+    """``fn(item)`` for each item in up to ``jobs`` worker processes, results in the
+    items' order; the processes die with this one, and are ended at once when the
+    consumer stops (a budget ran out in the middle)."""
+    pool = _context().Pool(
+        min(jobs, len(items)), initializer=die_with_parent, initargs=(os.getpid(),)
+    )
+    try:
+        yield from pool.imap(fn, items)
+    finally:
+        pool.terminate()
+        pool.join()
 
 
 class _Worker:

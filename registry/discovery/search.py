@@ -18,8 +18,6 @@ free-parameter values where more appear.
 
 from __future__ import annotations
 
-import multiprocessing as mp
-import os
 import random
 import time
 from collections.abc import Callable, Iterator, Sequence
@@ -32,7 +30,7 @@ from sympy.polys.rings import PolyElement, PolyRing
 
 from ..audit.case_audit import audit_case
 from ..audit.time_budget import BudgetExceeded, time_limit
-from ..audit.worker_pool import die_with_parent
+from ..audit.worker_pool import in_processes
 from ..errors import DiscoveryError
 from ..language.parser import Namespace, parse_equation
 from ..language.printer import to_text
@@ -247,21 +245,14 @@ def _each(state: _State, candidates, jobs: int, elsewhere=None):
             state.done += 1
             yield g, more, [u for u in state.undecided if u not in before]
         return
-    context = mp.get_context("fork" if "fork" in mp.get_all_start_methods() else "spawn")
     bare = replace(state, progress=None, found=[], undecided=[])
-    pool = context.Pool(
-        min(jobs, len(candidates)), initializer=die_with_parent, initargs=(os.getpid(),)
-    )
-    try:
-        work = [(bare, sub, rest, when) for sub, rest, when in candidates]
-        for result, (_, _, when) in zip(pool.imap(_search_apart, work), candidates, strict=True):
-            if state.progress is not None:
-                state.progress(state.done, state.total, ", ".join(when))
-            state.done += 1
-            yield result
-    finally:
-        pool.terminate()  # at once, also when the budget ran out in the middle
-        pool.join()
+    work = [(bare, sub, rest, when) for sub, rest, when in candidates]
+    results = in_processes(_search_apart, work, jobs)
+    for result, (_, _, when) in zip(results, candidates, strict=True):
+        if state.progress is not None:
+            state.progress(state.done, state.total, ", ".join(when))
+        state.done += 1
+        yield result
 
 
 def _each_elsewhere(state: _State, candidates, mapper: Mapper, seconds: float | None):

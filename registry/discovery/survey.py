@@ -5,13 +5,11 @@ that says why, so that the catalog states, case by case, what is and is not know
 
 from __future__ import annotations
 
-import multiprocessing as mp
-import os
 from collections.abc import Iterator, Sequence
 
 import sympy as sp
 
-from ..audit.worker_pool import die_with_parent
+from ..audit.worker_pool import in_processes
 from ..errors import DiscoveryError
 from ..mathematics import mechanics as mech
 from ..model import Case, Claim, IntegralSet, Provenance, Search, SearchOptions
@@ -67,13 +65,7 @@ def searched(
     if jobs <= 1 or len(work) <= 1:
         yield from (_searched(item, budget) for item in work)
         return
-    context = mp.get_context("fork" if "fork" in mp.get_all_start_methods() else "spawn")
-    pool = context.Pool(min(jobs, len(work)), initializer=die_with_parent, initargs=(os.getpid(),))
-    try:
-        yield from pool.imap(_searched_apart, [(item, budget) for item in work])
-    finally:
-        pool.terminate()
-        pool.join()
+    yield from in_processes(_searched_apart, [(item, budget) for item in work], jobs)
 
 
 def _mapped(work, budget: float | None, mapper: Mapper) -> Iterator[Search]:
