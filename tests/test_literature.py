@@ -200,24 +200,31 @@ BROWSED = ("free-rigid-body", "gyroscopic-torque")
 
 
 @pytest.fixture(scope="module")
-def browsed(module_databases):
+def browsed_db(module_databases):
     """A registry holding two topic folders of the catalog, audited in this process (on
-    SQLite, then on PostgreSQL: fixture ``backend``)."""
+    SQLite, then on PostgreSQL: fixture ``backend``): its target."""
     import registry
 
     db = module_databases.new("browse")
-    reg = registry.open(db)
-    reg.db = db  # for the command-line test
-    reg.add(*[p for p in topic_files() if p.parent.name in BROWSED])
-    reg.audit(jobs=0)
-    yield reg
-    reg.close()
+    with registry.open(db) as reg:
+        reg.add(*[p for p in topic_files() if p.parent.name in BROWSED])
+        reg.audit(jobs=0)
+    return db
+
+
+@pytest.fixture
+def browsed(browsed_db):
+    import registry
+
+    with registry.open(browsed_db) as reg:
+        yield reg
 
 
 def _browsed_ids() -> list[str]:
-    return [p.stem for p in topic_files() if p.parent.name in BROWSED]
+    return list(browsed_cases())
 
 
+@cache
 def browsed_cases() -> dict:
     return {p.stem: load_case(p) for p in topic_files() if p.parent.name in BROWSED}
 
@@ -272,13 +279,13 @@ def test_family_filter_and_unknown_values(browsed):
     assert empty.empty and "authors" in empty.columns
 
 
-def test_registry_cases_command_filters(browsed):
+def test_registry_cases_command_filters(browsed_db):
     from click.testing import CliRunner
 
     from registry.cli import main
 
     result = CliRunner().invoke(
-        main, ["--db", str(browsed.db), "cases", "--author", "euler", "--year", "1700-1800"]
+        main, ["--db", str(browsed_db), "cases", "--author", "euler", "--year", "1700-1800"]
     )
     assert result.exit_code == 0, result.output
     listed = {i for i in _browsed_ids() if i in result.stdout}
