@@ -10,7 +10,6 @@ motion symbolically, and query the verdicts with pandas::
     reg.verdicts()
 """
 
-from . import _moved
 from .api import AddResult, AuditReport, Registry, open_registry
 from .audit.case_audit import audit_case
 from .errors import (
@@ -36,14 +35,6 @@ from .model import Case, CaseAudit, CheckResult, Claim, ClaimKind, Verdict, Witn
 from .presentation import notebook  # noqa: F401 - installs the Jupyter reprs of cases and audits
 
 open = open_registry  # noqa: A001 - registry.open(path) reads like sqlite3.connect
-
-_moved.install()  # the modules' old import paths (registry.zero, ...) still import
-
-
-def __getattr__(name: str):
-    """``registry.zero`` and the other old module paths as attributes (see ``_moved``)."""
-    return _moved.old_module(name)
-
 
 __all__ = [
     "AddResult",

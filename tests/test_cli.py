@@ -128,15 +128,6 @@ def test_every_command_documents_itself(command):
     assert usage.startswith("Usage:") and f" {command} " in f"{usage} "
 
 
-def test_the_old_name_of_list_checks_works_but_is_not_listed():
-    assert "checks" not in main.commands and "list-checks" in main.commands
-    listed = invoke(None, "--help").stdout
-    assert "list-checks" in listed
-    assert not any(line.split()[:1] == ["checks"] for line in listed.splitlines())
-    result = invoke(None, "checks", "--help")
-    assert result.exit_code == 0 and result.stdout.startswith("Usage: registry checks ")
-
-
 def test_main_help_lists_commands():
     result = invoke(None, "--help")
     assert result.exit_code == 0, result.output
