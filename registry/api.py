@@ -11,13 +11,10 @@
 
 from __future__ import annotations
 
-import hashlib
 import os
 from collections.abc import Callable, Iterable, Sequence
 from contextlib import closing
 from dataclasses import asdict, dataclass, field, replace
-from functools import cache
-from importlib import metadata
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -40,6 +37,7 @@ from .presentation.search_output import search_document, statement
 from .store import conversions, frames
 from .store.database import Store, StoredCase
 from .store.integrity import Verification, verify
+from .version import code_version, source_digest  # noqa: F401 - source_digest: the API's
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -50,37 +48,6 @@ DEFAULT_DB = Path("data") / "registry.sqlite"
 
 #: Seconds an integral search may take by default (``registry discover --budget``).
 DEFAULT_SEARCH_BUDGET = 300.0
-
-
-def source_digest(folder: Path) -> str:
-    """A digest of every Python source under ``folder``, sub-folders included.
-
-    Each file contributes its path relative to ``folder`` (POSIX form) and its bytes,
-    in sorted order; compiled files (``__pycache__``) are skipped. The migration
-    scripts are Python files under the package, so a schema change counts too.
-    """
-    digest = hashlib.sha256()
-    sources = (p for p in folder.rglob("*.py") if "__pycache__" not in p.parts)
-    for source in sorted(sources, key=lambda p: p.relative_to(folder).as_posix()):
-        data = source.read_bytes()
-        name = source.relative_to(folder).as_posix().encode()
-        digest.update(name + b"\0" + str(len(data)).encode() + b"\0" + data)
-    return digest.hexdigest()
-
-
-@cache
-def code_version() -> str:
-    """This package's version and a digest of its sources, recorded with every run.
-
-    Stored results are reused only by the same code version, so any change to the
-    code (even without a version bump, and in any sub-package) makes the next audit
-    recompute.
-    """
-    try:
-        release = metadata.version("rigid-body-registry")
-    except metadata.PackageNotFoundError:
-        release = "0"
-    return f"{release}+{source_digest(Path(__file__).parent)[:12]}"
 
 
 def _reusable(found: tuple[int, CaseAudit] | None, case: Case) -> CaseAudit | None:

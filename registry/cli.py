@@ -65,15 +65,7 @@ def _os_message(err: OSError) -> str:
 
 
 class _Group(click.Group):
-    """The command group, with click's own usage errors as one ``Error:`` line, exit 1,
-    and the old names of renamed commands still working (hidden from the help)."""
-
-    #: Old command name -> its command now (``registry checks`` sat beside
-    #: ``registry check``, which checks the database, not the mathematics).
-    ALIASES = {"checks": "list-checks"}
-
-    def get_command(self, ctx: click.Context, cmd_name: str) -> click.Command | None:
-        return super().get_command(ctx, self.ALIASES.get(cmd_name, cmd_name))
+    """The command group, with click's own usage errors as one ``Error:`` line, exit 1."""
 
     def main(self, *args, **kwargs):
         kwargs.update(standalone_mode=False, prog_name="registry")  # also for python -m
@@ -163,6 +155,17 @@ def _scheduler_flag(what: str):
     )
 
 
+def _print_version(ctx: click.Context, param: click.Parameter, value: bool) -> None:
+    """``registry --version``: the release and the code version runs are recorded with."""
+    if not value or ctx.resilient_parsing:
+        return
+    from .version import code_version, release
+
+    digest = code_version().rpartition("+")[2]
+    click.echo(f"registry {release()} (code digest {digest})")
+    ctx.exit(0)
+
+
 @click.group(cls=_Group, context_settings={"help_option_names": ["-h", "--help"]})
 @click.option(
     "--db",
@@ -171,6 +174,15 @@ def _scheduler_flag(what: str):
     help="Database file or SQLAlchemy URL (default: $REGISTRY_DB, else data/registry.sqlite).",
 )
 @click.option("--debug", is_flag=True, help="Show tracebacks instead of one-line errors.")
+@click.option(
+    "-V",
+    "--version",
+    is_flag=True,
+    expose_value=False,
+    is_eager=True,
+    callback=_print_version,
+    help="Show the package's version and the digest of its code, and exit.",
+)
 @click.pass_context
 def main(ctx: click.Context, db: str | None, debug: bool) -> None:
     """The registry of rigid-body integrability claims.
@@ -748,8 +760,7 @@ def plot(case_id: str, claim: str, output: str | None, seed: int) -> None:
 def list_checks() -> None:
     """List the mathematical checks the audit runs, each with the statement it tests.
 
-    (registry check verifies the database instead.) The old name of this
-    command, registry checks, still works.
+    (registry check verifies the database instead.)
 
     Example: registry list-checks
     """

@@ -354,55 +354,6 @@ def test_module_doctest(monkeypatch):
     assert attempted >= 5
 
 
-# ------------------------------------------------------------------- code version
-
-
-def _package_copy(tmp_path: Path) -> Path:
-    """A copy of the package's sources (no compiled files) to edit."""
-    import shutil
-
-    source = Path(registry.__file__).parent
-    copy = tmp_path / "registry"
-    shutil.copytree(source, copy, ignore=shutil.ignore_patterns("__pycache__"))
-    return copy
-
-
-def test_code_version_digests_every_source_of_the_package():
-    version = registry.api.code_version()
-    digest = registry.api.source_digest(Path(registry.__file__).parent)
-    assert version.endswith("+" + digest[:12])
-
-
-def test_editing_a_module_in_a_sub_package_changes_the_code_version(tmp_path):
-    copy = _package_copy(tmp_path)
-    before = registry.api.source_digest(copy)
-    nested = sorted(p for p in copy.rglob("*.py") if p.parent != copy)
-    assert nested, "the package has no sub-package"
-    for module in nested:
-        original = module.read_bytes()
-        module.write_bytes(original + b"\n# edited\n")
-        assert registry.api.source_digest(copy) != before, module
-        module.write_bytes(original)
-    assert registry.api.source_digest(copy) == before
-
-
-def test_compiled_files_and_other_files_do_not_change_the_code_version(tmp_path):
-    copy = _package_copy(tmp_path)
-    before = registry.api.source_digest(copy)
-    (copy / "__pycache__").mkdir(exist_ok=True)
-    (copy / "__pycache__" / "api.cpython-311.pyc").write_bytes(b"compiled")
-    (copy / "notes.txt").write_text("not code", encoding="utf-8")
-    assert registry.api.source_digest(copy) == before
-
-
-def test_moving_a_module_changes_the_code_version(tmp_path):
-    copy = _package_copy(tmp_path)
-    before = registry.api.source_digest(copy)
-    (copy / "elsewhere").mkdir()
-    (copy / "model.py").rename(copy / "elsewhere" / "model.py")
-    assert registry.api.source_digest(copy) != before
-
-
 def test_unchanged_cases_are_reused_and_fresh_recomputes(db_target):
     reg = registry.open(db_target)
     reg.add(CASES / "yehia-2003-kovalevskaya-b.toml", CASES / "zhukovsky-gyrostat.toml")

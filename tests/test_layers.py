@@ -23,6 +23,7 @@ BASE = {"model", "errors"}
 ALLOWED: dict[str, set[str]] = {
     "model": set(),
     "errors": set(),
+    "version": set(),
     "mathematics": BASE,
     "language": BASE | {"mathematics"},
     "audit": BASE | {"mathematics", "language"},
@@ -32,10 +33,9 @@ ALLOWED: dict[str, set[str]] = {
 }
 #: Layers that may import anything but these.
 FORBIDDEN: dict[str, set[str]] = {
-    "presentation": {"cli", "__main__", "_moved", "__init__"},
-    "api": {"cli", "__main__", "_moved", "__init__"},
-    "cli": {"__main__", "_moved", "__init__"},
-    "_moved": {"cli", "__main__"},
+    "presentation": {"cli", "__main__", "__init__"},
+    "api": {"cli", "__main__", "__init__"},
+    "cli": {"__main__", "__init__"},
     "__main__": set(),
     "__init__": {"cli", "__main__"},
 }
