@@ -95,14 +95,17 @@ def test_citation_cff_parses():
     for key in ("cff-version", "message", "title", "authors"):
         assert data.get(key), key
     assert data["cff-version"] == "1.2.0"
-    assert data["title"] == "Registry of rigid-body integrability claims"
+    assert data["title"] == "The registry of rigid-body integrability claims"
     assert data["version"] == "0.1.0"
-    assert data["authors"] == [{"name": "Registry maintainers"}]
+    assert data["license"] == "MIT"
+    assert re.fullmatch(r"\d{4}-\d{2}-\d{2}", str(data["date-released"]))
+    assert data["authors"] == [{"name": "The registry developers"}]
     (paper,) = data["references"]
     for key in ("type", "title", "authors"):
         assert paper.get(key), key
     assert paper["title"].startswith("Hamilton-Poisson formulation")
-    assert [a["family-names"] for a in paper["authors"]] == ["Birtea", "Casu", "Comanescu"]
+    assert [a["family-names"] for a in paper["authors"]] == ["Birtea", "Căşu", "Comănescu"]
+    assert [a["given-names"] for a in paper["authors"]] == ["Petre", "Ioan", "Dan"]
 
 
 def test_citation_version_is_the_package_version():
