@@ -16,7 +16,7 @@ from collections.abc import Callable, Iterable, Sequence
 from contextlib import closing
 from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Literal
 
 from .audit.case_audit import DEFAULT_BUDGET, audit_case, failed_case
 from .audit.outcome import CaseOutcome, outcomes
@@ -147,6 +147,7 @@ class Registry:
 
     def add(self, *paths: str | os.PathLike) -> list[AddResult]:
         """Load case files (or folders of them); each file is stored whole or not at all."""
+        self.store.require_writer("add cases")
         results = []
         for path in case_files(paths):
             try:
@@ -160,6 +161,7 @@ class Registry:
 
     def add_case(self, case: Case) -> AddResult:
         """Store a case built in Python (e.g. from ``parse_case_text``)."""
+        self.store.require_writer("add cases")
         outcome = self.store.add_case(case)
         return AddResult(case.path or "<python>", outcome.status, outcome.case_id, outcome.version)
 
@@ -200,6 +202,7 @@ class Registry:
         the scheduler, the cluster and what happened on it (``events``: workers
         lost, cases retried elsewhere).
         """
+        self.store.require_writer("record an audit run")
         if scheduler is None:
             return self._audit(case_ids, fresh, jobs, budget, numeric, progress, None, None)
         with cluster_client(scheduler) as client:
@@ -319,6 +322,8 @@ class Registry:
         cluster instead of ``jobs`` local processes, with the same result; the report's
         ``events`` say what happened there. Only this process writes to the database.
         """
+        if record:
+            self.store.require_writer("record a search")
         case, stored = self._search_target(target)
         options = search_options(case, degree=degree, weights=weights, on=on, free=free)
         reused = None if fresh else self._reused_search(case, stored, options)
@@ -350,6 +355,7 @@ class Registry:
         core), or the Dask cluster of ``scheduler`` (as for ``audit``), one task per
         search; each search is stored as it finishes, and only this process writes.
         """
+        self.store.require_writer("record the survey's searches")
         planned = [
             (stored, case, options)
             for stored in self.store.case_versions(list(case_ids) if case_ids else None)
@@ -585,6 +591,19 @@ class Registry:
         """Verify the database itself (``registry check``): schema, integrity, foreign
         keys, hashes of the stored case texts, and every stored expression re-parsed."""
         return verify(self.store)
+
+    # --- who may write (a shared server) -------------------------------------
+
+    def grant(
+        self, role: str, level: Literal["reader", "writer"] | None, *, run: bool = True
+    ) -> list[str]:
+        """Make a server ``role`` a reader (browse and query) or a writer (also add, audit,
+        search) of this registry, or take both back (``level`` None): the SQL statements,
+        run in one transaction unless ``run`` is False (to hand to an administrator).
+        Only the owner of the registry's tables may run them (``store.roles``)."""
+        if run:
+            return self.store.grant(level, role)
+        return self.store.grant_statements(level, role)
 
     def close(self) -> None:
         self.store.close()

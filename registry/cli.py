@@ -861,3 +861,35 @@ def check() -> None:
         click.echo(f"Error: {len(found.problems)} problem(s) found in the database", err=True)
         sys.exit(1)
     click.echo("ok: integrity, foreign keys, hashes and every stored expression")
+
+
+@main.command()
+@click.option("--reader", "reader", metavar="ROLE", default=None, help="Let ROLE browse and query.")
+@click.option(
+    "--writer", "writer", metavar="ROLE", default=None, help="Let ROLE also add, audit, search."
+)
+@click.option("--revoke", "revoke", metavar="ROLE", default=None, help="Take both back from ROLE.")
+@click.option(
+    "--print-sql", is_flag=True, help="Print the SQL for an administrator instead of running it."
+)
+@_user_errors
+def grant(reader: str | None, writer: str | None, revoke: str | None, print_sql: bool) -> None:
+    """Give a role on the PostgreSQL server read or write access to this registry.
+
+    A reader may run every reading command (cases, verdicts, searches, report, export);
+    a writer may also add, audit, survey and record searches. Neither may change the
+    schema: only the owner of the registry's tables upgrades it, and only the owner (or
+    a superuser) may grant. The role must exist on the server.
+
+    Example: registry --db postgresql+psycopg://maintainer@db/registry grant --reader student
+    """
+    given = [(lvl, r) for lvl, r in (("reader", reader), ("writer", writer), (None, revoke)) if r]
+    if len(given) != 1:
+        raise click.UsageError("give exactly one of --reader ROLE, --writer ROLE, --revoke ROLE")
+    ((level, role),) = given
+    statements = _registry().grant(role, level, run=not print_sql)
+    if print_sql:
+        click.echo("\n".join(f"{sql};" for sql in statements))
+        return
+    what = {"reader": "may now read", "writer": "may now read and write", None: "may no longer use"}
+    click.echo(f"role {role!r} {what[level]} the registry ({len(statements)} statements run)")

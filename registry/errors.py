@@ -177,6 +177,44 @@ class DatabasePermissionError(DatabaseReadOnlyError):
         )
 
 
+class WritePrivilegeError(DatabasePermissionError):
+    """A role that may only read the shared registry asked to change it (add, audit,
+    survey, record a search): refused before anything is done, naming what it lacks."""
+
+    def __init__(self, location: str, role: str | None, missing: str, doing: str):
+        self.location, self.role, self.missing, self.doing = location, role, missing, doing
+        self.detail = f"it lacks {missing}"
+        who = f"role {role!r}" if role else "this role"
+        grant = f"registry grant --writer {role}" if role else "registry grant --writer ROLE"
+        StorageError.__init__(
+            self,
+            f"{who} may only read the registry at {location!r}, so it cannot {doing} (it "
+            f"lacks {missing}); nothing was changed. A maintainer can allow it: {grant}",
+        )
+
+
+class SchemaOwnerError(DatabasePermissionError):
+    """The shared registry's schema needs an upgrade that only the role owning its tables
+    may make; other roles are refused before anything is changed."""
+
+    def __init__(self, location: str, role: str | None, owner: str, found: str, needed: str):
+        self.location, self.role, self.owner = location, role, owner
+        self.detail = f"the schema is owned by {owner!r}"
+        who = f"role {role!r}" if role else "this role"
+        StorageError.__init__(
+            self,
+            f"the registry at {location!r} has schema revision {found} and this release "
+            f"needs {needed}; only the owner of its tables, role {owner!r}, may upgrade it, "
+            f"not {who} (any registry command the owner runs upgrades it, e.g. registry runs)",
+        )
+
+
+class RoleError(StorageError, ValueError):
+    """A ``registry grant`` that cannot be made: no such role on the server, a role
+    name that is not allowed, roles asked of an SQLite file, or a connection that does
+    not own the registry's tables."""
+
+
 class DatabaseFullError(StorageError, OSError):
     """The disk (or the database's size limit) is full; the transaction was rolled back."""
 

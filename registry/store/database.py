@@ -24,7 +24,7 @@ from importlib import metadata as importlib_metadata
 from pathlib import Path
 from typing import Any, Literal
 
-from sqlalchemy import func, select
+from sqlalchemy import func, select, text
 from sqlalchemy.engine import Connection, Engine
 from sqlalchemy.exc import DBAPIError
 from sqlalchemy.orm import Session
@@ -32,9 +32,12 @@ from sqlalchemy.orm import Session
 from ..errors import (
     DatabaseMissingError,
     DatabaseReadOnlyError,
+    RoleError,
+    SchemaOwnerError,
     StorageError,
     UnknownCaseError,
     UnknownRunError,
+    WritePrivilegeError,
 )
 from ..language.casefile import parse_case_text
 from ..language.parser import Namespace, parse_equation, parse_expression
@@ -50,7 +53,7 @@ from ..model import (
     Search,
     SearchOptions,
 )
-from . import migrate
+from . import migrate, roles
 from .conversions import (
     case_row,
     check_result,
@@ -79,6 +82,7 @@ from .engine import (
 from .processes import process_gone, this_process
 from .tables import (
     RUN_STATUSES,
+    Base,
     CaseAliasRow,
     CaseRow,
     ClaimRow,
@@ -227,6 +231,9 @@ class Store:
             return
         if state.empty and self.server and not self._create:
             raise DatabaseMissingError(self.location)
+        if not state.empty and self.server:
+            with self.connect() as conn:
+                self._refuse_upgrade_by_other_role(conn, state)
         if not state.empty and self._file is not None:
             try:
                 self.backup = migrate.backup(self._file, state.revision or "")
@@ -241,6 +248,17 @@ class Store:
             if not state.current:  # upgraded it meanwhile
                 migrate.upgrade(conn, state)
                 self.upgraded_from = state.revision
+
+    def _refuse_upgrade_by_other_role(self, conn: Connection, state: migrate.SchemaState) -> None:
+        """SchemaOwnerError unless the connected role owns the server's registry tables:
+        only their owner upgrades them (readers and writers are refused before anything
+        is changed, instead of failing halfway through a revision)."""
+        owner = roles.tables_owner(conn)
+        if owner is not None and not roles.acts_as(conn, owner):
+            role = roles.current_database(conn)[2]
+            raise SchemaOwnerError(
+                self.location, role, owner, state.revision or "?", migrate.head()
+            )
 
     def _mark_interrupted(self) -> None:
         """Mark as ``interrupted`` the runs left ``running`` by a process that has died.
@@ -296,6 +314,67 @@ class Store:
             self.busy -= 1
             if not self.busy and self.on_idle is not None:
                 self.on_idle()
+
+    # --------------------------------------------------------------------- roles
+
+    @guarded
+    def require_writer(self, doing: str) -> None:
+        """WritePrivilegeError, before anything is done, when this connection's role may
+        only read the registry (a server role without a writer's privileges, see
+        ``roles``): ``doing`` says what the command was about to do. On an SQLite file the
+        file's permissions decide, when the write is made."""
+        if not self.server:
+            return
+        with self.connect() as conn:
+            missing = roles.missing_write_privilege(conn, Base.metadata.tables)
+            if missing is not None:
+                role = roles.current_database(conn)[2]
+                raise WritePrivilegeError(self.location, role, missing, doing)
+
+    @guarded
+    def grant_statements(self, level: roles.Level | None, role: str) -> list[str]:
+        """The SQL that makes ``role`` a reader or a writer of this registry (``level``),
+        or takes both back (``level`` None); RoleError on SQLite or for an unknown role."""
+        if not self.server:
+            raise RoleError(
+                f"database {self.location!r} is an SQLite file, which has no roles: who may "
+                "read or write it is set by the permissions of the file and its folder"
+            )
+        if not roles.ROLE_NAME.fullmatch(role):
+            raise RoleError(
+                f"{role!r} is not a role name registry grant accepts (lowercase letters, "
+                "digits, '_' and '$', starting with a letter or '_'; at most 63)"
+            )
+        with self.connect() as conn:
+            database, schema, _ = roles.current_database(conn)
+            if not roles.role_exists(conn, role):
+                raise RoleError(
+                    f"the database server of {self.location!r} has no role {role!r}; an "
+                    f"administrator creates it first (CREATE ROLE {role} LOGIN PASSWORD "
+                    "'...'), then registry grant gives it its privileges"
+                )
+            owner = roles.tables_owner(conn) or roles.current_database(conn)[2]
+        place = {"database": database, "owner": owner, "schema": schema}
+        if level is None:
+            return roles.revoke_statements(role, **place)
+        return roles.grant_statements(level, role, **place)
+
+    @guarded
+    def grant(self, level: roles.Level | None, role: str) -> list[str]:
+        """Run ``grant_statements`` in one transaction; RoleError when this connection may
+        not (only the owner of the registry's tables, or a superuser, grants on them)."""
+        statements = self.grant_statements(level, role)
+        with self._writer.begin() as conn:
+            owner = roles.tables_owner(conn)
+            if owner is not None and not roles.acts_as(conn, owner):
+                me = roles.current_database(conn)[2]
+                raise RoleError(
+                    f"role {me!r} does not own the registry's tables in {self.location!r}; "
+                    f"only their owner {owner!r} (or a superuser) may grant privileges on them"
+                )
+            for sql in statements:
+                conn.execute(text(sql))
+        return statements
 
     # --------------------------------------------------------------------- cases
 
