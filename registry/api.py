@@ -560,6 +560,48 @@ class Registry:
                 pass
         return AuditReport(run, audits, cases, versions)
 
+    # --- publishing ------------------------------------------------------
+
+    def report(
+        self,
+        run: int | None = None,
+        fmt: str = "md",
+        out_dir: Path | None = None,
+        plots: bool = True,
+    ) -> str:
+        """A report of one audit run (default: the newest) as Markdown, HTML or LaTeX
+        (``presentation.report_content``); drift plots go to ``out_dir`` (md, tex) or
+        into the file (html). UnknownRunError for a run that does not exist."""
+        from .presentation import report_content  # pandas, matplotlib: only for reports
+
+        row = report_content.run_row(self.runs(), run)
+        outcomes = self.run_report(int(row["run"])).outcomes()
+        return report_content.build_report(row, outcomes, fmt, out_dir, plots)
+
+    def bibtex(self) -> str:
+        """The sources of the cases as BibTeX (``presentation.bibtex``)."""
+        from .presentation.bibtex import bibtex
+
+        return bibtex(self.cases())
+
+    def tables(self) -> dict[str, pd.DataFrame]:
+        """The published tables by name (``data_export.TABLES``, in that order)."""
+        return {
+            "cases": self.cases(),
+            "claims": self.claims(),
+            "verdicts": self.verdicts(),
+            "all_results": frames.all_results_frame(self.store),
+            "repairs": self.corrections(),
+            "runs": self.runs(),
+        }
+
+    def export(self, out_dir: str | os.PathLike, fmt: str) -> list[Path]:
+        """Write the tables as ``fmt`` files (csv, json, parquet) into ``out_dir``; the
+        paths written."""
+        from .presentation import data_export
+
+        return data_export.export_tables(self.tables(), Path(out_dir), fmt)
+
     def diff(self, run_a: int, run_b: int) -> list[VerdictChange]:
         """The verdicts that differ between two runs, on the cases both runs audited, sorted
         by case, claim (case checks first) and check. UnknownRunError for a run that

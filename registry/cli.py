@@ -679,18 +679,13 @@ def export(fmt: str | None, bibtex: bool, output: str | None) -> None:
 
     Example: registry export --format parquet -o export
     """
-    from pathlib import Path
-
-    from .presentation import data_export
-    from .presentation.bibtex import bibtex as sources_as_bibtex
-
     if (fmt is None) == (not bibtex):
         raise click.UsageError("give exactly one of --format and --bibtex")
     if fmt is not None:
-        for path in data_export.export_tables(_registry(), Path(output or "export"), fmt):
+        for path in _registry().export(output or "export", fmt):
             click.echo(str(path))
         return
-    text = sources_as_bibtex(_registry())
+    text = _registry().bibtex()
     if output is None:
         click.echo(text, nl=False)
     else:
@@ -811,9 +806,6 @@ def report(
 
     Example: registry report --format html -o audit.html
     """
-    from pathlib import Path
-
-    from .presentation.report_content import build_report
     from .presentation.verdict_table import diff_table
 
     reg = _registry()
@@ -822,7 +814,7 @@ def report(
         return
     path = Path(output or f"report.{fmt}")
     path.parent.mkdir(parents=True, exist_ok=True)
-    text = build_report(reg, run, fmt, out_dir=path.parent, plots=plots)
+    text = reg.report(run, fmt, out_dir=path.parent, plots=plots)
     path.write_text(text, encoding="utf-8")
     click.echo(str(path))
 

@@ -33,7 +33,8 @@ ALLOWED: dict[str, set[str]] = {
 }
 #: Layers that may import anything but these.
 FORBIDDEN: dict[str, set[str]] = {
-    "presentation": {"cli", "__main__", "__init__"},
+    # presentation renders the data it is given: the facade (api) gathers it
+    "presentation": {"api", "cli", "__main__", "__init__"},
     "api": {"cli", "__main__", "__init__"},
     "cli": {"__main__", "__init__"},
     "__main__": set(),
@@ -134,6 +135,11 @@ def test_every_folder_of_the_package_is_a_known_layer():
         ("store/bad.py", "from ..audit.checks import CHECKS\n", "store may import only"),
         ("store/bad.py", "from .. import cli\n", "store may import only"),
         ("presentation/bad.py", "from ..cli import main\n", "presentation must not import cli"),
+        (
+            "presentation/bad.py",
+            "from typing import TYPE_CHECKING\nif TYPE_CHECKING:\n    from ..api import Registry\n",
+            "presentation must not import api",
+        ),
         ("api.py", "import registry.cli\n", "api must not import cli"),
         (
             "distributed/bad.py",

@@ -7,10 +7,12 @@ number, pages, publisher, url, doi) where the case file gives them, else parsed
 from the citation as a reader wrote it, and a note keeping the full citation and
 the cases that cite it. Field values are escaped so that their braces stay balanced.
 
+It takes the cases as ``Registry.cases()`` gives them (a DataFrame), never the registry:
+
 >>> import registry
 >>> reg = registry.open(":memory:")
 >>> _ = reg.add("data/cases/yehia-2003-kovalevskaya-b.toml")
->>> print(bibtex(reg).splitlines()[0])
+>>> print(bibtex(reg.cases()).splitlines()[0])
 @article{yehia2003,
 """
 
@@ -18,12 +20,13 @@ from __future__ import annotations
 
 import re
 import unicodedata
+from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from . import latex
 
 if TYPE_CHECKING:
-    from ..api import Registry
+    import pandas as pd
 
 _INITIAL = r"[^\W\d_][a-z]?\.\s*-?"  # H. or Th. (any alphabet)
 _NAME = re.compile(
@@ -134,10 +137,9 @@ _STRUCTURED = {
 }
 
 
-def _sources(reg: Registry) -> list[tuple[str, str, list[str], dict[str, str]]]:
+def _sources(cases: pd.DataFrame) -> list[tuple[str, str, list[str], dict[str, str]]]:
     """(citation, doi, case ids citing it, structured BibTeX fields) for every distinct
-    source, sorted by citation."""
-    cases = reg.cases()
+    source of the rows of ``Registry.cases()``, sorted by citation."""
     grouped: dict[tuple[str, str], tuple[list[str], dict[str, str]]] = {}
     for row in cases.to_dict("records"):
         doi = row["doi"] if isinstance(row["doi"], str) else ""
@@ -198,9 +200,27 @@ def _source_key(citation: str, case_ids: list[str], fields: dict[str, str]) -> s
     return _key(citation, case_ids)
 
 
-def bibtex(reg: Registry) -> str:
-    """One BibTeX entry per distinct source of the stored cases, with unique stable keys."""
-    sources = _sources(reg)
+@dataclass(frozen=True)
+class BibEntry:
+    """One source as BibTeX: its key, the entry's text, and the cases that cite it."""
+
+    key: str
+    text: str
+    cases: tuple[str, ...]
+
+
+def entries(cases: pd.DataFrame) -> list[BibEntry]:
+    """One entry per distinct source of the rows of ``Registry.cases()``, with unique
+    stable keys, sorted by key."""
+    sources = _sources(cases)
     keys = _unique([_source_key(citation, ids, fields) for citation, _, ids, fields in sources])
-    entries = [_entry(k, *source) for k, source in sorted(zip(keys, sources, strict=True))]
-    return "\n\n".join(entries) + ("\n" if entries else "")
+    return [
+        BibEntry(k, _entry(k, *source), tuple(source[2]))
+        for k, source in sorted(zip(keys, sources, strict=True))
+    ]
+
+
+def bibtex(cases: pd.DataFrame) -> str:
+    """The BibTeX file of the sources of the rows of ``Registry.cases()``."""
+    texts = [e.text for e in entries(cases)]
+    return "\n\n".join(texts) + ("\n" if texts else "")

@@ -1,20 +1,19 @@
 """Publishing the registry's tables (``registry export --format``): CSV, JSON or Parquet
 files, written exactly and read back with ``read_table``. A new file format is one
-more writer in ``WRITERS``.
+more writer in ``WRITERS``. The tables come from ``Registry.tables()``: this module
+writes what it is given and never queries the registry.
 """
 
 from __future__ import annotations
 
 import json
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from datetime import date, datetime
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
     import pandas as pd
-
-    from ..api import Registry
 
 #: The file formats of ``export_tables``.
 FORMATS = ("csv", "json", "parquet")
@@ -32,36 +31,15 @@ JSON_COLUMNS = ("on", "witness", "payload", "options", "authors", "aliases")
 # ------------------------------------------------------------------ tables
 
 
-def tables(reg: Registry) -> dict[str, pd.DataFrame]:
-    """The published tables of a registry, by name (see ``TABLES``)."""
-    return {
-        "cases": reg.cases(),
-        "claims": reg.claims(),
-        "verdicts": reg.verdicts(),
-        "all_results": all_results(reg),
-        "repairs": reg.corrections(),
-        "runs": reg.runs(),
-    }
-
-
-def all_results(reg: Registry) -> pd.DataFrame:
-    """Every stored check result of every run, oldest run first."""
-    import pandas as pd
-
-    frames = [reg.verdicts(int(run)) for run in reg.runs()["run"]]
-    if not frames:
-        return reg.verdicts().iloc[0:0]
-    return pd.concat(frames, ignore_index=True)
-
-
-def export_tables(reg: Registry, out_dir: Path, fmt: str) -> list[Path]:
-    """Write every table of ``TABLES`` to ``out_dir/<name>.<fmt>``; return the paths written."""
+def export_tables(tables: Mapping[str, pd.DataFrame], out_dir: Path, fmt: str) -> list[Path]:
+    """Write each table (``Registry.tables()``: name -> frame, in ``TABLES`` order) to
+    ``out_dir/<name>.<fmt>``; return the paths written."""
     if fmt not in FORMATS:
         raise ValueError(f"unknown format {fmt!r}; expected one of {', '.join(FORMATS)}")
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     written = []
-    for name, frame in tables(reg).items():
+    for name, frame in tables.items():
         path = out_dir / f"{name}.{fmt}"
         WRITERS[fmt](frame, path)
         written.append(path)

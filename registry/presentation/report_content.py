@@ -16,7 +16,6 @@ from collections import Counter
 from collections.abc import Callable, Iterable, Sequence
 from functools import lru_cache
 from pathlib import Path
-from typing import TYPE_CHECKING
 
 import pandas as pd
 import sympy as sp
@@ -36,9 +35,6 @@ from ..model import (
     nan_to_none,
 )
 from .report_writers import FORMATS, WRITERS, Code, Link, Math, Part, Writer, anchor
-
-if TYPE_CHECKING:
-    from ..api import Registry
 
 #: Makes the drift plot of (case, claim label): the PNG's path, or why there is none.
 Plotter = Callable[[Case, str], "Path | str"]
@@ -298,9 +294,9 @@ def _case_section(w: Writer, outcome: CaseOutcome, plot: Plotter | None) -> None
 # ------------------------------------------------------------------------ runs
 
 
-def _run_row(reg: Registry, run: int | None) -> pd.Series:
-    """The runs() row of ``run`` (default: the newest); UnknownRunError if there is none."""
-    frame = reg.runs()
+def run_row(frame: pd.DataFrame, run: int | None) -> pd.Series:
+    """The row of ``run`` (default: the newest) in ``Registry.runs()``; UnknownRunError if
+    there is none."""
     if run is None:
         if frame.empty:
             raise RegistryError("no audit run yet; run 'registry audit' first")
@@ -337,22 +333,24 @@ def _plotter(directory: Path) -> Plotter:
 
 
 def build_report(
-    reg: Registry,
-    run: int | None = None,
+    run: pd.Series,
+    outcomes: Sequence[CaseOutcome],
     fmt: str = "md",
     out_dir: Path | None = None,
     plots: bool = True,
 ) -> str:
-    """The text of a report of one audit run (default: the newest) in ``fmt`` (md, html, tex).
+    """The text of a report of one audit run in ``fmt`` (md, html, tex): ``run`` is its
+    row of ``Registry.runs()`` (``run_row``), ``outcomes`` what it found case by case
+    (``AuditReport.outcomes()``); ``Registry.report`` gathers both.
 
     Drift plots of refuted claims are written into ``out_dir`` (default: the current
     directory) for md and tex, and embedded in the file for html.
     """
     if fmt not in WRITERS:
         raise RegistryError(f"unknown report format {fmt!r}; choose one of {', '.join(FORMATS)}")
-    row = _run_row(reg, run)
+    row = run
     number = int(row["run"])
-    outcomes = sorted(reg.run_report(number).outcomes(), key=lambda o: o.case_id)
+    outcomes = sorted(outcomes, key=lambda o: o.case_id)
     with tempfile.TemporaryDirectory() as scratch:
         where = Path(scratch) if fmt == "html" else Path(out_dir or ".")
         plot = _plotter(where) if plots else None

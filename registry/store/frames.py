@@ -131,7 +131,19 @@ def verdicts_frame(store: Store, run: int | None = None) -> pd.DataFrame:
         return _select_frame(store, stmt)
     with store.read() as session:
         get_run(session, run)
-    stmt = (
+    return _select_frame(store, _results().where(ResultRow.run_id == run).order_by(ResultRow.id))
+
+
+@guarded
+def all_results_frame(store: Store) -> pd.DataFrame:
+    """Every stored check result of every run, oldest run first (the columns of
+    ``verdicts_frame`` of one run)."""
+    return _select_frame(store, _results().order_by(ResultRow.run_id, ResultRow.id))
+
+
+def _results() -> Select:
+    """The check results with their case, version and claim (no run chosen yet)."""
+    return (
         select(
             CaseRow.case_id.label("case"),
             CaseRow.version,
@@ -148,10 +160,7 @@ def verdicts_frame(store: Store, run: int | None = None) -> pd.DataFrame:
         )
         .join(CaseRow, CaseRow.id == ResultRow.case_pk)
         .outerjoin(ClaimRow, ClaimRow.id == ResultRow.claim_id)
-        .where(ResultRow.run_id == run)
-        .order_by(ResultRow.id)
     )
-    return _select_frame(store, stmt)
 
 
 @guarded

@@ -15,7 +15,6 @@ from click.testing import CliRunner
 
 import registry
 from registry.cli import main
-from registry.presentation.bibtex import bibtex
 
 ROOT = Path(registry.__file__).resolve().parent.parent
 CASES = ROOT / "data" / "cases"
@@ -45,7 +44,7 @@ def _balanced(text: str) -> bool:
 
 
 def test_bibtex_has_one_entry_per_source_with_unique_keys(audited):
-    text = bibtex(audited.reg)
+    text = audited.reg.bibtex()
     keys = re.findall(r"^@(\w+)\{([^,]+),", text, flags=re.M)
     assert len(keys) == audited.reg.cases()["citation"].nunique() == 2
     assert len({k for _, k in keys}) == len(keys)
@@ -65,7 +64,7 @@ def test_bibtex_keys_are_unique_and_fall_back_to_the_case_id(case_factory):
     }
     for i, (case_id, citation) in enumerate(citations.items()):
         reg.add_case(case_factory(case_id, f'id = "{case_id}" # {i}\n', citation=citation))
-    text = bibtex(reg)
+    text = reg.bibtex()
     keys = re.findall(r"^@\w+\{([^,]+),", text, flags=re.M)
     assert sorted(keys) == ["demo-c", "smith1999a", "smith1999b"]
     assert _balanced(text)
@@ -82,7 +81,7 @@ def test_cli_export_bibtex_to_a_file_and_to_stdout(audited, tmp_path):
     assert to_file.stdout.strip() == str(target)
     to_stdout = runner.invoke(main, ["--db", str(audited.db), "export", "--bibtex"])
     assert to_stdout.exit_code == 0, to_stdout.output
-    assert to_stdout.stdout == target.read_text(encoding="utf-8") == bibtex(audited.reg)
+    assert to_stdout.stdout == target.read_text(encoding="utf-8") == audited.reg.bibtex()
 
 
 def test_citation_cff_parses():
@@ -125,7 +124,7 @@ def test_the_whole_catalog_round_trips_through_a_bibtex_parser():
 
     reg = registry.open(":memory:")
     reg.add(CASES)
-    database = bibtexparser.loads(bibtex(reg))
+    database = bibtexparser.loads(reg.bibtex())
     sources = {}
     for path in sorted(CASES.rglob("*.toml")):
         case = load_case(path)

@@ -78,9 +78,9 @@ def _rows(frame: pd.DataFrame) -> list[dict]:
 
 @pytest.mark.parametrize("fmt", data_export.FORMATS)
 def test_each_format_writes_six_tables_that_round_trip(audited, fmt, tmp_path):
-    paths = data_export.export_tables(audited.reg, tmp_path / fmt, fmt)
+    paths = audited.reg.export(tmp_path / fmt, fmt)
     assert [p.name for p in paths] == [f"{name}.{fmt}" for name in data_export.TABLES]
-    originals = data_export.tables(audited.reg)
+    originals = audited.reg.tables()
     for path in paths:
         name = path.stem
         original, back = originals[name], READERS[fmt](path)
@@ -102,7 +102,7 @@ def _verdict_map(frame: pd.DataFrame) -> dict:
 
 
 def test_the_tables_hold_what_the_registry_holds(audited, tmp_path):
-    t = data_export.tables(audited.reg)
+    t = audited.reg.tables()
     assert set(t["cases"]["case"]) == {YEHIA_B, ZHUKOVSKY}
     assert len(t["all_results"]) == sum(t["runs"]["n_results"])
     assert set(t["verdicts"]["verdict"]) <= {"verified", "refuted", "inconclusive"}
@@ -118,7 +118,7 @@ def test_the_tables_hold_what_the_registry_holds(audited, tmp_path):
     assert table[ZHUKOVSKY, "area", "casimir"] == "verified"
     # the exported files say the same
     for fmt in data_export.FORMATS:
-        data_export.export_tables(audited.reg, tmp_path / fmt, fmt)
+        audited.reg.export(tmp_path / fmt, fmt)
         exported = data_export.read_table(tmp_path / fmt / f"verdicts.{fmt}")
         assert _verdict_map(exported) == table, fmt
     assert len(t["repairs"]) > 0
@@ -126,7 +126,7 @@ def test_the_tables_hold_what_the_registry_holds(audited, tmp_path):
 
 @pytest.mark.parametrize("fmt", data_export.FORMATS)
 def test_json_columns_come_back_as_json(audited, fmt, tmp_path):
-    data_export.export_tables(audited.reg, tmp_path, fmt)
+    audited.reg.export(tmp_path, fmt)
     verdicts = data_export.read_table(tmp_path / f"verdicts.{fmt}")
     witness = verdicts.query("check == 'casimir' and case == @YEHIA_B")["witness"].iloc[0]
     original = audited.reg.verdicts().query("check == 'casimir' and case == @YEHIA_B")
@@ -141,7 +141,7 @@ def test_json_columns_come_back_as_json(audited, fmt, tmp_path):
 
 def test_an_unknown_format_is_refused(audited, tmp_path):
     with pytest.raises(ValueError, match="unknown format"):
-        data_export.export_tables(audited.reg, tmp_path, "xlsx")
+        audited.reg.export(tmp_path, "xlsx")
 
 
 # ------------------------------------------------------------------ CLI

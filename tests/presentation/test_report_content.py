@@ -19,7 +19,6 @@ import registry
 from registry.cli import main
 from registry.errors import UnknownRunError
 from registry.language.parser import Namespace, parse_expression
-from registry.presentation.report_content import build_report
 from registry.presentation.report_writers import anchor
 
 PNG = b"\x89PNG"
@@ -45,7 +44,7 @@ def reg(db):
 @pytest.fixture(scope="module")
 def markdown(reg, tmp_path_factory) -> tuple[str, Path]:
     out = tmp_path_factory.mktemp("md")
-    return build_report(reg, fmt="md", out_dir=out), out
+    return reg.report(fmt="md", out_dir=out), out
 
 
 def _correction(reg, case_id: str, kind: str):
@@ -101,7 +100,7 @@ def test_markdown_summary_keeps_the_integral_and_casimir_columns_apart(tmp_path,
     with registry.open(db_target) as reg:
         reg.add(path)
         reg.audit(jobs=0)
-        report = build_report(reg, fmt="md", plots=False)
+        report = reg.report(fmt="md", plots=False)
         expected = _expected_rows(reg)
     linked = f"[{ZHUKOVSKY}](#case-{ZHUKOVSKY})"
     assert f"| {linked} | H | integral | verified | refuted | verified |" in expected
@@ -177,14 +176,14 @@ def test_markdown_links_drift_plots_that_exist(markdown):
 
 
 def test_report_without_plots_writes_no_png(reg, tmp_path):
-    text = build_report(reg, fmt="md", out_dir=tmp_path, plots=False)
+    text = reg.report(fmt="md", out_dir=tmp_path, plots=False)
     assert ".png" not in text
     assert not list(tmp_path.iterdir())
 
 
 def test_unknown_run_is_refused(reg):
     with pytest.raises(UnknownRunError):
-        build_report(reg, run=999, plots=False)
+        reg.report(run=999, plots=False)
 
 
 def test_cli_default_output_in_current_directory(db, tmp_path, monkeypatch):

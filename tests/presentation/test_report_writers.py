@@ -21,7 +21,6 @@ from samples import CASES, SEED, ZHUKOVSKY
 
 import registry
 from registry.cli import main
-from registry.presentation.report_content import build_report
 from registry.presentation.report_writers import TexWriter
 
 PNG = b"\x89PNG"
@@ -45,7 +44,7 @@ def reg(db):
 
 @pytest.fixture(scope="module")
 def html_report(reg) -> str:
-    return build_report(reg, fmt="html")
+    return reg.report(fmt="html")
 
 
 @pytest.fixture(scope="module")
@@ -191,6 +190,6 @@ def two_runs(tmp_path_factory) -> Path:
 
 def test_tex_escapes_the_title_of_a_case(two_runs):
     with registry.open(two_runs) as reg:
-        text = build_report(reg, fmt="tex", plots=False)
+        text = reg.report(fmt="tex", plots=False)
     assert r"Zhukovsky \& Co.: k\_i at 100\% \#1" in text
     assert _unbalanced_braces(text) == 0
