@@ -295,6 +295,15 @@ class SchedulerUnreachableError(SchedulerError, ConnectionError):
         )
 
 
+class SchedulerSecurityError(SchedulerError, ConnectionError):
+    """A Dask cluster that requires TLS and this command's TLS configuration do not fit:
+    none given, a file it names is missing, or a certificate one side does not trust."""
+
+    def __init__(self, address: str, problem: str, remedy: str):
+        self.problem, self.remedy = problem, remedy
+        super().__init__(address, f"Dask scheduler {_quote(address)}: {problem}; {remedy}")
+
+
 class DaskMissingError(SchedulerError, ImportError):
     """``--scheduler`` was given but Dask distributed is not installed."""
 

@@ -112,15 +112,55 @@ def _address(file: Path, scheduler: subprocess.Popen, deadline: float) -> str:
             time.sleep(0.1)
 
 
+@dataclass(frozen=True)
+class Certificate:
+    """A self-signed certificate and its key, as PEM files: a cluster's CA and the
+    certificate every member presents (``Security.temporary``'s pair, written out)."""
+
+    cert: Path
+    key: Path
+
+    @classmethod
+    def make(cls, where: Path, name: str) -> Certificate:
+        from distributed.security import Security
+
+        made = Security.temporary()
+        where.mkdir(parents=True, exist_ok=True)
+        cert, key = where / f"{name}-cert.pem", where / f"{name}-key.pem"
+        cert.write_text(made.tls_client_cert, encoding="utf-8")
+        key.write_text(made.tls_client_key, encoding="utf-8")
+        return cls(cert, key)
+
+    def arguments(self) -> list[str]:
+        """The options of ``dask scheduler`` and ``dask worker`` that require TLS."""
+        return ["--tls-ca-file", str(self.cert), "--tls-cert", str(self.cert),
+                "--tls-key", str(self.key)]  # fmt: skip
+
+    def client_environment(self, ca: Certificate | None = None) -> dict[str, str]:
+        """Dask's environment variables that make a client present this certificate and
+        trust ``ca`` (default: this one), as the README's recipe sets them."""
+        return {
+            "DASK_DISTRIBUTED__COMM__TLS__CA_FILE": str((ca or self).cert),
+            "DASK_DISTRIBUTED__COMM__TLS__CLIENT__CERT": str(self.cert),
+            "DASK_DISTRIBUTED__COMM__TLS__CLIENT__KEY": str(self.key),
+            "DASK_DISTRIBUTED__COMM__REQUIRE_ENCRYPTION": "True",
+        }
+
+
 @contextmanager
-def dask_processes(where: Path, n_workers: int = 2) -> Iterator[DaskProcesses]:
+def dask_processes(
+    where: Path, n_workers: int = 2, tls: Certificate | None = None
+) -> Iterator[DaskProcesses]:
     """A scheduler and ``n_workers`` workers (one thread each, no nanny: a worker killed
-    stays dead), each a ``dask`` process of its own on 127.0.0.1, for the block only."""
+    stays dead), each a ``dask`` process of its own on 127.0.0.1, for the block only;
+    with ``tls``, every connection to them requires TLS with that certificate."""
     from distributed import Client
+    from distributed.security import Security
 
     where.mkdir(parents=True, exist_ok=True)
     file = where / "scheduler.json"
     env = source_environment()
+    secure = tls.arguments() if tls else []
     started: list[subprocess.Popen] = []
 
     def start(name: str, *args: str) -> subprocess.Popen:
@@ -139,6 +179,7 @@ def dask_processes(where: Path, n_workers: int = 2) -> Iterator[DaskProcesses]:
             *here,
             *"--port 0 --dashboard-address 127.0.0.1:0 --scheduler-file".split(),
             str(file),
+            *(["--protocol", "tls", *secure] if tls else []),
         )
         address = _address(file, scheduler, time.monotonic() + 60)
         one = "--nthreads 1 --nworkers 1 --no-nanny --no-dashboard".split()
@@ -152,10 +193,19 @@ def dask_processes(where: Path, n_workers: int = 2) -> Iterator[DaskProcesses]:
                 *one,
                 "--name",
                 f"worker-{i}",
+                *secure,
             )
             for i in range(n_workers)
         ]
-        with Client(address, timeout=30) as client:
+        security = None
+        if tls:
+            security = Security(
+                tls_ca_file=str(tls.cert),
+                tls_client_cert=str(tls.cert),
+                tls_client_key=str(tls.key),
+                require_encryption=True,
+            )
+        with Client(address, timeout=30, security=security) as client:
             client.wait_for_workers(n_workers, timeout=60)
         yield DaskProcesses(address, file, scheduler, workers, where)
     finally:

@@ -36,6 +36,7 @@ from ..errors import (
     DaskMissingError,
     SchedulerAddressError,
     SchedulerError,
+    SchedulerSecurityError,
     SchedulerUnreachableError,
 )
 
@@ -172,13 +173,93 @@ def cluster_client(
             )
             client = stack.enter_context(distributed.Client(cluster, timeout=timeout))
         else:
+            _check_tls_files(address.text)
             try:
                 client = distributed.Client(address.text, timeout=timeout)
-            except (OSError, TimeoutError) as err:
-                detail = "" if "Timed out" in str(err) else str(err)  # the timeout says it all
-                raise SchedulerUnreachableError(scheduler, timeout, detail) from err
+            except (OSError, TimeoutError, TypeError, RuntimeError) as err:
+                problem = _connection_error(address.text, scheduler, timeout, err)
+                if problem is None:
+                    raise
+                raise problem from err
             stack.enter_context(client)
         yield client
+
+
+#: Dask's configuration keys of the client's side of TLS, and their environment variables.
+TLS_KEYS = {
+    "distributed.comm.tls.ca-file": "DASK_DISTRIBUTED__COMM__TLS__CA_FILE",
+    "distributed.comm.tls.client.cert": "DASK_DISTRIBUTED__COMM__TLS__CLIENT__CERT",
+    "distributed.comm.tls.client.key": "DASK_DISTRIBUTED__COMM__TLS__CLIENT__KEY",
+}
+#: What to configure, said once for every TLS error.
+TLS_REMEDY = (
+    "give this command the cluster's CA certificate and a client certificate and key "
+    "signed by that CA, in Dask's configuration ("
+    + ", ".join(TLS_KEYS)
+    + ") or its environment variables ("
+    + ", ".join(TLS_KEYS.values())
+    + ")"
+)
+
+
+def _check_tls_files(address: str) -> None:
+    """SchedulerSecurityError naming the key when Dask's TLS configuration names a file
+    that is not there (Dask itself would only say ``No such file or directory``)."""
+    from dask.config import get
+
+    for key, variable in TLS_KEYS.items():
+        value = get(key, default=None)
+        if value and "-----BEGIN" not in str(value) and not Path(value).expanduser().is_file():
+            raise SchedulerSecurityError(
+                address,
+                f"Dask's TLS configuration {key} (${variable}) names {str(value)!r}, "
+                "which is not a readable file",
+                TLS_REMEDY,
+            )
+
+
+def _connection_error(
+    address: str, given: str, timeout: float, err: BaseException
+) -> SchedulerError | None:
+    """The one-line error for a client that could not connect to ``address``: TLS that
+    does not fit (none configured, a certificate one side does not trust), a scheduler
+    that speaks TLS asked for plain TCP, or no answer at all (None: ``err`` is no
+    connection problem, a bug to show as it is)."""
+    said = str(err)
+    lowered = said.lower()
+    tls = address.startswith(("tls://", "wss://"))
+    if isinstance(err, TypeError) and "ssl_context" in said:
+        problem = "it requires TLS, and this command has no TLS configuration"
+        return SchedulerSecurityError(address, problem, TLS_REMEDY)
+    if isinstance(err, RuntimeError) and "encryption required" in lowered:
+        return SchedulerSecurityError(
+            address,
+            "Dask's configuration requires encryption (distributed.comm.require-encryption) "
+            "and the address is not tls://",
+            "give the scheduler's tls:// address",
+        )
+    if isinstance(err, TypeError | RuntimeError):
+        return None
+    if tls and ("certificate does not match" in lowered or "certificate verify failed" in lowered):
+        problem = (
+            "its certificate is not signed by the CA this command trusts "
+            "(distributed.comm.tls.ca-file)"
+        )
+        return SchedulerSecurityError(address, problem, TLS_REMEDY)
+    if tls and ("ssl" in lowered or "eof occurred" in lowered):
+        problem = (
+            "it ended the TLS handshake: it does not trust this command's client certificate "
+            "(distributed.comm.tls.client.cert and .key)"
+        )
+        return SchedulerSecurityError(address, problem, TLS_REMEDY)
+    if not tls and "connection reset" in lowered:
+        return SchedulerUnreachableError(
+            given,
+            timeout,
+            f"{said}; a scheduler that requires TLS is reached at tls://HOST:PORT",
+        )
+    detail = "" if "Timed out" in said else said  # the timeout says it all
+    return SchedulerUnreachableError(given, timeout, detail)
 
 
 def describe(client: Client) -> dict[str, Any]:
