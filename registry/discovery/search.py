@@ -7,10 +7,12 @@ free-parameter values where more appear.
    below. Where the bounds meet (the usual case) there is provably no extra integral
    for generic values, and nothing exact needs computing; otherwise the kernel is
    computed exactly over Q(p, q).
-3. The special locus (``locus``): where the rank of a block drops, as points and
-   components in the free parameters p; the others, q, stay symbolic throughout.
+3. The special locus (``locus``): where the rank of a block drops, as sets of the
+   free parameters p (some of them rational functions of the others), by case
+   splitting on pivots; the others, q, stay symbolic throughout. A set inside
+   another is left to the search of that one.
 4. Each candidate is searched again as a case of its own with its values substituted
-   (a point has no free parameter left, a component fewer); it is special when it
+   (a point has no free parameter left, a larger set fewer); it is special when it
    has more extra integrals than the family has generically.
 5. Every integral reported is proven by the audit's own zero test (the ``integral``
    check; ``casimir`` is recorded for information), and only then reported.
@@ -51,14 +53,15 @@ from ..model import (
 from .ansatz import PolynomialSystem
 from .integrals import Analysis, Generator, analyse, products
 from .linear import GF_PRIME, PRIME, Field
-from .locus import Locus, drop_locus, eliminate_constants
+from .locus import Locus, drop_locus
 from .simplest_form import simplest
 
 #: What a search says of how it works (stored with every recorded search).
 METHOD = (
     "polynomial ansatz; generic kernel bounded modulo a prime by the known integrals' "
-    "products; rank-drop locus from constant-pivot elimination, gcds of projected "
-    "maximal minors and resultants; exact kernels over Q(p); zero-test proofs"
+    "products; rank-drop locus by case splitting on the pivots of a fraction-free "
+    "elimination (pivots: what the assumptions keep nonzero); exact kernels over Q(p); "
+    "zero-test proofs"
 )
 
 #: Progress callback: (candidates done, candidates known so far, what is being done).
@@ -215,10 +218,11 @@ def _search(
     ]
     locus = _locus(state, system, params, len(free), generic, known, extras, rnd)
     candidates = []
-    for assignment in [*locus.points, *({s: e} for s, e in locus.components)]:
+    for assignment in locus.maximal():
         sub = substituted(case, assignment)
         if sub is not None:
-            sub_when = when + tuple(f"{to_text(s)} = {to_text(e)}" for s, e in assignment.items())
+            ordered = sorted(assignment.items(), key=lambda item: free.index(item[0]))
+            sub_when = when + tuple(f"{to_text(s)} = {to_text(e)}" for s, e in ordered)
             candidates.append((sub, [p for p in free if p not in assignment], sub_when))
     state.total += len(candidates)
     special: list[IntegralSet] = []
@@ -350,15 +354,19 @@ def _locus(state, system, params, free, generic: Analysis, known, extras, rnd) -
                 rows.setdefault(r, {})[c] = poly
         return list(rows.values())
 
+    positive = frozenset(i for i, p in enumerate(params) if p.is_positive)
+    nonzero = frozenset(i for i, p in enumerate(params) if p.is_nonzero)
+
+    def drops(rows, rho) -> None:
+        if rows and rho > 0:
+            locus.merge(drop_locus(rows, rho, free, rnd, positive=positive, nonzero=nonzero))
+
     for b, block in enumerate(system.blocks):
         weights = [system.columns[j][1] for j in block.columns]
         for cutoff in sorted(set(weights)):
             keep = {c: i for i, c in enumerate(c for c, w in enumerate(weights) if w <= cutoff)}
             rows = rows_of(((r, keep[c]), v) for (r, c), v in block.entries.items() if c in keep)
-            taken, rest = eliminate_constants(rows)
-            rho = len(keep) - generic.nullities[(b, cutoff)] - taken
-            if rest and rho > 0:
-                locus.merge(drop_locus(rest, rho, free, rnd))
+            drops(rows, len(keep) - generic.nullities[(b, cutoff)])
     if extras:
         trivial = products(system, [*known, *extras], system.degree)
         rows = rows_of(
@@ -366,13 +374,9 @@ def _locus(state, system, params, free, generic: Analysis, known, extras, rnd) -
             for i, p in enumerate(trivial)
             for j, coeffs in system.coordinates(p).items()
         )
-        taken, rest = eliminate_constants(rows)
-        rho = generic.counts[system.degree][1] - taken
-        if rest and rho > 0:
-            locus.merge(drop_locus(rest, rho, free, rnd))
+        drops(rows, generic.counts[system.degree][1])
     back = dict(zip(ring.symbols, params, strict=True))
-    locus.points = [{back[s]: e.xreplace(back) for s, e in p.items()} for p in locus.points]
-    locus.components = [(back[s], e.xreplace(back)) for s, e in locus.components]
+    locus.sets = [{back[s]: e.xreplace(back) for s, e in p.items()} for p in locus.sets]
     state.undecided.extend(u for u in locus.undecided if u not in state.undecided)
     return locus
 

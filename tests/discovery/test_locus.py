@@ -1,5 +1,6 @@
-"""The rank-drop locus of a parametric matrix: constant-pivot elimination keeps the
-rank, maximal minors hold every component, and points and components come out exact."""
+"""The rank-drop locus of a parametric matrix: every set where the rank falls comes out
+as an exact rational assignment, contained sets are left to the search of the larger
+one, and what cannot be solved rationally is said."""
 
 from __future__ import annotations
 
@@ -9,65 +10,87 @@ import sympy as sp
 from sympy import QQ
 from sympy.polys.rings import PolyRing
 
-from registry.discovery.locus import bareiss, drop_locus, eliminate_constants, rank_mod
+from registry.discovery.locus import Locus, contains, drop_locus, rank_mod
 
 RING = PolyRing(["l", "z"], QQ, "lex")
 L, Z = RING.gens
 ONE = PolyRing(["l"], QQ, "lex")
 L1 = ONE.gens[0]
+lam, z = sp.symbols("l z")
 
 
 def rows_of(matrix):
     return [{j: v for j, v in enumerate(row) if v} for row in matrix]
 
 
-def test_bareiss_is_the_determinant():
-    m = [[L, Z, RING.one], [Z, L + 1, L], [RING.one, RING(2), Z]]
-    expected = sp.Matrix([[e.as_expr() for e in row] for row in m]).det()
-    assert sp.expand(bareiss(m).as_expr() - expected) == 0
-
-
-def test_eliminating_constant_pivots_keeps_the_rank_at_every_point():
+def test_the_modular_rank_at_a_point_is_the_rank_there():
     matrix = [[RING(1), L, Z], [RING(2), 2 * L, L * Z], [RING(0), Z - 1, L - 2]]
-    taken, rest = eliminate_constants(rows_of(matrix))
     rnd = random.Random(0)
     for _ in range(10):
         point = [rnd.randrange(1, 100), rnd.randrange(1, 100)]
         full = sp.Matrix(
             [[e.as_expr().subs({"l": point[0], "z": point[1]}) for e in row] for row in matrix]
         )
-        assert taken + rank_mod(rest, point) == full.rank()
+        assert rank_mod(rows_of(matrix), point) == full.rank()
 
 
 def test_one_parameter_points_are_the_rational_roots_where_the_rank_drops():
-    # diag(l - 2, l - 3): rank 2 except at l = 2 and l = 3
-    matrix = [{0: L1 - 2}, {1: L1 - 3}]
-    locus = drop_locus(matrix, 2, 1, random.Random(1))
-    assert sorted(p[sp.Symbol("l")] for p in locus.points) == [2, 3]
-    assert not locus.components and not locus.undecided
-
-
-def test_an_irrational_factor_where_the_rank_does_not_drop_is_dismissed():
-    # rows [1 - ...] crafted: rank 1 everywhere; projections may still vanish at roots of
-    # a random quadratic, which the modular check dismisses
-    matrix = [{0: L1**2 - 2, 1: ONE.one}]
-    locus = drop_locus(matrix, 1, 1, random.Random(2))
-    assert locus.points == [] and locus.undecided == []
-
-
-def test_a_line_and_an_isolated_point_in_two_parameters():
-    # rank 2 generically; rank 1 on the whole line l = 1, and at the point (2, 0)
-    matrix = [{0: L - 1}, {1: (L - 1) * (L - 2) + (L - 1) * Z}, {1: Z * (L - 1)}]
-    locus = drop_locus(matrix, 2, 2, random.Random(3))
-    assert (sp.Symbol("l"), sp.Integer(1)) in locus.components
+    # diag(lam - 2, lam - 3): rank 2 except at lam = 2 and lam = 3
+    locus = drop_locus([{0: L1 - 2}, {1: L1 - 3}], 2, 1, random.Random(1))
+    assert sorted(s[lam] for s in locus.sets) == [2, 3]
     assert not locus.undecided
 
 
-def test_isolated_points_come_from_the_gcd_of_resultants():
-    # rank 2 except where l - 2 = z = 0
+def test_a_root_that_breaks_a_positivity_assumption_is_not_a_candidate():
+    locus = drop_locus([{0: L1 + 2}, {1: L1 - 3}], 2, 1, random.Random(1), positive={0})
+    assert locus.sets == [{lam: 3}]
+
+
+def test_an_entry_that_cannot_vanish_under_the_assumptions_is_a_pivot():
+    # lam**2 + 1 never vanishes; lam + z cannot for lam, z positive
+    matrix = [{0: L**2 + 1, 1: Z}, {1: L + Z}]
+    assert drop_locus(matrix, 2, 2, random.Random(2), positive={0, 1}).sets == []
+    assert drop_locus(matrix, 2, 2, random.Random(2), positive={0}).sets == [{z: -lam}]
+
+
+def test_a_line_and_an_isolated_point_in_two_parameters():
+    # rank 2 generically; rank 1 on the whole line lam = 1, and at the point (2, 0)
+    matrix = [{0: L - 1}, {1: (L - 1) * (L - 2) + (L - 1) * Z}, {1: Z * (L - 1)}]
+    locus = drop_locus(matrix, 2, 2, random.Random(3))
+    assert {lam: 1} in locus.sets
     matrix = [{0: RING.one}, {1: L - 2}, {1: Z}]
-    locus = drop_locus(matrix, 2, 2, random.Random(4))
-    assert {sp.Symbol("l"): 2, sp.Symbol("z"): 0} in [
-        {k: v for k, v in p.items()} for p in locus.points
-    ]
-    assert locus.components == []
+    assert drop_locus(matrix, 2, 2, random.Random(4)).sets == [{lam: 2, z: 0}]
+
+
+def test_a_component_solved_for_a_parameter_it_is_linear_in():
+    # rank 1 exactly where z*lam = 1; with a second row lam, also on lam = 0 (z free)
+    (one,) = drop_locus([{0: L * Z - 1}], 1, 2, random.Random(5)).sets
+    assert len(one) == 1 and sp.cancel((lam * z - 1).xreplace(one)) == 0
+    sets = drop_locus([{0: L * Z - 1}, {1: L}], 2, 2, random.Random(5)).sets
+    assert one in sets and {lam: 0} in sets and len(sets) == 2
+
+
+def test_a_nonlinear_component_is_undecided_and_named():
+    locus = drop_locus([{0: L**2 + Z**2 - 2}], 1, 2, random.Random(6))
+    assert locus.sets == [] and locus.undecided
+    assert "l**2 + z**2 - 2 = 0" in locus.undecided[0]
+    # one that has no real point is no special set at all
+    assert drop_locus([{0: L1**2 + 2}], 1, 1, random.Random(6)).undecided == []
+
+
+def test_isolated_irrational_points_where_the_rank_holds_are_decided_exactly():
+    # the first two entries vanish together at four points (lam**2 = 2, z**2 = lam z + 1),
+    # where the third does not: rank 1 everywhere
+    matrix = [{0: L**2 - 2}, {0: Z**2 - L * Z - 1}, {0: L**2 + Z**2 + 7}]
+    locus = drop_locus(matrix, 1, 2, random.Random(7))
+    assert locus.sets == [] and locus.undecided == []
+    # where it does vanish there too, the points are named (irrational: not searched)
+    matrix[2] = {0: (L**2 - 2) * Z}
+    locus = drop_locus(matrix, 1, 2, random.Random(7))
+    assert locus.sets == [] and len(locus.undecided) == 1
+
+
+def test_a_set_inside_another_is_left_to_its_search():
+    locus = Locus([{lam: 1}, {lam: 1, z: 0}, {z: lam}, {z: 1, lam: 1}])
+    assert contains({z: lam}, {z: 1, lam: 1}) and not contains({lam: 1}, {lam: 1})
+    assert locus.maximal() == [{lam: 1}, {z: lam}]

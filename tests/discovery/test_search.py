@@ -251,3 +251,33 @@ def test_results_that_come_in_any_order_are_put_back_in_order_and_none_is_lost()
     assert [(i, v) for i, v in got[:3]] == [(0, "a"), (1, "b"), (2, "c")]
     assert got[3][0] == 3 and isinstance(got[3][1], DiscoveryError)
     assert closed == [True]
+
+
+def test_three_free_parameters_give_the_four_classical_sets_and_nothing_else():
+    # moments (1, b, c), centre of mass (1, 0, z0): the spherical top (M1 + z0 M3 for
+    # every z0), Lagrange with the centre on the symmetry axis, Kovalevskaya with the
+    # equal moments 1 = c twice b (centre (1, 0, z0) in their plane, every z0), and with
+    # 1 = b twice c (z0 = 0 only); Husson (1906): no other case
+    found = search("heavy-top-b-c-z0", degree=4, free=("b", "c", "z0"))
+    assert found.complete and found.generic.extra == 0
+    sets = where(found)
+    assert set(sets) == {
+        ("b = 1", "c = 1"),
+        ("b = c", "z0 = 0"),
+        ("b = 1/2", "c = 1"),
+        ("b = 1", "c = 1/2", "z0 = 0"),
+    }
+    assert sets[("b = 1", "c = 1")] == ("M1 + M3*z0",)
+    assert sets[("b = c", "z0 = 0")] == ("M1",)
+    case = family("heavy-top-b-c-z0")
+    for when, integrals in sets.items():
+        values = dict(w.split(" = ") for w in when)
+        sub = substituted(
+            case,
+            {
+                case.parameters[k]: sp.Rational(v) if v[0].isdigit() else case.parameters[v]
+                for k, v in values.items()
+            },
+        )
+        (text,) = integrals
+        assert conserved_modulo_known(sub, text, [])

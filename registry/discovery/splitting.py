@@ -1,0 +1,562 @@
+"""Where a parametric matrix loses rank, by case splitting on its pivots.
+
+A matrix B with entries in Z[p, q] (p the free parameters, q those that stay symbolic
+and generic) has rank ``need`` at the generic point; the question is the set of p where
+its rank is lower. Fraction-free elimination answers it branch by branch, the way a
+classification by hand (or CRACK) proceeds:
+
+* a *unit* is a polynomial that cannot vanish where the branch lives: a constant, a
+  polynomial in q alone, a monomial in parameters the assumptions keep nonzero, a
+  polynomial of one sign there (b + c with b, c positive), or a factor the branch
+  assumed nonzero. A unit entry is a pivot: the other rows are multiplied by units
+  only, and each row is divided by the units it has in common, so that
+  rank B = pivots + rank of the rest at *every* point of the branch;
+* where no entry is a unit, the branch splits on an irreducible factor h of an entry:
+  h != 0 (h becomes a unit) or h = 0, solved for a free parameter v it is linear in
+  (h = h1 v + h0; v = -h0/h1 where h1 != 0, and h1 = h0 = 0 as a branch of its own),
+  so that every branch is a rational parametrisation of its points. A parameter that
+  may vanish (z0 real) is split on in the same way: z0 = 0 or z0 != 0, and each point
+  of parameter space lies in exactly one branch;
+* a branch whose rank falls short of ``need`` (fewer rows than needed, or a rank
+  modulo a prime at a random point of it below it) is a *candidate set*: the values
+  of the solved parameters as rational functions of the others. A branch whose rank
+  modulo a prime reaches ``need`` has that generic rank exactly (a modular rank at a
+  point bounds the rank over Q(p, q) from below), so its independent parts (connected
+  components of the rest) are split on separately, each with its own rank.
+
+The candidate sets hold every point where the rank drops (their union is the rank-drop
+locus, closed under taking closures); they are candidates only, each confirmed by an
+exact search. What cannot be solved rationally (an equation of degree >= 2 in every
+free parameter that remains after the others are solved) is returned as an undecided
+set, named by its equations, unless it has no real point.
+"""
+
+from __future__ import annotations
+
+import random
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass, field, replace
+
+import flint
+import sympy as sp
+from sympy.polys.matrices import DomainMatrix
+
+#: The prime of the modular rank checks (below 2**63, as FLINT's nmod_mat needs).
+PRIME = (1 << 61) - 1
+#: Most branches one matrix may split into before the rest is called undecided.
+MAX_BRANCHES = 20_000
+
+Poly = flint.fmpz_mpoly
+Row = dict[int, Poly]
+
+
+@dataclass(frozen=True)
+class Region:
+    """The parameters and what the assumptions say of them: ``names`` of the ring's
+    variables, the first ``free`` of them free (the rest symbolic), and the indices
+    of those declared positive and of those declared nonzero (positive included)."""
+
+    names: tuple[str, ...]
+    free: int
+    positive: frozenset[int] = frozenset()
+    nonzero: frozenset[int] = frozenset()
+
+    @property
+    def context(self) -> flint.fmpz_mpoly_ctx:
+        return flint.fmpz_mpoly_ctx.get(self.names, "lex")
+
+
+@dataclass(frozen=True)
+class Step:
+    """One solved equation: ``variable`` = numerator / denominator (both free of it)."""
+
+    variable: int
+    numerator: Poly
+    denominator: Poly
+
+
+@dataclass
+class Branch:
+    """A part of parameter space and the matrix on it: the rows left after the pivots
+    taken, the rank still ``need``-ed there, the factors assumed nonzero, the solved
+    parameters (in order), and an equation kept unsolved (nonlinear in every free one)."""
+
+    rows: list[Row]
+    need: int
+    units: dict[str, Poly] = field(default_factory=dict)
+    steps: tuple[Step, ...] = ()
+    pending: Poly | None = None
+
+
+@dataclass
+class Split:
+    """The outcome: candidate sets (each the solved parameters' values as sympy
+    expressions in the others) and undecided sets (their equations, as text)."""
+
+    sets: list[dict[sp.Symbol, sp.Expr]] = field(default_factory=list)
+    undecided: list[str] = field(default_factory=list)
+    branches: int = 0
+
+
+class _Splitter:
+    def __init__(self, region: Region, rnd: random.Random):
+        self.region = region
+        self.ctx = region.context
+        self.rnd = rnd
+        self.factors: dict[str, list[Poly]] = {}
+        self.out = Split()
+        self.symbols = [sp.Symbol(n) for n in region.names]
+
+    # ------------------------------------------------------------- polynomials
+
+    def factor(self, poly: Poly) -> list[Poly]:
+        """The distinct irreducible factors (primitive, positive leading coefficient)."""
+        key = str(poly)
+        hit = self.factors.get(key)
+        if hit is None:
+            hit = [f for f, _ in poly.factor()[1]]
+            self.factors[key] = hit
+        return hit
+
+    def is_unit(self, h: Poly, branch: Branch) -> bool:
+        """Whether the irreducible ``h`` cannot vanish on the branch."""
+        if h.is_constant() or str(h) in branch.units:
+            return True
+        degrees = h.degrees()
+        if not any(degrees[: self.region.free]):
+            return True  # a condition on the symbolic parameters, which stay generic
+        return self._one_signed(h)
+
+    def _one_signed(self, h: Poly) -> bool:
+        """h > 0 or h < 0 wherever the assumptions hold: coefficients of one sign, a
+        variable of odd power only if positive, and one term that cannot vanish."""
+        positive, nonzero = self.region.positive, self.region.nonzero
+        signs = set()
+        strict = False
+        for exps, c in h.terms():
+            signs.add(c > 0)
+            if any(e % 2 and i not in positive for i, e in enumerate(exps)):
+                return False
+            if all(not e or i in positive or i in nonzero for i, e in enumerate(exps)):
+                strict = True
+        return len(signs) == 1 and strict
+
+    def unit_entry(self, poly: Poly, branch: Branch) -> bool:
+        return all(self.is_unit(f, branch) for f in self.factor(poly))
+
+    def unit_part(self, poly: Poly, branch: Branch) -> Poly:
+        """The product of the unit factors of ``poly`` (with its content)."""
+        part = self.ctx.constant(1)
+        content, factors = poly.factor()
+        part *= content
+        for f, e in factors:
+            if self.is_unit(f, branch):
+                part *= f**e
+        return part
+
+    # ---------------------------------------------------------------- matrices
+
+    def normalise(self, branch: Branch) -> None:
+        """Zero entries dropped (multiples of the pending equation too), each row
+        divided by the units its entries share, empty rows dropped."""
+        rows = []
+        for row in branch.rows:
+            row = {k: v for k, v in row.items() if not v.is_zero()}
+            if branch.pending is not None:
+                row = {k: v for k, v in row.items() if not _divides(branch.pending, v)}
+            if not row:
+                continue
+            g = None
+            for v in row.values():
+                g = v if g is None else g.gcd(v)
+                if g.is_one():
+                    break
+            if not g.is_one() and not g.is_constant():
+                unit = self.unit_part(g, branch)
+                if not unit.is_one() and not unit.is_constant():
+                    row = {k: v / unit for k, v in row.items()}
+            elif g.is_constant() and abs(int(g.leading_coefficient())) > 1:
+                c = int(g.leading_coefficient())
+                row = {k: v / c for k, v in row.items()}
+            rows.append(row)
+        branch.rows = rows
+
+    def unit_pivot(self, branch: Branch) -> tuple[int, int] | None:
+        """A unit entry (row, column), the sparsest first (Markowitz: fewest entries
+        in its row and column, then fewest terms)."""
+        counts: dict[int, int] = {}
+        for row in branch.rows:
+            for k in row:
+                counts[k] = counts.get(k, 0) + 1
+        best, choice = None, None
+        for i, row in enumerate(branch.rows):
+            for k, v in row.items():
+                cost = ((len(row) - 1) * (counts[k] - 1), len(v))
+                if (best is None or cost < best) and self.unit_entry(v, branch):
+                    best, choice = cost, (i, k)
+        return choice
+
+    def eliminate(self, branch: Branch, i: int, k: int) -> None:
+        """Fraction-free elimination on the unit entry (i, k): every other row is
+        multiplied by a unit (the pivot over its gcd with the row's entry)."""
+        pivot_row = branch.rows.pop(i)
+        pivot = pivot_row.pop(k)
+        for row in branch.rows:
+            a = row.pop(k, None)
+            if a is None:
+                continue
+            g = pivot.gcd(a)
+            p, q = pivot / g, a / g
+            for j in set(row) | set(pivot_row):
+                value = p * row.get(j, self.ctx.constant(0)) - q * pivot_row.get(
+                    j, self.ctx.constant(0)
+                )
+                row[j] = value
+        branch.need -= 1
+
+    def rank_mod(self, rows: Sequence[Row]) -> int:
+        """The rank at a random point modulo PRIME: a lower bound of the generic rank."""
+        cols = sorted({k for r in rows for k in r})
+        if not rows or not cols:
+            return 0
+        point = [self.rnd.randrange(1, PRIME) for _ in self.region.names]
+        index = {k: j for j, k in enumerate(cols)}
+        entries = [0] * (len(rows) * len(cols))
+        for i, r in enumerate(rows):
+            for k, v in r.items():
+                entries[i * len(cols) + index[k]] = int(v(*point)) % PRIME
+        return flint.nmod_mat(len(rows), len(cols), entries, PRIME).rank()
+
+    # --------------------------------------------------------------- splitting
+
+    def run(self, rows: list[Row], need: int) -> Split:
+        stack = [Branch(rows, need)]
+        while stack:
+            self.out.branches += 1
+            if self.out.branches > MAX_BRANCHES:
+                self.out.undecided.append(
+                    f"the rank-drop locus of a block (more than {MAX_BRANCHES} branches)"
+                )
+                break
+            stack.extend(self.explore(stack.pop()))
+        return self.out
+
+    def explore(self, branch: Branch) -> list[Branch]:
+        """Eliminate on units; then either the branch is decided (full rank, or a
+        candidate set) or it splits: into independent parts, or on a factor."""
+        while True:
+            self.normalise(branch)
+            if branch.need <= 0:
+                return []
+            columns = {k for r in branch.rows for k in r}
+            if len(branch.rows) < branch.need or len(columns) < branch.need:
+                self.emit(branch)
+                return []
+            pivot = self.unit_pivot(branch)
+            if pivot is None:
+                break
+            self.eliminate(branch, *pivot)
+        if branch.pending is None:
+            if self.rank_mod(branch.rows) < branch.need:
+                self.emit(branch)
+                return []
+            parts = _components(branch.rows)
+            if len(parts) > 1:
+                return [
+                    replace(branch, rows=part, need=self.rank_mod(part), units=dict(branch.units))
+                    for part in parts
+                ]
+        h = self.splitting_factor(branch)
+        nonzero = replace(branch, rows=[dict(r) for r in branch.rows], units=dict(branch.units))
+        nonzero.units[str(h)] = h
+        return [nonzero, *self.impose(branch, [h])]
+
+    def splitting_factor(self, branch: Branch) -> Poly:
+        """The simplest non-unit irreducible factor of an entry (fewest terms, lowest
+        degree): z0 before b - c before anything longer."""
+        best, choice = None, None
+        for row in branch.rows:
+            for v in row.values():
+                for f in self.factor(v):
+                    if self.is_unit(f, branch):
+                        continue
+                    degrees = f.degrees()[: self.region.free]
+                    cost = (1 not in degrees, len(f), f.total_degree(), str(f))
+                    if best is None or cost < best:
+                        best, choice = cost, f
+        assert choice is not None  # no unit entry, so some factor is not a unit
+        return choice
+
+    # --------------------------------------------------------------- equations
+
+    def impose(self, branch: Branch, equations: list[Poly]) -> list[Branch]:
+        """The branch restricted to the common zeros of ``equations``: a list of
+        branches (one per way of satisfying them), each solved rationally where it
+        can be."""
+        if not equations:
+            return [branch]
+        first, rest = equations[0], equations[1:]
+        if first.is_zero():
+            return self.impose(branch, rest)
+        factors = [f for f in self.factor(first) if not self.is_unit(f, branch)]
+        out = []
+        for n, h in enumerate(factors):
+            # h = 0 and the factors before it nonzero: the branches do not overlap
+            sub = replace(branch, rows=[dict(r) for r in branch.rows], units=dict(branch.units))
+            for g in factors[:n]:
+                sub.units[str(g)] = g
+            out.extend(self.solve(sub, h, rest))
+        return out
+
+    def solve(self, branch: Branch, h: Poly, rest: list[Poly]) -> list[Branch]:
+        """h = 0 on the branch (h irreducible, not a unit), then ``rest``."""
+        free = self.region.free
+        degrees = h.degrees()
+        linear = [v for v in range(free) if degrees[v] == 1]
+        if not linear:
+            if branch.pending is None or _divides(branch.pending, h):
+                if branch.pending is None:
+                    branch.pending = h
+                return self.impose(branch, rest)
+            if not self._inconsistent(branch, branch.pending, h) and not self._full_at_points(
+                branch, [branch.pending, h]
+            ):
+                self.out.undecided.append(self.describe(branch, [branch.pending, h]))
+            return []
+        options = []
+        for v in linear:
+            parts = _coefficients(h, v)
+            lead = parts.get(1)
+            unit = self.unit_entry(lead, branch)
+            # a parameter with no assumption first: the others keep theirs
+            kept = v in self.region.nonzero
+            options.append((not lead.is_constant(), not unit, kept, len(lead), len(h), v))
+        *_, v = min(options)
+        parts = _coefficients(h, v)
+        lead, tail = parts[1], parts.get(0, self.ctx.constant(0))
+        out = []
+        if not self.unit_entry(lead, branch):  # h1 = h0 = 0 as a branch of its own
+            zero = replace(branch, rows=[dict(r) for r in branch.rows], units=dict(branch.units))
+            out.extend(self.impose(zero, [lead, tail, *rest]))
+            for f in self.factor(lead):
+                if not self.is_unit(f, branch):
+                    branch.units[str(f)] = f
+        for solved in self.substitute(branch, v, -tail, lead):
+            out.extend(self.impose(solved, rest))
+        return out
+
+    def substitute(self, branch: Branch, v: int, numer: Poly, denom: Poly) -> list[Branch]:
+        """The branch on v = numer/denom (denom a unit there): none where that
+        contradicts it (a factor assumed nonzero vanishes, or a positive parameter
+        would be negative), several where the pending equation splits there."""
+        if v in self.region.positive and not self._may_be_positive(numer, denom):
+            return []
+        rows = []
+        for row in branch.rows:
+            top = max(r.degrees()[v] for r in row.values())
+            rows.append({k: _put(e, v, numer, denom, top) for k, e in row.items()})
+        units: dict[str, Poly] = {}
+        for f in branch.units.values():
+            value = _put(f, v, numer, denom, f.degrees()[v])
+            if value.is_zero():
+                return []
+            for g in self.factor(value):
+                if not g.is_constant():
+                    units[str(g)] = g
+        for g in self.factor(denom):
+            units[str(g)] = g
+        new = Branch(rows, branch.need, units, (*branch.steps, Step(v, numer, denom)))
+        if branch.pending is None:
+            return [new]
+        value = _put(branch.pending, v, numer, denom, branch.pending.degrees()[v])
+        return self.impose(new, [value])
+
+    def _may_be_positive(self, numer: Poly, denom: Poly) -> bool:
+        """False when numer/denom is negative (or zero) wherever the assumptions hold."""
+        if numer.is_zero():
+            return False
+        sign_n, sign_d = self._sign(numer), self._sign(denom)
+        return sign_n is None or sign_d is None or sign_n == sign_d
+
+    def _sign(self, poly: Poly) -> bool | None:
+        """True (> 0), False (< 0) or None (either) wherever the assumptions hold."""
+        if not self._one_signed(poly):
+            return None
+        return next(iter(poly.terms()))[1] > 0
+
+    # ------------------------------------------------------------------ output
+
+    def emit(self, branch: Branch) -> None:
+        """A candidate set: the solved parameters' values (or undecided)."""
+        if branch.pending is not None:
+            if not self._no_real_point(branch.pending):
+                self.out.undecided.append(self.describe(branch, [branch.pending]))
+            return
+        values = self.values(branch)
+        if values not in self.out.sets:
+            self.out.sets.append(values)
+
+    def values(self, branch: Branch) -> dict[sp.Symbol, sp.Expr]:
+        out: dict[sp.Symbol, sp.Expr] = {}
+        for step in branch.steps:
+            value = sp.cancel(self.expr(step.numerator) / self.expr(step.denominator))
+            symbol = self.symbols[step.variable]
+            out = {s: sp.cancel(e.xreplace({symbol: value})) for s, e in out.items()}
+            out[symbol] = value
+        return out
+
+    def expr(self, poly: Poly) -> sp.Expr:
+        return sp.Add(
+            *(
+                int(c) * sp.Mul(*(s ** int(e) for s, e in zip(self.symbols, exps, strict=True)))
+                for exps, c in poly.terms()
+            )
+        )
+
+    def describe(self, branch: Branch, equations: Iterable[Poly]) -> str:
+        values = self.values(branch)
+        parts = [f"{s} = {sp.sstr(e)}" for s, e in values.items()]
+        parts += [f"{sp.sstr(self.expr(e))} = 0" for e in equations]
+        return ", ".join(parts) + " (not solvable rationally for a free parameter)"
+
+    def _inconsistent(self, branch: Branch, h: Poly, g: Poly) -> bool:
+        """Whether h = g = 0 has no point allowed by the assumptions, shown by their
+        resultant in a parameter both contain: its factors are units on the branch or
+        polynomials in one parameter with no allowed real root."""
+        both = [i for i, (a, b) in enumerate(zip(h.degrees(), g.degrees(), strict=True)) if a and b]
+        for i in sorted(both, key=lambda i: max(h.degrees()[i], g.degrees()[i])):
+            r = h.resultant(g, self.region.names[i])
+            if r.is_zero():
+                continue
+            if all(self.is_unit(f, branch) or self._no_real_point(f) for f in self.factor(r)):
+                return True
+        return False
+
+    def _full_at_points(self, branch: Branch, equations: list[Poly]) -> bool:
+        """Whether the rows keep the rank ``need`` at every allowed point of the finite
+        set the equations define, decided exactly over each number field Q(alpha):
+        the lex Groebner basis in shape position (x = f(t), r(t) = 0), one irreducible
+        factor of r at a time (conjugate points have equal ranks). False when it
+        cannot tell (not finite, not in shape position, symbolic parameters)."""
+        used = sorted({i for e in equations for i, d in enumerate(e.degrees()) if d})
+        rows_used = {
+            i for r in branch.rows for v in r.values() for i, d in enumerate(v.degrees()) if d
+        }
+        if any(i >= self.region.free for i in set(used) | rows_used) or len(used) > 3:
+            return False
+        symbols = [self.symbols[i] for i in used]
+        if rows_used - set(used):
+            return False
+        basis = sp.groebner([self.expr(e) for e in equations], *symbols, order="lex")
+        t = symbols[-1]
+        last = basis.exprs[-1]
+        shape = {}
+        for g in basis.exprs[:-1]:
+            x = next((s for s in symbols[:-1] if sp.Poly(g, *symbols).degree(s) == 1), None)
+            if x is None or x in shape or (g.free_symbols - {x, t}):
+                return False
+            shape[x] = sp.solve(g, x)[0]
+        if last.free_symbols != {t} or len(shape) != len(symbols) - 1:
+            return False
+        for f, _ in sp.factor_list(last, t)[1]:
+            roots = sp.Poly(f, t).real_roots()
+            if not roots:
+                continue
+            alpha = roots[0]
+            field = sp.QQ.algebraic_field(alpha)
+            point = {t: alpha, **{x: e.subs(t, alpha) for x, e in shape.items()}}
+            values = {s: field.from_sympy(v) for s, v in point.items()}
+            if any(i in self.region.positive and not (point[self.symbols[i]] > 0) for i in used):
+                continue
+            if any(self._at(u, values, field) == field.zero for u in branch.units.values()):
+                continue
+            cols = sorted({k for r in branch.rows for k in r})
+            dense = [
+                [self._at(r[k], values, field) if k in r else field.zero for k in cols]
+                for r in branch.rows
+            ]
+            rank = DomainMatrix(dense, (len(dense), len(cols)), field).rank()
+            if rank < branch.need:
+                return False
+        return True
+
+    def _at(self, poly: Poly, values: dict, field) -> object:
+        """poly at the point ``values`` (symbols -> elements of ``field``)."""
+        total = field.zero
+        for exps, c in poly.terms():
+            term = field.convert(int(c))
+            for s, e in zip(self.symbols, exps, strict=True):
+                if e:
+                    term *= values[s] ** int(e)
+            total += term
+        return total
+
+    def _no_real_point(self, poly: Poly) -> bool:
+        """Whether a polynomial in one variable has no real root (allowed by the
+        assumptions); False when it cannot tell."""
+        used = [i for i, d in enumerate(poly.degrees()) if d]
+        if len(used) != 1:
+            return False
+        (i,) = used
+        x = self.symbols[i]
+        roots = sp.Poly(self.expr(poly), x).real_roots()
+        if i in self.region.positive:
+            roots = [r for r in roots if r > 0]
+        elif i in self.region.nonzero:
+            roots = [r for r in roots if r != 0]
+        return not roots
+
+
+def _divides(h: Poly, v: Poly) -> bool:
+    """Whether h divides v ({h} is a Groebner basis of (h): the remainder decides)."""
+    return v.is_zero() or divmod(v, h)[1].is_zero()
+
+
+def _coefficients(poly: Poly, v: int) -> dict[int, Poly]:
+    """poly as a polynomial in variable v: power -> coefficient (free of v)."""
+    ctx = poly.context()
+    out: dict[int, dict] = {}
+    for exps, c in poly.terms():
+        rest = list(exps)
+        rest[v] = 0
+        out.setdefault(exps[v], {})[tuple(rest)] = c
+    return {k: ctx.from_dict(d) for k, d in out.items()}
+
+
+def _put(poly: Poly, v: int, numer: Poly, denom: Poly, top: int) -> Poly:
+    """denom**top * poly(v = numer/denom), with top >= the degree of poly in v."""
+    ctx = poly.context()
+    total = ctx.constant(0)
+    for k, c in _coefficients(poly, v).items():
+        total += c * numer**k * denom ** (top - k)
+    return total
+
+
+def _components(rows: list[Row]) -> list[list[Row]]:
+    """The rows grouped into independent parts (no column shared between parts)."""
+    parent: dict[int, int] = {}
+
+    def find(a: int) -> int:
+        while parent.setdefault(a, a) != a:
+            parent[a] = parent[parent[a]]
+            a = parent[a]
+        return a
+
+    for row in rows:
+        keys = list(row)
+        for k in keys[1:]:
+            a, b = find(keys[0]), find(k)
+            if a != b:
+                parent[a] = b
+    groups: dict[int, list[Row]] = {}
+    for row in rows:
+        groups.setdefault(find(next(iter(row))), []).append(row)
+    return list(groups.values())
+
+
+def drop_sets(rows: list[Row], need: int, region: Region, rnd: random.Random) -> Split:
+    """The candidate sets where ``rows`` (entries in ``region.context``, generic rank
+    ``need``) lose rank (module docstring)."""
+    if need <= 0 or not rows:
+        return Split()
+    return _Splitter(region, rnd).run([dict(r) for r in rows], need)

@@ -1,0 +1,85 @@
+"""Case splitting on the pivots: units are what the assumptions keep nonzero, every
+branch's rank holds at every one of its points, and a parameter that may vanish is
+split on, each point of parameter space in exactly one branch."""
+
+from __future__ import annotations
+
+import random
+
+import sympy as sp
+
+from registry.discovery.splitting import Branch, Region, _Splitter, drop_sets
+
+REGION = Region(("b", "c", "z", "q"), 3, frozenset({0, 1}), frozenset({0, 1}))
+CTX = REGION.context
+B, C, Z, Q = CTX.gens()
+b, c, z = sp.symbols("b c z")
+
+
+def splitter() -> _Splitter:
+    return _Splitter(REGION, random.Random(0))
+
+
+def test_units_are_what_the_assumptions_and_the_branch_keep_nonzero():
+    s, branch = splitter(), Branch([], 1)
+    assert s.unit_entry(3 * B**2 * C, branch)  # monomial in positive parameters
+    assert s.unit_entry(B + 2 * C + 1, branch)  # one sign where b, c > 0
+    assert s.unit_entry(Z**2 + B, branch)  # z real: z**2 >= 0, b > 0
+    assert s.unit_entry(Q**2 - 5, branch)  # symbolic parameter: generic
+    assert not s.unit_entry(Z, branch)  # z may vanish
+    assert not s.unit_entry(B - C, branch)
+    assert not s.unit_entry(Z * B + 1, branch)
+    branch.units[str(Z)] = Z
+    assert s.unit_entry(Z * B, branch)
+
+
+def test_a_parameter_that_may_vanish_is_split_on():
+    # [z, b - c]: rank 1 unless z = 0 and b = c
+    split = drop_sets([{0: Z, 1: B - C}], 1, REGION, random.Random(1))
+    assert split.sets == [{z: 0, b: c}] and not split.undecided
+
+
+def test_the_sets_are_exactly_where_the_determinant_vanishes():
+    rows = [{0: B, 1: C, 2: Z}, {0: C, 1: B, 2: Z + B - C}, {0: B * Z, 1: 2 * C, 2: Z**2 + B}]
+    split = drop_sets(rows, 3, REGION, random.Random(2))
+    matrix = sp.Matrix(
+        [[sp.sympify(str(r.get(k, 0)).replace("^", "**")) for k in range(3)] for r in rows]
+    )
+    det = sp.factor(matrix.det())
+    assert det != 0 and not split.undecided
+    for values in split.sets:  # the rank falls on every set ...
+        assert sp.simplify(det.xreplace(values)) == 0
+    rnd = random.Random(3)
+    for _ in range(20):  # ... and every point where it falls lies in one
+        point = {b: sp.Rational(rnd.randint(1, 9), rnd.randint(1, 9)), z: rnd.randint(-5, 5)}
+        for cv in sp.solve(det.subs(point), c):
+            if cv.is_rational and cv > 0:
+                at = {**point, c: cv}
+                assert any(
+                    all(sp.simplify((s_ - e).xreplace(at)) == 0 for s_, e in values.items())
+                    for values in split.sets
+                )
+
+
+def test_pivots_keep_the_rank_at_every_point_of_the_branch():
+    s = splitter()
+    branch = Branch([{0: B, 1: Z}, {0: C, 1: B + Z}], 2)
+    s.normalise(branch)
+    i, k = s.unit_pivot(branch)
+    s.eliminate(branch, i, k)
+    (rest,) = branch.rows
+    (entry,) = rest.values()
+    # b (b + z) - c z or the same from the other pivot: the 2 x 2 determinant
+    det = B * (B + Z) - C * Z
+    assert entry == det or entry == -det
+    assert branch.need == 1
+
+
+def test_too_many_nonlinear_equations_are_undecided_not_dropped():
+    region = Region(("b", "c", "z"), 3)
+    ctx = region.context
+    b_, c_, z_ = ctx.gens()
+    rows = [{0: b_**2 + c_**2 - z_**2 - 1}, {0: b_**2 - c_**2 - z_**3}]
+    split = drop_sets(rows, 1, region, random.Random(4))
+    assert split.undecided and not split.sets
+    assert "= 0" in split.undecided[0]
