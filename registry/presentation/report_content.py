@@ -34,36 +34,49 @@ from ..model import (
     component_number,
     nan_to_none,
 )
+from .mathml import NAMES, equation
 from .report_writers import FORMATS, WRITERS, Code, Link, Math, Part, Writer, anchor
 
 #: Makes the drift plot of (case, claim label): the PNG's path, or why there is none.
 Plotter = Callable[[Case, str], "Path | str"]
 
 
-def _formula(text: str, ns: Namespace) -> Math | Code:
-    """An expression of the case-file language in LaTeX, or verbatim if it does not parse."""
+def _formula(w: Writer, text: str, ns: Namespace) -> Math | Code:
+    """An expression of the case-file language as math, or verbatim if it does not parse."""
     try:
-        return Math(sp.latex(parse_expression(text, ns)))
+        expr = parse_expression(text, ns)
+        return Math(w.tex(expr), expr, text)
     except (RegistryError, ValueError, TypeError, RecursionError):
         return Code(text)
 
 
-def _equation(text: str, ns: Namespace) -> Math | Code:
-    """An equation ``lhs = rhs`` (a parameter condition) in LaTeX, or verbatim."""
+def _equation(w: Writer, text: str, ns: Namespace) -> Math | Code:
+    """An equation ``lhs = rhs`` (a parameter condition) as math, or verbatim."""
     try:
         lhs, rhs = parse_equation(text, ns)
     except (RegistryError, ValueError, TypeError, RecursionError):
         return Code(text)
-    return Math(f"{sp.latex(lhs)} = {sp.latex(rhs)}")
+    return Math(f"{w.tex(lhs)} = {w.tex(rhs)}", equation(lhs, rhs), text)
+
+
+#: The symbol each left-hand side of ``_show`` stands for, in the HTML writer's MathML.
+_LHS: dict[str, sp.Basic] = {
+    r"\mathcal{R}": NAMES["residual"],
+    r"\mathcal{C}": NAMES["casimir"],
+    r"\varphi": NAMES["phi"],
+    r"\psi": NAMES["psi"],
+    "a(s)": sp.Function("a")(sp.Symbol("s")),
+    **{rf"\mu_{{{k}}}'": sp.Symbol(f"mu_{k}'") for k in (1, 2, 3)},
+}
 
 
 def _show(w: Writer, lhs: str, text: str, ns: Namespace) -> None:
     """Display ``lhs = expression`` (LaTeX), or the expression verbatim if it does not parse."""
-    shown = _formula(text, ns)
+    shown = _formula(w, text, ns)
     if isinstance(shown, Math):
-        w.equation(f"{lhs} = {shown.latex}")
+        w.equation(f"{lhs} = {shown.latex}", equation(_LHS[lhs], shown.expr), text)
     else:
-        w.para(Math(lhs), " = ", shown)
+        w.para(Math(lhs, _LHS[lhs]), " = ", shown)
 
 
 def _joined(parts: Iterable[Part], sep: str = ", ") -> list[Part]:
@@ -136,11 +149,26 @@ def _contents(w: Writer, groups: dict[str, list[CaseOutcome]]) -> None:
 def _system(w: Writer, case: Case) -> None:
     """Inertia, potential and torque in LaTeX, and the declared parameters."""
     w.heading(3, "System")
-    inertia = (sp.latex(e) for e in case.system.inertia_exprs)
-    w.equation(r",\quad ".join(f"{n} = {e}" for n, e in zip("ABC", inertia, strict=True)))
-    w.equation(f"U = {sp.latex(case.system.potential.expr)}")
-    for k, mu in enumerate(case.system.torque_exprs):
-        w.equation(rf"\mu_{{{component_number(k)}}} = {sp.latex(mu)}")
+    system = case.system
+    inertia = tuple(zip("ABC", system.inertia, strict=True))
+    w.equation(
+        r",\quad ".join(f"{n} = {w.tex(e.expr)}" for n, e in inertia),
+        tuple(equation(sp.Symbol(n), e.expr) for n, e in inertia),
+        ", ".join(f"{n} = {e.text}" for n, e in inertia),
+    )
+    potential = system.potential
+    w.equation(
+        f"U = {w.tex(potential.expr)}",
+        equation(sp.Symbol("U"), potential.expr),
+        f"U = {potential.text}",
+    )
+    for k, mu in enumerate(system.torque):
+        n = component_number(k)
+        w.equation(
+            rf"\mu_{{{n}}} = {w.tex(mu.expr)}",
+            equation(sp.Symbol(f"mu_{n}"), mu.expr),
+            f"mu{n} = {mu.text}",
+        )
     declared = [f"{name} ({case.assumptions.get(name, 'real')})" for name in case.parameters]
     declared += [
         f"{name}({', '.join(map(str, args))})" for name, (_, args) in case.functions.items()
@@ -187,7 +215,7 @@ def _branches(w: Writer, lead: str, branches: Sequence[Sequence[str]], ns: Names
     """Parameter conditions: equations joined by commas, branches by 'or'."""
     parts: list[Part] = [lead]
     for i, branch in enumerate(branches):
-        parts += ([" or "] if i else []) + _joined(_equation(eq, ns) for eq in branch)
+        parts += ([" or "] if i else []) + _joined(_equation(w, eq, ns) for eq in branch)
     w.para(*parts, ".")
 
 
@@ -233,7 +261,8 @@ def _correction(w: Writer, fix: Correction, ns: Namespace) -> None:
         _show(w, r"\mathcal{C}", fix.expression or "", ns)
         return
     lead = f"Corrected torque ({fix.method}; re-checked: {checks}), keeping "
-    w.para(lead, *_joined(Math(rf"\mu_{{{k}}}") for k in fix.kept_components), ":")
+    kept = (Math(rf"\mu_{{{k}}}", sp.Symbol(f"mu_{k}")) for k in fix.kept_components)
+    w.para(lead, *_joined(kept), ":")
     for k, text in fix.changed_components:
         _show(w, rf"\mu_{{{k}}}'", text, ns)
 
@@ -253,9 +282,17 @@ def _claim(w: Writer, outcome: ClaimOutcome, case: Case, ns: Namespace, plot: Pl
     claim = outcome.claim
     w.heading(4, f"Claim {claim.label} ({claim.kind}): {outcome.verdict}")
     w.para("Claimed" + (f" at {claim.locator}" if claim.locator else "") + ":")
-    w.equation(f"I = {sp.latex(claim.expression.expr)}")
+    claimed = claim.expression
+    w.equation(
+        f"I = {w.tex(claimed.expr)}",
+        equation(sp.Symbol("I"), claimed.expr),
+        f"{claim.label} = {claimed.text}",
+    )
     if claim.on:
-        level_set = (Math(f"{sp.latex(e.lhs)} = {sp.latex(e.rhs)}") for e in claim.on)
+        level_set = (
+            Math(f"{w.tex(e.lhs)} = {w.tex(e.rhs)}", equation(e.lhs, e.rhs), e.text)
+            for e in claim.on
+        )
         w.para("on the level set ", *_joined(level_set), ".")
     for name, result in outcome.checks.items():
         _result(w, name, result, ns)

@@ -10,31 +10,31 @@ from __future__ import annotations
 
 import base64
 import html
-import io
 import re
 import struct
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
-from typing import TYPE_CHECKING
+
+import sympy as sp
 
 from . import latex
-
-if TYPE_CHECKING:
-    pass
+from .mathml import mathml
 
 #: The formats ``build_report`` writes, by name (the name is also the file extension).
 FORMATS = ("md", "html", "tex")
-#: Formulas longer than this (LaTeX characters) are shown as source in HTML, not rendered.
-MAX_RENDERED = 3000
 
 
 @dataclass(frozen=True)
 class Math:
-    """A LaTeX formula, inline in a paragraph."""
+    """A formula, inline in a paragraph: its LaTeX, and the expression it shows (what
+    the HTML writer prints as MathML; a tuple of expressions for a list of them)."""
 
     latex: str
+    expr: sp.Basic | tuple[sp.Basic, ...] | None = None
+    #: The formula in the case-file language (what a reader copies), where there is one.
+    text: str | None = None
 
 
 @dataclass(frozen=True)
@@ -74,7 +74,7 @@ class Writer:
         out = []
         for p in parts:
             if isinstance(p, Math):
-                out.append(self.math(p.latex))
+                out.append(self.formula(p))
             elif isinstance(p, Code):
                 out.append(self.code(p.text))
             elif isinstance(p, Link):
@@ -102,8 +102,16 @@ class Writer:
         """Plain text, with the format's special characters escaped."""
         raise NotImplementedError
 
+    def tex(self, expr: sp.Basic) -> str:
+        """The LaTeX of an expression, for a format that writes formulas in LaTeX."""
+        return _latex(expr)
+
+    def formula(self, math: Math) -> str:
+        """An inline formula (by default written from its LaTeX)."""
+        return self.math(math.latex)
+
     def math(self, latex: str) -> str:
-        """An inline formula."""
+        """An inline formula given in LaTeX."""
         raise NotImplementedError
 
     def code(self, text: str) -> str:
@@ -123,8 +131,13 @@ class Writer:
         no links)."""
         return self.escape(text)
 
-    def equation(self, latex: str) -> None:
-        """A displayed formula."""
+    def equation(
+        self,
+        latex: str,
+        expr: sp.Basic | tuple[sp.Basic, ...] | None = None,
+        text: str | None = None,
+    ) -> None:
+        """A displayed formula: its LaTeX, the expression it shows and its text (``Math``)."""
         raise NotImplementedError
 
     def tabular(self, header: list[str], rows: list[list[str]]) -> str:
@@ -162,7 +175,7 @@ class MarkdownWriter(Writer):
     def paragraph(self, text: str) -> str:
         return text
 
-    def equation(self, latex: str) -> None:
+    def equation(self, latex: str, expr=None, text=None) -> None:
         self.blocks.append(f"$$\n{latex}\n$$")
 
     def tabular(self, header: list[str], rows: list[list[str]]) -> str:
@@ -177,16 +190,25 @@ class MarkdownWriter(Writer):
 
 
 class HtmlWriter(Writer):
-    """One self-contained HTML file: formulas and plots are embedded PNG images."""
+    """One self-contained HTML file: formulas as MathML (rendered by the browser, with
+    their LaTeX as an annotation), plots as embedded PNG images."""
 
     def escape(self, text: str) -> str:
         return html.escape(text, quote=True)
 
-    def math(self, latex: str, display: bool = False) -> str:
-        png = _math_png(latex) if len(latex) <= MAX_RENDERED else None
-        if png is None:
-            return f"<code>{self.escape(latex)}</code>"
-        return _img(png, latex, "eq" if display else "math", scale=0.6)
+    def tex(self, expr: sp.Basic) -> str:
+        return ""  # formulas are MathML here: no LaTeX to compute
+
+    def formula(self, math: Math, display: bool = False) -> str:
+        if math.expr is None:
+            return self.math(math.latex)
+        try:
+            return mathml(math.expr, display=display, annotation=math.text, encoding="text/plain")
+        except ValueError:
+            return self.code(math.text or "")
+
+    def math(self, latex: str) -> str:
+        return f"<code>{self.escape(latex)}</code>"
 
     def code(self, text: str) -> str:
         return f"<code>{self.escape(text)}</code>"
@@ -201,8 +223,10 @@ class HtmlWriter(Writer):
     def paragraph(self, text: str) -> str:
         return f"<p>{text}</p>"
 
-    def equation(self, latex: str) -> None:
-        self.blocks.append(f'<div class="display">{self.math(latex, display=True)}</div>')
+    def equation(self, latex: str, expr=None, text=None) -> None:
+        shown = self.formula(Math(latex, expr, text), display=True)
+        source = f'<code class="source">{self.escape(text)}</code>' if text else ""
+        self.blocks.append(f'<div class="display">{shown}{source}</div>')
 
     def tabular(self, header: list[str], rows: list[list[str]]) -> str:
         head = "".join(f"<th>{h}</th>" for h in header)
@@ -225,7 +249,8 @@ _CSS = """
 body { font-family: sans-serif; max-width: 60em; margin: 2em auto; line-height: 1.45; }
 table { border-collapse: collapse; } th, td { border: 1px solid #bbb; padding: 0.2em 0.6em; }
 .display { overflow-x: auto; margin: 0.6em 0 0.6em 2em; }
-img.math { vertical-align: middle; } img.plot { max-width: 100%; }
+img.plot { max-width: 100%; } math[display="block"] { margin: 0.3em 0; }
+code.source { display: block; color: #555; font-size: 0.85em; margin: 0 0 0.6em 2em; }
 code { background: #f3f3f3; overflow-wrap: anywhere; }
 """
 
@@ -251,7 +276,7 @@ class TexWriter(Writer):
     def paragraph(self, text: str) -> str:
         return text
 
-    def equation(self, latex: str) -> None:
+    def equation(self, latex: str, expr=None, text=None) -> None:
         self.blocks.append(f"\\[\n{latex}\n\\]")
 
     def tabular(self, header: list[str], rows: list[list[str]]) -> str:
@@ -275,17 +300,10 @@ class TexWriter(Writer):
 WRITERS: dict[str, type[Writer]] = {"md": MarkdownWriter, "html": HtmlWriter, "tex": TexWriter}
 
 
-@lru_cache(maxsize=2048)
-def _math_png(latex: str) -> bytes | None:
-    """A formula rendered by matplotlib's mathtext (no TeX, no network); None if unsupported."""
-    from matplotlib import mathtext
-
-    buf = io.BytesIO()
-    try:
-        mathtext.math_to_image(f"${latex}$", buf, dpi=200, format="png")
-    except (ValueError, RuntimeError):
-        return None
-    return buf.getvalue()
+@lru_cache(maxsize=4096)
+def _latex(expr: sp.Basic) -> str:
+    """``sympy.latex``, once per expression (reports of one run in several formats)."""
+    return sp.latex(expr)
 
 
 def _img(png: bytes, alt: str, css: str, scale: float = 1.0) -> str:

@@ -8,6 +8,7 @@ shared by the module; the title test uses a second, one-case database.
 
 from __future__ import annotations
 
+import html
 import os
 import re
 import shutil
@@ -17,7 +18,7 @@ from pathlib import Path
 
 import pytest
 from click.testing import CliRunner
-from samples import CASES, SEED, ZHUKOVSKY
+from samples import CASES, SEED, YEHIA_B, ZHUKOVSKY
 
 import registry
 from registry.cli import main
@@ -88,6 +89,20 @@ def test_html_is_one_self_contained_file(html_report):
     assert not re.search(r"""(src|href)\s*=\s*["']?(https?:)?//""", text)
     for case_id in SEED:
         assert case_id in text
+
+
+def test_html_formulas_are_mathml_with_their_text_not_images(reg, html_report):
+    """Formulas are MathML the browser renders as text (no image of a formula), each
+    displayed one followed by its case-file text to copy; only the drift plots are PNG."""
+    text = html_report
+    assert text.count("<math") > 20
+    assert len(re.findall(r"<img ", text)) == len(re.findall(r'<img class="plot"', text))
+    case = reg.case(YEHIA_B)
+    torque = case.system.torque[2].text
+    assert f'<code class="source">mu3 = {html.escape(torque)}</code>' in text
+    # the MathML of mu3 as the printer writes it, gamma3 as a subscripted gamma
+    assert "<msub><mi>&#947;</mi><mi>3</mi></msub>" in text
+    assert "&InvisibleTimes;" not in text  # numeric character references only
 
 
 def test_html_parses_with_balanced_tags(html_report):
