@@ -12,11 +12,11 @@
 from __future__ import annotations
 
 import os
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Callable, Generator, Iterable, Sequence
 from contextlib import closing
 from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
-from typing import TYPE_CHECKING, Literal
+from typing import TYPE_CHECKING, Any, Literal
 
 from .audit.case_audit import DEFAULT_BUDGET, audit_case, failed_case
 from .audit.outcome import CaseOutcome, outcomes
@@ -210,13 +210,23 @@ class Registry:
             given = scheduler if isinstance(scheduler, str) else client.scheduler.address
             return self._audit(case_ids, fresh, jobs, budget, numeric, progress, client, given)
 
-    def _audit(self, case_ids, fresh, jobs, budget, numeric, progress, client, scheduler):
+    def _audit(
+        self,
+        case_ids: Sequence[str] | None,
+        fresh: bool,
+        jobs: int | None,
+        budget: TimeBudget | None,
+        numeric: bool,
+        progress: Callable[[str], None] | None,
+        client: Client | None,
+        scheduler: str | None,
+    ) -> AuditReport:
         """``audit``, with ``client`` the Dask client of ``scheduler`` (or both None)."""
         budget = budget or DEFAULT_BUDGET
         jobs = default_jobs() if jobs is None else jobs
         stored = self.store.case_versions(list(case_ids) if case_ids else None)
         version = code_version()
-        options = {
+        options: dict[str, Any] = {
             "cases": list(case_ids) if case_ids else None,
             "fresh": fresh,
             "jobs": jobs,
@@ -272,7 +282,15 @@ class Registry:
         return AuditReport(run, ordered, cases, versions, tuple(events))
 
     @staticmethod
-    def _compute(cases, jobs, budget, numeric, progress, client=None, on_event=None):
+    def _compute(
+        cases: Sequence[Case],
+        jobs: int,
+        budget: TimeBudget,
+        numeric: bool,
+        progress: Callable[[str], None] | None,
+        client: Client | None = None,
+        on_event: Callable[[Event], None] | None = None,
+    ) -> Generator[tuple[int, CaseAudit], None, None]:
         """(index, audit) for each case: on the Dask cluster of ``client``, in workers, or
         (jobs == 0) in this process."""
 
@@ -303,7 +321,7 @@ class Registry:
         fresh: bool = False,
         budget: float | None = DEFAULT_SEARCH_BUDGET,
         jobs: int = 1,
-        progress=None,
+        progress: Callable[[int, int, str], None] | None = None,
         scheduler: str | Client | None = None,
     ) -> SearchReport:
         """Search a case (a case file, a stored case's id, or a ``Case``) for first
@@ -410,7 +428,7 @@ class Registry:
         )
         return SearchReport(search, number, derived=tuple(c.id for c in derived))
 
-    def _search_target(self, target) -> tuple[Case, StoredCase | None]:
+    def _search_target(self, target: str | os.PathLike | Case) -> tuple[Case, StoredCase | None]:
         """The case to search and its stored version (None when not stored)."""
         if isinstance(target, Case):
             case = target
@@ -462,7 +480,7 @@ class Registry:
         frame["family"] = [f if isinstance(f, str) else "" for f in frame["family"]]
         keep = [True] * len(frame)
 
-        def contains(values, text: str) -> list[bool]:
+        def contains(values: Iterable[object], text: str) -> list[bool]:
             return [text.lower() in str(v).lower() for v in values]
 
         if source is not None:
@@ -653,7 +671,7 @@ class Registry:
     def __enter__(self) -> Registry:
         return self
 
-    def __exit__(self, *exc) -> None:
+    def __exit__(self, *exc: object) -> None:
         self.close()
 
 
@@ -666,7 +684,7 @@ def discover_file(
     free: Sequence[str] = (),
     budget: float | None = DEFAULT_SEARCH_BUDGET,
     jobs: int = 1,
-    progress=None,
+    progress: Callable[[int, int, str], None] | None = None,
     scheduler: str | Client | None = None,
 ) -> SearchReport:
     """Search a case file without a database (``Registry.discover`` has the options)."""
@@ -676,7 +694,14 @@ def discover_file(
     return SearchReport(search, events=events)
 
 
-def _run_search(case, options, budget, jobs, progress, scheduler) -> tuple[Search, tuple[str, ...]]:
+def _run_search(
+    case: Case,
+    options: SearchOptions,
+    budget: float | None,
+    jobs: int,
+    progress: Callable[[int, int, str], None] | None,
+    scheduler: str | Client | None,
+) -> tuple[Search, tuple[str, ...]]:
     """A search in this process, in ``jobs`` processes, or on the Dask cluster of
     ``scheduler``; and what happened on the cluster, one line each."""
     if scheduler is None:
@@ -699,4 +724,5 @@ def open_registry(target: str | os.PathLike | None = None, *, create: bool = Tru
     """Open the registry at a path or SQLAlchemy URL, creating it if needed (unless
     ``create`` is False: then a missing file is a DatabaseMissingError). An older
     database is upgraded to the current schema, after a backup copy."""
-    return Registry(Store(target if target is not None else default_target(), create=create))
+    where = default_target() if target is None else target
+    return Registry(Store(Path(where) if isinstance(where, os.PathLike) else where, create=create))

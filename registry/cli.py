@@ -16,7 +16,7 @@ from contextlib import contextmanager
 from dataclasses import replace
 from functools import wraps
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any, Literal
 
 import click
 
@@ -213,7 +213,7 @@ def add(paths: tuple[str, ...]) -> None:
     tally = ", ".join(f"{counts[s]} {s}" for s in ("added", "new version", "unchanged", "refused"))
     click.echo(f"{len(results)} file(s): {tally}")
     for r in refused:
-        _report(r.error)
+        _report(r.error or RegistryError(f"{r.path}: refused"))
     if refused:
         sys.exit(1)
 
@@ -424,7 +424,7 @@ def discover(
     is_file = Path(target).is_file()
     # a file searched without --record needs no database, and creates none
     reg = _registry(create=True) if record or not is_file else _existing_registry()
-    options = dict(
+    options: dict[str, Any] = dict(
         degree=degree,
         weights=weights,
         on=on,
@@ -875,7 +875,12 @@ def grant(reader: str | None, writer: str | None, revoke: str | None, print_sql:
 
     Example: registry --db postgresql+psycopg://maintainer@db/registry grant --reader student
     """
-    given = [(lvl, r) for lvl, r in (("reader", reader), ("writer", writer), (None, revoke)) if r]
+    levels: tuple[tuple[Literal["reader", "writer"] | None, str | None], ...] = (
+        ("reader", reader),
+        ("writer", writer),
+        (None, revoke),
+    )
+    given = [(lvl, r) for lvl, r in levels if r]
     if len(given) != 1:
         raise click.UsageError("give exactly one of --reader ROLE, --writer ROLE, --revoke ROLE")
     ((level, role),) = given

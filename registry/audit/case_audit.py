@@ -76,7 +76,7 @@ def audit_case(
 
 
 def _with_evidence(audit: CaseAudit, m: CaseMechanics, seconds: float | None) -> CaseAudit:
-    integral = {r.claim: r.verdict for r in audit.results if r.check == "integral"}
+    integral = {r.claim: r.verdict for r in audit.results if r.check == "integral" and r.claim}
     try:
         with time_limit(seconds):
             found = numeric_evidence(m, integral)

@@ -98,7 +98,9 @@ def claim_drift(m: CaseMechanics, claim: Claim, seed: int = 0, runs: int = RUNS)
     """Integrate from ``runs`` random points of the claim's level set; measure the drifts."""
     rng = random.Random(seed)
     domain, funcs, exprs = _setup(m, claim, rng)
-    drifts, floors, notes = [], [], []
+    drifts: list[float] = []
+    floors: list[float] = []
+    notes: list[str] = []
     attempts = 0
     while len(drifts) < runs and attempts < 4 * runs:
         attempts += 1

@@ -91,10 +91,11 @@ def corrected_torque(m: CaseMechanics, claim: Claim) -> Correction | None:
     grad_g = [mech.total_diff(i, g) - ds_i * mv for g, mv in zip(AXIS, MOMENTUM, strict=True)]
     w = [sp.cancel(g / ds_i) for g in grad_g]  # grad_gamma I / d_s I, at fixed s
     lam, kept = _best_lambda(m, w)
-    torque = tuple(
+    new = [
         m.case.system.torque[k] if k in kept else _expression(tidy(w[k] + lam * AXIS[k]))
         for k in range(3)
-    )
+    ]
+    torque = (new[0], new[1], new[2])
     changed = tuple(k for k in range(3) if k not in kept)
     repaired = CaseMechanics(replace(m.case, system=replace(m.case.system, torque=torque)))
     poisson = jacobi(repaired)
@@ -104,7 +105,7 @@ def corrected_torque(m: CaseMechanics, claim: Claim) -> Correction | None:
     return Correction(
         kind="torque",
         claim=claim.label,
-        torque=tuple(e.text for e in torque),
+        torque=(torque[0].text, torque[1].text, torque[2].text),
         changed=changed,
         method="mu' = grad_gamma I / d_s I + lambda gamma",
         checks={"jacobi": poisson.verdict, "casimir": holds.verdict},

@@ -11,6 +11,7 @@ is at least as large as over Q; exact statements are made over Q or Q(q) only.
 from __future__ import annotations
 
 from collections.abc import Iterable, Mapping, Sequence
+from typing import Any
 
 import sympy as sp
 from sympy import GF, QQ
@@ -22,7 +23,7 @@ PRIME = (1 << 61) - 1
 GF_PRIME = GF(PRIME)
 
 
-def rational(value) -> object:
+def rational(value) -> Any:
     """A QQ element from a QQ element, an int, or a sympy Rational."""
     return QQ.from_sympy(value) if isinstance(value, sp.Basic) else QQ.convert(value)
 
@@ -45,14 +46,14 @@ class Field:
     def exact(self) -> bool:
         return self.domain != GF_PRIME
 
-    def number(self, value) -> object:
+    def number(self, value) -> Any:
         """A rational number as an element of the field."""
         q = rational(value)
         if self.domain == GF_PRIME:
             return self.domain(int(q.numerator)) / self.domain(int(q.denominator))
         return self.domain.convert(q)
 
-    def evaluate(self, poly: Mapping[tuple[int, ...], object]) -> object:
+    def evaluate(self, poly: Mapping[tuple[int, ...], object]) -> Any:
         """A parameter polynomial (exponents -> rational) as an element of the field."""
         key = tuple(sorted(poly.items()))
         hit = self._cache.get(key)

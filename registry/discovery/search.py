@@ -20,11 +20,12 @@ free-parameter values where more appear.
 
 from __future__ import annotations
 
+import collections.abc
 import random
 import time
 from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, field, replace
-from typing import Any
+from typing import Any, cast
 
 import sympy as sp
 from sympy import QQ
@@ -72,7 +73,10 @@ Progress = Callable[[int, int, str], None]
 #: order, each index once: ``value`` is ``fn(items[index])``, or an exception saying why
 #: there is none; ``seconds`` bounds each call (None: no bound). Closing the iterator
 #: stops what still runs.
-Mapper = Callable[[Callable[[Any], Any], Sequence[Any], float | None], Iterator[tuple[int, Any]]]
+Mapper = Callable[
+    [Callable[[Any], Any], Sequence[Any], float | None],
+    collections.abc.Generator[tuple[int, Any], None, None],
+]
 #: Seconds a call given to a mapper may run past the search's budget before it is
 #: killed: the budget's own alarm, here, stops the search first.
 MAPPER_GRACE = 5.0
@@ -177,7 +181,7 @@ def search_options(
     equations = tuple(
         e if isinstance(e, Equation) else Equation(e, *parse_equation(e, ns)) for e in on
     )
-    return SearchOptions(degree, tuple(weights), equations, tuple(free))
+    return SearchOptions(degree, cast(tuple[int, int], tuple(weights)), equations, tuple(free))
 
 
 def _search(
@@ -419,14 +423,22 @@ def substituted(case: Case, values: dict[sp.Symbol, sp.Expr]) -> Case | None:
         new = sp.sympify(e.expr).xreplace(values)
         return Expression(to_text(new), new)
 
-    inertia = tuple(put(e) for e in case.system.inertia)
+    inertia = (
+        put(case.system.inertia[0]),
+        put(case.system.inertia[1]),
+        put(case.system.inertia[2]),
+    )
     if any(e.expr.has(sp.zoo, sp.nan, sp.oo) or sp.simplify(e.expr) == 0 for e in inertia):
         return None
     system = replace(
         case.system,
         inertia=inertia,
         potential=put(case.system.potential),
-        torque=tuple(put(e) for e in case.system.torque),
+        torque=(
+            put(case.system.torque[0]),
+            put(case.system.torque[1]),
+            put(case.system.torque[2]),
+        ),
     )
     if any(e.expr.has(sp.zoo, sp.nan) for e in (system.potential, *system.torque)):
         return None

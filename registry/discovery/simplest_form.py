@@ -54,7 +54,7 @@ def simplest(vector: list, trivial: list[list], columns, domain) -> list:
 
 
 def _cost(vector, columns) -> tuple[int, int]:
-    used = set()
+    used: set[int] = set()
     terms = 0
     for j, c in enumerate(vector):
         if c:

@@ -166,11 +166,12 @@ class _Splitter:
                 row = {k: v for k, v in row.items() if not _divides(branch.pending, v)}
             if not row:
                 continue
-            g = None
-            for v in row.values():
-                g = v if g is None else g.gcd(v)
+            first, *others = row.values()
+            g = first
+            for v in others:
                 if g.is_one():
                     break
+                g = g.gcd(v)
             if not g.is_one() and not g.is_constant():
                 unit = self.unit_part(g, branch)
                 if not unit.is_one() and not unit.is_constant():
@@ -326,7 +327,7 @@ class _Splitter:
         options = []
         for v in linear:
             parts = _coefficients(h, v)
-            lead = parts.get(1)
+            lead = parts[1]  # h is linear in v
             unit = self.unit_entry(lead, branch)
             # a parameter with no assumption first: the others keep theirs
             kept = v in self.region.nonzero

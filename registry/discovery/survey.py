@@ -68,13 +68,16 @@ def searched(
     yield from in_processes(_searched_apart, [(item, budget) for item in work], jobs)
 
 
-def _mapped(work, budget: float | None, mapper: Mapper) -> Iterator[Search]:
+def _mapped(
+    work: Sequence[tuple[Case, SearchOptions]], budget: float | None, mapper: Mapper
+) -> Iterator[Search]:
     """``searched`` through a mapper, in the work's order."""
     seconds = None if budget is None else budget + MAPPER_GRACE
     calls = mapper(_searched_apart, [(item, budget) for item in work], seconds)
     for index, outcome in in_order(calls, len(work)):
         if isinstance(outcome, BaseException):  # the cluster gave no result for it
-            outcome = not_searched(*work[index], f"no result from the cluster: {outcome}")
+            case, options = work[index]
+            outcome = not_searched(case, options, f"no result from the cluster: {outcome}")
         yield outcome
 
 

@@ -14,7 +14,7 @@ the search's coverage, which is then not complete. The client records the search
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Callable, Generator, Sequence
 from typing import TYPE_CHECKING, Any
 
 from ..discovery.search import Mapper, discover
@@ -44,7 +44,7 @@ def cluster_mapper(
 
     def mapper(
         fn: Callable[[Any], Any], items: Sequence[Any], seconds: float | None
-    ) -> Iterator[tuple[int, Any]]:
+    ) -> Generator[tuple[int, Any], None, None]:
         calls = run_calls(
             client,
             fn,

@@ -25,7 +25,7 @@ from __future__ import annotations
 import math
 import queue
 import uuid
-from collections.abc import Callable, Iterable, Iterator, Sequence
+from collections.abc import Callable, Generator, Iterable, Iterator, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
@@ -105,9 +105,9 @@ def guided(groups: Iterable[Sequence[int]], parts: int, largest: int) -> list[li
     current: list[int] = []
     target = 0
 
-    def close(batch: list[int]) -> None:
+    def close(batch: Sequence[int]) -> None:
         nonlocal left
-        out.append(batch)
+        out.append(list(batch))
         left -= len(batch)
 
     for group in groups:
@@ -142,7 +142,7 @@ def run_calls(
     label: Callable[[Any], str] = str,
     on_event: Callable[[Event], None] | None = None,
     name: str = "registry-call",
-) -> Iterator[tuple[int, Any]]:
+) -> Generator[tuple[int, Any], None, None]:
     """Run ``fn(item)`` for every item on the cluster of ``client``, each call in a child
     process of a Dask worker; yield ``(index, outcome)`` as the calls complete.
 
@@ -216,7 +216,7 @@ class _Run:
         """Report the workers lost, or gone, while they held tasks of this run."""
         while not self.heard.empty():
             message = self.heard.get()
-            worker = message.get("worker")
+            worker = str(message.get("worker"))
             held = set(message.get("processing-tasks", ())) & self.tasks.keys()
             for key in sorted(held - self.done):
                 indices = self.tasks[key]
@@ -251,7 +251,7 @@ class _Run:
         self.futures[key] = future
         ac.add(future)
 
-    def results(self, plan: list[list[int]]) -> Iterator[tuple[int, Any]]:
+    def results(self, plan: list[list[int]]) -> Generator[tuple[int, Any], None, None]:
         from distributed import as_completed
 
         self.client.subscribe_topic("all", self.listen)  # first: no loss goes unheard
@@ -275,7 +275,8 @@ class _Run:
                 self.client.cancel(outstanding)
 
     def finished(self, future: Future) -> Iterator[tuple[int, Any]]:
-        key, indices = future.key, self.tasks[future.key]
+        key = str(future.key)  # this run's keys are strings (see ``submit``)
+        indices = self.tasks[key]
         result: BatchResult = future.result()
         future.release()
         self.done.add(key)
@@ -296,7 +297,8 @@ class _Run:
                 yield index, Failure("lost", "the task ended without it")
 
     def failed(self, future: Future, ac) -> Iterator[tuple[int, Any]]:
-        key, indices = future.key, self.tasks[future.key]
+        key = str(future.key)  # this run's keys are strings (see ``submit``)
+        indices = self.tasks[key]
         address = self.client.scheduler.address
         if future.status in ("cancelled", "lost"):
             raise SchedulerError(

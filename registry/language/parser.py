@@ -36,7 +36,7 @@ VARIABLES: Mapping[str, sp.Symbol] = MappingProxyType({str(v): v for v in (*STAT
 #: Named constants.
 CONSTANTS: Mapping[str, sp.Expr] = MappingProxyType({"pi": sp.pi, "E": sp.E})
 #: The elementary functions of the language, one argument each.
-FUNCTIONS: Mapping[str, Callable[[sp.Expr], sp.Expr]] = MappingProxyType(
+FUNCTIONS: Mapping[str, Callable[..., sp.Expr]] = MappingProxyType(
     {
         "sqrt": sp.sqrt,
         "exp": sp.exp,
@@ -354,9 +354,12 @@ class _Builder:
             return self.power(node, depth)
         raise self.fail(_REFUSED_OPERATORS.get(type(op), f"{type(op).__name__} is not allowed"))
 
-    def chain(self, node: ast.AST, ops: tuple[type, ...]) -> list[tuple[ast.operator, ast.AST]]:
-        """The operands of a left-associative chain a op b op c ..., left to right."""
-        items = []
+    def chain(
+        self, node: ast.AST, ops: tuple[type, ...]
+    ) -> list[tuple[ast.operator | None, ast.AST]]:
+        """The operands of a left-associative chain a op b op c ..., left to right (the
+        first operand's operator is None)."""
+        items: list[tuple[ast.operator | None, ast.AST]] = []
         while isinstance(node, ast.BinOp) and isinstance(node.op, ops):
             items.append((node.op, node.right))
             node = node.left

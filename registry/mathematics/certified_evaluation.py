@@ -15,6 +15,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from fractions import Fraction
 from math import isqrt
+from typing import Any
 
 import mpmath
 import sympy as sp
@@ -34,7 +35,7 @@ class Value:
     """An exact rational, or an interval that certainly contains the value."""
 
     exact: Fraction | None = None
-    interval: object | None = None  # mpmath.iv.mpf
+    interval: Any = None  # mpmath.iv.mpf, when not exact
 
     @property
     def is_exact(self) -> bool:
@@ -44,7 +45,7 @@ class Value:
         """True only when the value is proven different from 0."""
         if self.exact is not None:
             return self.exact != 0
-        return not (self.interval.a <= 0 <= self.interval.b)  # type: ignore[union-attr]
+        return not (self.interval.a <= 0 <= self.interval.b)
 
     def text(self) -> str:
         """The value for a witness: the exact rational, or the certified enclosure."""

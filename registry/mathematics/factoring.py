@@ -17,7 +17,7 @@ from sympy.polys.polyutils import _sort_gens
 try:
     import flint
 except ImportError:  # pragma: no cover - python-flint is a dependency; sympy still works
-    flint = None
+    flint = None  # type: ignore[assignment]
 
 
 def factor(expr: sp.Expr) -> sp.Expr:

@@ -11,6 +11,7 @@ same numerator (``numerator``, ``reduce_radical``).
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import Any
 
 import sympy as sp
 from sympy.core.function import AppliedUndef
@@ -123,6 +124,7 @@ def _fraction(expr: sp.Expr, ring, cache: dict):
     hit = cache.get(expr)
     if hit is not None:
         return hit
+    value: tuple[Any, dict]
     if expr.is_Rational:
         value = (ring(expr), {})
     elif expr.is_Symbol:

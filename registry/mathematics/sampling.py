@@ -86,7 +86,8 @@ def _exact_radicals(point: Mapping, bases: Sequence[tuple[sp.Expr, int]]) -> int
             value = evaluate(base, point)
         except (OutsideDomain, ValueError):
             continue
-        if value.is_exact and value.exact >= 0 and exact_root(value.exact, q) is not None:
+        exact = value.exact
+        if exact is not None and exact >= 0 and exact_root(exact, q) is not None:
             count += 1
     return count
 
@@ -102,13 +103,16 @@ def sample_point(domain: Domain, rng: random.Random, funcs, bases=()) -> dict | 
         point[sym] = sp.Rational(_parameter_value(sym, rng))
     for sym in MOMENTUM:
         point[sym] = sp.Rational(_rational(rng))
-    best, best_score = None, -1
+    best: dict[sp.Symbol, sp.Expr] | None = None
+    best_score = -1
     for axis in _axis_points(rng):
         candidate = {**point, **{g: sp.Rational(v) for g, v in zip(AXIS, axis, strict=True)}}
         candidate[s] = sp.expand(S_VALUE.xreplace(candidate))
         score = _exact_radicals(candidate, bases) if bases else 0
         if score > best_score:
             best, best_score = candidate, score
+    if best is None:
+        return None
     point = best
     if domain.on:
         del point[s]

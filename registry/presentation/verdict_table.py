@@ -57,7 +57,7 @@ def verdict_table(outcomes: Sequence[CaseOutcome], run: int | None = None) -> st
                 )
             )
             found = claim.evidence
-            if claim.contradicted:
+            if claim.contradicted and found is not None:
                 compared = found.compared_with
                 notes.insert(
                     0,

@@ -187,7 +187,7 @@ def search(row: SearchRow, case_id: str, content_hash: str, rows, on) -> Search:
         special=tuple(sets[1:]),
         complete=row.complete,
         coverage=tuple(row.coverage),
-        dimensions=tuple(tuple(d) for d in row.dimensions),
+        dimensions=tuple((d[0], d[1], d[2], d[3]) for d in row.dimensions),
         seconds=row.seconds,
         method=row.method,
     )

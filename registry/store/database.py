@@ -184,7 +184,9 @@ class Store:
         self._reader = (
             engine.execution_options(isolation_level="REPEATABLE READ") if self.server else engine
         )
-        self._file = Path(url.database) if url.get_backend_name() == "sqlite" else None
+        self._file = (
+            Path(url.database) if url.get_backend_name() == "sqlite" and url.database else None
+        )
         if is_memory(url):
             self._file = None
         try:
@@ -408,8 +410,7 @@ class Store:
         session.add_all(claim_row(c, row.id, i) for i, c in enumerate(case.claims))
         session.add_all(CaseAliasRow(case_pk=row.id, alias=a) for a in case.aliases)
         session.flush()
-        status = "added" if version == 1 else "new version"
-        return AddOutcome(case.id, version, status, pk=row.id)
+        return AddOutcome(case.id, version, "added" if version == 1 else "new version", pk=row.id)
 
     @staticmethod
     def _source_id(session: Session, case: Case) -> int:
@@ -513,10 +514,12 @@ class Store:
             for i, text in enumerate(search.generic.integrals):
                 claim = _discovered_claim(row.id, i, text, search)
                 session.add(claim_row(claim, case_pk, position + i, search_id=row.id))
-            versions = {}
+            versions: dict[int, int] = {}
             for i, case in enumerate(derived):
                 if case is not None:
-                    versions[i] = self._add_case(session, case).pk
+                    added = self._add_case(session, case)
+                    assert added.pk is not None  # a stored case has its key
+                    versions[i] = added.pk
             session.add_all(discovery_rows(row.id, search, versions))
             return row.id
 

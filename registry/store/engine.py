@@ -140,7 +140,7 @@ def postgresql_connect_args(url: URL) -> dict[str, Any]:
     given = " ".join(given) if isinstance(given, tuple) else given
     return {
         "options": f"{given} {settings}" if given else settings,
-        "connect_timeout": int(url.query.get("connect_timeout", CONNECT_TIMEOUT)),
+        "connect_timeout": int(str(url.query.get("connect_timeout", CONNECT_TIMEOUT))),
         "application_name": url.query.get("application_name", "registry"),
     }
 

@@ -16,7 +16,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 
-from sqlalchemy import func, select, text
+from sqlalchemy import Table, func, select, text
 from sqlalchemy.engine import Connection
 
 from ..errors import CaseFormatError, ExpressionError
@@ -90,10 +90,10 @@ def verify(store: Store) -> Verification:
         mine = [t for t in texts if t.case_pk == pk]
         problems += [f"{names[pk]}: {p}" for p in _columns_agree(case, mine)]
     for t in texts:
-        case = cases.get(t.case_pk)
-        if case is None:
+        owner = cases.get(t.case_pk)
+        if owner is None:
             continue  # its text did not parse: already reported
-        problem = _reparse(t, Namespace(case.parameters, case.functions))
+        problem = _reparse(t, Namespace(owner.parameters, owner.functions))
         if problem:
             problems.append(f"{names[t.case_pk]}: {t.place}: {problem}")
 
@@ -158,7 +158,12 @@ def database_problems(store: Store) -> list[str]:
                 problems += _unenforced(conn)
             problems += _missing_parents(conn)
         claims = ClaimRow.__table__
-        for table in (ResultRow.__table__, CorrectionRow.__table__, EvidenceRow.__table__):
+        tables: tuple[Table, ...] = (
+            ResultRow.__table__,
+            CorrectionRow.__table__,
+            EvidenceRow.__table__,
+        )  # type: ignore[assignment]
+        for table in tables:
             crossed = conn.execute(
                 select(table.c.id)
                 .join(claims, claims.c.id == table.c.claim_id)
@@ -266,7 +271,7 @@ def running_runs(store: Store) -> list[tuple[int, str | None, int | None]]:
     """(run, host, pid) of the runs still marked ``running``."""
     with store.read() as session:
         stmt = select(RunRow.id, RunRow.host, RunRow.pid).where(RunRow.status == "running")
-        return [tuple(r) for r in session.execute(stmt)]
+        return [(r.id, r.host, r.pid) for r in session.execute(stmt)]
 
 
 @guarded
@@ -306,10 +311,10 @@ def stored_expressions(store: Store) -> list[StoredText]:
                 SearchRow, SearchRow.id == DiscoveryRow.search_id
             )
         )
-        for row, case_pk in found:
-            where = f"search {row.search_id}, integrals where {row.when or 'generic'}"
-            out += [StoredText(case_pk, where, e) for e in row.integrals]
-            out += [StoredText(case_pk, where, e, equation=True) for e in row.when]
+        for discovered, case_pk in found:
+            where = f"search {discovered.search_id}, integrals where {discovered.when or 'generic'}"
+            out += [StoredText(case_pk, where, e) for e in discovered.integrals]
+            out += [StoredText(case_pk, where, e, equation=True) for e in discovered.when]
     return out
 
 

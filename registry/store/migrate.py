@@ -48,7 +48,9 @@ def _script() -> ScriptDirectory:
 
 def head() -> str:
     """The newest schema revision this release knows."""
-    return _script().get_current_head()
+    found = _script().get_current_head()
+    assert found is not None, "the migrations have no head"
+    return found
 
 
 def known_revisions() -> list[str]:
