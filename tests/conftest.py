@@ -2,7 +2,7 @@
 targets for the API and CLI tests, and sample cases built in code.
 
 The PostgreSQL variants run against a real server that the session starts itself
-(``postgres_server``, see ``tests/postgres_server.py``) the first time a test needs
+(``postgres_server``, see ``tests/helpers/postgres_server.py``) the first time a test needs
 it, and stops at the end. Where no server can be started they are skipped with the
 reason, except in CI (``REGISTRY_CI`` set), where that is a failure.
 """
@@ -15,9 +15,7 @@ from collections.abc import Callable, Iterator
 
 import pytest
 import sympy as sp
-from databases import Databases
 from hypothesis import settings
-from postgres_server import PostgresServer, ServerUnavailable
 
 from registry.model import (
     Assumption,
@@ -30,6 +28,8 @@ from registry.model import (
     System,
 )
 from registry.store.database import Store
+from tests.helpers.databases import BACKENDS, POSTGRES, Databases
+from tests.helpers.postgres_server import PostgresServer, ServerUnavailable
 
 # Property tests draw the same examples on every run (a failure is reproducible, and CI
 # does not fail at random); HYPOTHESIS_PROFILE=explore draws new ones each run.
@@ -112,13 +112,6 @@ def memory_store() -> Iterator[Store]:
 def file_store(tmp_path) -> Iterator[Store]:
     with Store(tmp_path / "db" / "registry.sqlite") as store:
         yield store
-
-
-#: Marks the PostgreSQL variant of a test (deselect them with ``-m "not postgres"``).
-POSTGRES = pytest.mark.postgres
-
-#: The backends the storage, API and CLI tests run on.
-BACKENDS = ("sqlite", pytest.param("postgres", marks=POSTGRES))
 
 
 @pytest.fixture(scope="session")

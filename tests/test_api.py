@@ -18,7 +18,6 @@ from types import SimpleNamespace
 import pandas as pd
 import pytest
 from click.testing import CliRunner
-from samples import UNDECLARED, case_file
 
 import registry
 import registry.api
@@ -26,6 +25,7 @@ import registry.store.database
 from registry import AddResult, AuditReport, CaseFormatError, Registry
 from registry.cli import main
 from registry.model import VerdictChange
+from tests.helpers.samples import UNDECLARED, case_file
 
 ROOT = Path(registry.__file__).resolve().parent.parent
 CASES = ROOT / "data" / "cases"

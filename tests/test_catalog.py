@@ -4,9 +4,9 @@ from functools import cache
 from pathlib import Path
 
 import pytest
-from samples import SEED_FILES
 
 from registry import Verdict, audit_case, load_case
+from tests.helpers.samples import SEED_FILES
 
 CASES = Path(__file__).resolve().parents[1] / "data" / "cases"
 

@@ -20,11 +20,11 @@ from types import SimpleNamespace
 
 import pytest
 from click.testing import CliRunner
-from samples import AFFINE, CASES, SEED, UNDECLARED, YEHIA_B, ZHUKOVSKY, case_file
 
 import registry
 from registry.cli import main
 from registry.store.database import Store
+from tests.helpers.samples import AFFINE, CASES, SEED, UNDECLARED, YEHIA_B, ZHUKOVSKY, case_file
 
 ROOT = Path(registry.__file__).resolve().parent.parent
 COMMANDS = ("add", "audit", "cases", "verdicts", "runs", "corrections", "export-case")

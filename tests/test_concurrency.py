@@ -26,12 +26,12 @@ from pathlib import Path
 import pandas as pd
 import pytest
 from click.testing import CliRunner
-from databases import is_url, rows
-from samples import CASES
 
 import registry
 from registry.cli import main
 from registry.store.tables import RUN_STATUSES
+from tests.helpers.databases import is_url, rows
+from tests.helpers.samples import CASES
 
 #: Seconds a process may take before the test calls it a hang.
 WAIT = 180.0

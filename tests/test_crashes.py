@@ -29,10 +29,11 @@ from pathlib import Path
 
 import pytest
 from click.testing import CliRunner
-from samples import SEED_FILES
 
 import registry
 from registry.cli import main
+from tests.helpers.processes import group_members, kill_group, registry_command, wait_until_gone
+from tests.helpers.samples import SEED_FILES
 
 #: Seconds a killed or finishing process may take before the test calls it a hang.
 WAIT = 120.0
@@ -47,10 +48,6 @@ RUN_TABLES = ("check_results", "corrections", "evidence")
 # ------------------------------------------------------------------- processes
 
 
-def registry_command(db: Path, *args: str) -> list[str]:
-    return [sys.executable, "-m", "registry", "--db", str(db), *args]
-
-
 def start_audit(db: Path, *args: str) -> subprocess.Popen:
     """``registry audit --fresh`` in a new session (its process group holds its workers)."""
     return subprocess.Popen(
@@ -60,35 +57,6 @@ def start_audit(db: Path, *args: str) -> subprocess.Popen:
         text=True,
         start_new_session=True,
     )
-
-
-def group_members(pgid: int) -> list[int]:
-    """Live (not zombie) processes of a process group, from /proc."""
-    found = []
-    for stat in Path("/proc").glob("[0-9]*/stat"):
-        try:
-            text = stat.read_text()
-        except OSError:
-            continue
-        state, _ppid, pgrp = text[text.rindex(")") + 2 :].split()[:3]
-        if int(pgrp) == pgid and state not in ("Z", "X"):
-            found.append(int(stat.parent.name))
-    return found
-
-
-def wait_until_gone(pgid: int, timeout: float = 15.0) -> list[int]:
-    """Wait for every process of a group to end; return those still alive after ``timeout``."""
-    deadline = time.monotonic() + timeout
-    while (alive := group_members(pgid)) and time.monotonic() < deadline:
-        time.sleep(0.05)
-    return alive
-
-
-def kill_group(pgid: int) -> None:
-    try:
-        os.killpg(pgid, signal.SIGKILL)
-    except ProcessLookupError:
-        pass
 
 
 @contextmanager
@@ -387,6 +355,8 @@ import os, signal, sys
 from sqlalchemy import event
 from sqlalchemy.orm import Session
 from registry.cli import main
+from tests.helpers.processes import group_members, kill_group, registry_command, wait_until_gone
+from tests.helpers.samples import SEED_FILES
 from registry.store.tables import ResultRow
 
 sent = []

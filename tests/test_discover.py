@@ -9,10 +9,10 @@ from pathlib import Path
 
 import pytest
 from click.testing import CliRunner
-from databases import rows
 
 import registry
 from registry.cli import main
+from tests.helpers.databases import rows
 
 FAMILIES = Path(__file__).resolve().parent / "data" / "families"
 HEAVY = FAMILIES / "heavy-top-lam.toml"

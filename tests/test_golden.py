@@ -14,9 +14,9 @@ from pathlib import Path
 
 import pytest
 from click.testing import CliRunner
-from samples import CASES
 
 from registry.cli import main
+from tests.helpers.samples import CASES
 
 GOLDEN = Path(__file__).parent / "data" / "golden"
 #: The reference paper's seed catalog: the case files at the top of data/cases.

@@ -26,7 +26,6 @@ import tomli_w
 from click.testing import CliRunner
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-from samples import CASES
 
 import registry
 from registry.cli import main
@@ -34,6 +33,7 @@ from registry.errors import CaseFormatError, ExpressionError
 from registry.language import casefile, limits, parser
 from registry.language.casefile import load_case, parse_case_text
 from registry.model import Case
+from tests.helpers.samples import CASES
 
 #: Seconds allowed to refuse one hostile file: generous, to catch hangs, not to benchmark.
 TIME_LIMIT = 2.0

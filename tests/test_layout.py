@@ -74,7 +74,30 @@ def test_every_exemption_is_still_needed():
 
 def test_test_file_names_are_unique():
     names = [p.name for p in TESTS.rglob("test_*.py")]
-    assert len(names) == len(set(names))  # tests/ sits on sys.path: basenames must differ
+    assert len(names) == len(set(names))  # one name, one place to look
+
+
+def imported_modules(path: Path) -> set[str]:
+    """The modules a file imports (absolute names; relative imports resolved)."""
+    package = ".".join(path.relative_to(ROOT).with_suffix("").parts[:-1])
+    found = set()
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        if isinstance(node, ast.Import):
+            found |= {alias.name for alias in node.names}
+        elif isinstance(node, ast.ImportFrom):
+            base = package.rsplit(".", node.level - 1)[0] if node.level else ""
+            name = ".".join(p for p in (base, node.module or "") if p)
+            found |= {name} | {f"{name}.{alias.name}" for alias in node.names}
+    return found
+
+
+def test_no_test_module_imports_another_or_a_conftest():
+    for path in sorted(TESTS.rglob("*.py")):
+        for name in imported_modules(path):
+            last = name.rsplit(".", 1)[-1]
+            assert not last.startswith("test_") and last != "conftest", (
+                f"{path.relative_to(ROOT)} imports {name}: shared code goes to tests/helpers/"
+            )
 
 
 def module_map() -> list[str]:

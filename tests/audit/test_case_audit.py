@@ -6,7 +6,6 @@ from __future__ import annotations
 from dataclasses import replace
 
 import pytest
-from samples import YEHIA_B, ZHUKOVSKY, case_file
 
 from registry import Verdict, load_case
 from registry.audit import case_audit
@@ -19,6 +18,7 @@ from registry.audit.case_audit import (
 )
 from registry.audit.checks import CHECKS
 from registry.model import ClaimKind
+from tests.helpers.samples import YEHIA_B, ZHUKOVSKY, case_file
 
 
 def test_every_check_runs_once_per_case_or_per_claim_and_repairs_follow():

@@ -3,8 +3,6 @@ CheckResult (never a bare bool), runnable alone on one case."""
 
 from __future__ import annotations
 
-from samples import AFFINE, YEHIA_B, ZHUKOVSKY, case_file
-
 from registry import Verdict, load_case
 from registry.audit import checks
 from registry.audit.checks import CHECKS
@@ -12,6 +10,7 @@ from registry.language.parser import Namespace, parse_expression
 from registry.mathematics.case_mechanics import CaseMechanics
 from registry.mathematics.mechanics import M1, M2, M3, gamma1, gamma2, gamma3, s
 from registry.model import CheckResult
+from tests.helpers.samples import AFFINE, YEHIA_B, ZHUKOVSKY, case_file
 
 
 def test_every_check_is_registered_with_a_statement_and_a_cost():

@@ -6,7 +6,6 @@ from dataclasses import replace
 import pytest
 import sympy as sp
 from click.testing import CliRunner
-from samples import CASES, CLASSICAL
 
 import registry
 from registry import Verdict, load_case
@@ -15,6 +14,7 @@ from registry.audit.numeric_evidence import DISAGREE_FACTOR, Drift, claim_drift
 from registry.cli import main
 from registry.mathematics import mechanics as mech
 from registry.mathematics.case_mechanics import CaseMechanics
+from tests.helpers.samples import CASES, CLASSICAL
 
 
 def test_yehia_b_I2_drifts_orders_of_magnitude_above_h():

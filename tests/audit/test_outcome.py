@@ -6,11 +6,11 @@ from __future__ import annotations
 from dataclasses import replace
 
 import pytest
-from samples import YEHIA_B, ZHUKOVSKY, case_file
 
 from registry import ClaimKind, Verdict, audit_case, load_case
 from registry.audit.case_audit import CASE_CHECKS, failed_case
 from registry.audit.outcome import case_outcome, missing, outcomes
+from tests.helpers.samples import YEHIA_B, ZHUKOVSKY, case_file
 
 
 @pytest.fixture(scope="module")

@@ -4,17 +4,17 @@ by 50-digit evaluation at random points, not by the registry's own zero test."""
 from dataclasses import replace
 
 import pytest
-from independent_checks import (
+
+from registry import Verdict, audit_case, load_case
+from registry.language.parser import Namespace, parse_expression
+from registry.mathematics import mechanics as mech
+from tests.helpers.independent_checks import (
     casimir_residual,
     independent_of_c1,
     jacobi_residual,
     vanishes_numerically,
 )
-from samples import CASES
-
-from registry import Verdict, audit_case, load_case
-from registry.language.parser import Namespace, parse_expression
-from registry.mathematics import mechanics as mech
+from tests.helpers.samples import CASES
 
 
 def load(case_id):

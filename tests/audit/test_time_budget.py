@@ -7,11 +7,11 @@ from dataclasses import replace
 
 import pytest
 import sympy as sp
-from samples import CASES
 
 from registry import Verdict, audit_case, load_case
 from registry.audit.time_budget import BudgetExceeded, TimeBudget, time_limit
 from registry.model import Expression
+from tests.helpers.samples import CASES
 
 
 def test_time_limit_interrupts_python_code():

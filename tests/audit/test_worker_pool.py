@@ -6,12 +6,11 @@ import signal
 import time
 from dataclasses import replace
 
-from samples import CASES
-
 from registry import Verdict, audit_case, load_case
 from registry.audit.checks import CHECKS
 from registry.audit.time_budget import TimeBudget
 from registry.audit.worker_pool import _torque, audit_in_workers, batches, estimated_cost
+from tests.helpers.samples import CASES
 
 
 def _stuck_in_c(m, *args):

@@ -11,8 +11,6 @@ from pathlib import Path
 import pytest
 import sympy as sp
 from click.testing import CliRunner
-from dask_clusters import process_cluster  # noqa: F401 - a fixture
-from test_workers import slow_case
 
 import registry
 from registry.audit.case_audit import count_checks
@@ -23,6 +21,7 @@ from registry.distributed.audits import MAX_BATCH, as_audit, audit_on_cluster, p
 from registry.distributed.children import Failure
 from registry.language.casefile import load_case
 from registry.model import Expression, Verdict
+from tests.helpers.samples import slow_case
 
 ROOT = Path(__file__).resolve().parents[2]
 SEED = ROOT / "data" / "cases"
@@ -156,7 +155,7 @@ def test_a_check_that_would_run_for_minutes_is_stopped_by_its_budget_on_the_work
 def test_a_check_stuck_where_the_alarm_cannot_reach_is_killed_at_the_case_deadline(
     process_cluster,
 ):
-    """The slow case of ``tests/test_workers.py`` spends minutes in compiled code, where
+    """The slow case of ``tests/helpers/samples.py`` spends minutes in compiled code, where
     no alarm interrupts it: its child process is killed at the case's deadline, and the
     case is recorded inconclusive exactly as the local pool records it."""
     budget = TimeBudget(check=1.0, repairs=1.0, margin=1.0)

@@ -10,8 +10,6 @@ import signal
 import threading
 import time
 
-from dask_clusters import process_cluster, thread_cluster  # noqa: F401 - fixtures
-
 from registry.audit.time_budget import BudgetExceeded, time_limit
 from registry.distributed.children import FAILURES, Failure, run_batch
 from registry.distributed.tasks import run_calls

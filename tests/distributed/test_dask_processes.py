@@ -17,9 +17,9 @@ import time
 from pathlib import Path
 
 import pytest
-from dask_clusters import separate_processes, source_environment  # noqa: F401 - a fixture
 
 import registry
+from tests.helpers.dask_clusters import source_environment
 
 ROOT = Path(__file__).resolve().parents[2]
 SEED = ROOT / "data" / "cases"

@@ -10,7 +10,6 @@ import socket
 import sys
 
 import pytest
-from dask_clusters import thread_cluster  # noqa: F401 - a fixture
 
 from registry.distributed.scheduler import (
     SCHEDULER_ENV,

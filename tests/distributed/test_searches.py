@@ -8,8 +8,6 @@ import time
 from dataclasses import replace
 from pathlib import Path
 
-from dask_clusters import process_cluster  # noqa: F401 - a fixture
-
 import registry
 from registry.discovery.search import discover, search_options
 from registry.distributed.searches import _label, cluster_mapper, discover_on_cluster

@@ -11,7 +11,6 @@ import time
 from pathlib import Path
 
 import pytest
-from dask_clusters import process_cluster, thread_cluster  # noqa: F401 - fixtures
 
 from registry.distributed.tasks import Failure, guided, pack, run_calls
 

@@ -1,8 +1,7 @@
 """A corrected case written back as a case file loads again, and its claim re-checks."""
 
-from samples import case_file
-
 from registry import Verdict, audit_case, load_case, parse_case_text
+from tests.helpers.samples import case_file
 
 
 def load(case_id):

@@ -131,7 +131,7 @@ def test_load_case_drops_a_byte_order_mark(tmp_path):
 
 
 def test_seed_catalog_loads():
-    from samples import CASES
+    from tests.helpers.samples import CASES
 
     files = sorted(CASES.rglob("*.toml"))
     assert files, "no case files found in data/cases"

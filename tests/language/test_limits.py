@@ -7,12 +7,12 @@ import time
 
 import pytest
 import sympy as sp
-from test_parser import parse, refusal
 
 from registry.errors import ExpressionError
 from registry.language import limits
 from registry.language.limits import ParseBudget
 from registry.language.parser import parse_expression
+from tests.helpers.expressions import parse, refusal
 
 LIMIT_CASES = [
     ("x" * 10**6, "expression too long (1000000 characters; at most 20000)"),

@@ -7,11 +7,11 @@ import pytest
 import sympy as sp
 from hypothesis import HealthCheck, assume, event, given, settings
 from hypothesis import strategies as st
-from test_parser import PHI, PSI, C, G, a, chi, k, n, parse
 
 from registry.errors import ExpressionError
 from registry.language.printer import to_text
 from registry.mathematics.mechanics import AXIS, M1, M2, M3, STATE, gamma1, gamma2, gamma3, s
+from tests.helpers.expressions import PHI, PSI, C, G, a, chi, k, n, parse
 
 
 @pytest.mark.parametrize(

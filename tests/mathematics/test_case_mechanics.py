@@ -5,12 +5,12 @@ from dataclasses import replace
 
 import pytest
 import sympy as sp
-from samples import YEHIA_B, ZHUKOVSKY, case_file
 
 from registry import ClaimKind, Verdict, audit_case, load_case
 from registry.mathematics import mechanics
 from registry.mathematics.case_mechanics import CaseMechanics
 from registry.model import Expression
+from tests.helpers.samples import YEHIA_B, ZHUKOVSKY, case_file
 
 
 def test_the_objects_of_a_case_are_the_papers():

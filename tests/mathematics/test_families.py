@@ -2,14 +2,14 @@
 Casimir found is re-checked here independently (50-digit evaluation at random points)."""
 
 import pytest
-from independent_checks import casimir_residual, vanishes_numerically
-from samples import CASES, case_file
 
 from registry import Verdict, load_case
 from registry.mathematics import mechanics as mech
 from registry.mathematics.case_mechanics import CaseMechanics
 from registry.mathematics.families import recognise
 from registry.mathematics.zero_test import decide
+from tests.helpers.independent_checks import casimir_residual, vanishes_numerically
+from tests.helpers.samples import CASES, case_file
 
 
 def load(case_id):

@@ -4,11 +4,11 @@ from dataclasses import dataclass
 
 import pytest
 import sympy as sp
-from samples import CASES
 
 from registry import Verdict, audit_case, load_case
 from registry.mathematics import mechanics as mech
 from registry.mathematics import symengine_bridge
+from tests.helpers.samples import CASES
 
 C = sp.Symbol("C", positive=True)
 g1, g2, g3 = mech.AXIS

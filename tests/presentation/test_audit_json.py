@@ -6,7 +6,6 @@ from __future__ import annotations
 import json
 
 import pytest
-from samples import YEHIA_B, case_file
 
 from registry import audit_case, load_case
 from registry.audit.case_audit import CASE_CHECKS, failed_case
@@ -18,6 +17,7 @@ from registry.presentation.audit_json import (
     claim_document,
     result_document,
 )
+from tests.helpers.samples import YEHIA_B, case_file
 
 
 @pytest.fixture(scope="module")

@@ -118,9 +118,9 @@ def test_the_whole_catalog_round_trips_through_a_bibtex_parser():
     """Every source of data/cases is one entry that a BibTeX parser reads back with its
     authors, year and title from the case files' structured citations."""
     import bibtexparser
-    from samples import CASES
 
     from registry.language.casefile import load_case
+    from tests.helpers.samples import CASES
 
     reg = registry.open(":memory:")
     reg.add(CASES)

@@ -3,10 +3,10 @@
 from __future__ import annotations
 
 import pytest
-from samples import CASES, YEHIA_B
 
 import registry
 from registry.presentation.plots import drift_plot
+from tests.helpers.samples import CASES, YEHIA_B
 
 PNG = b"\x89PNG"
 

@@ -13,13 +13,13 @@ from pathlib import Path
 import pytest
 import sympy as sp
 from click.testing import CliRunner
-from samples import CASES, SEED, YEHIA_B, ZHUKOVSKY
 
 import registry
 from registry.cli import main
 from registry.errors import UnknownRunError
 from registry.language.parser import Namespace, parse_expression
 from registry.presentation.report_writers import anchor
+from tests.helpers.samples import CASES, SEED, YEHIA_B, ZHUKOVSKY
 
 PNG = b"\x89PNG"
 

@@ -18,11 +18,11 @@ from pathlib import Path
 
 import pytest
 from click.testing import CliRunner
-from samples import CASES, SEED, YEHIA_B, ZHUKOVSKY
 
 import registry
 from registry.cli import main
 from registry.presentation.report_writers import TexWriter
+from tests.helpers.samples import CASES, SEED, YEHIA_B, ZHUKOVSKY
 
 PNG = b"\x89PNG"
 

@@ -6,13 +6,13 @@ from __future__ import annotations
 import dataclasses
 
 import pytest
-from samples import YEHIA_B, ZHUKOVSKY, case_file
 
 from registry import audit_case, load_case
 from registry.audit.case_audit import failed_case
 from registry.audit.outcome import outcomes
 from registry.model import Evidence, Verdict, VerdictChange
 from registry.presentation.verdict_table import diff_table, disagreements, verdict_table
+from tests.helpers.samples import YEHIA_B, ZHUKOVSKY, case_file
 
 HEADER = ["case", "family", "Poisson", "claim", "kind", "integral", "casimir", "verdict"]
 

@@ -8,51 +8,16 @@ from dataclasses import replace
 from datetime import datetime
 
 import pytest
-from sqlalchemy import func, select
+from sqlalchemy import select
 from sqlalchemy.exc import IntegrityError
 from sqlalchemy.orm import Session
 
 from registry.errors import UnknownCaseError, UnknownRunError
-from registry.model import CaseAudit, CheckResult, Verdict, Witness
+from registry.model import CheckResult, Verdict
 from registry.store import database, frames
 from registry.store.database import AddOutcome, Store, StoredCase
 from registry.store.tables import CaseRow, ClaimRow, ResultRow, SourceRow
-
-
-def count(store: Store, row: type) -> int:
-    with Session(store.engine) as session:
-        return session.scalar(select(func.count()).select_from(row))
-
-
-def audit_of(case, stored: StoredCase, integral: Verdict = Verdict.VERIFIED) -> CaseAudit:
-    """An audit of ``case`` with two case checks and the integral check of each claim."""
-    witness = Witness(
-        point={"gamma1": "1", "N": "1/2"},
-        value="1/2",
-        approx="0.5",
-        component="casimir[1]",
-        functions={"phi": "gamma1**2"},
-    )
-    results = [
-        CheckResult("jacobi", Verdict.VERIFIED, "rational normal form", seconds=0.25),
-        CheckResult("energy", Verdict.VERIFIED, "exact probe"),
-    ]
-    for claim in case.claims:
-        refuted = integral is Verdict.REFUTED
-        results.append(
-            CheckResult(
-                "integral",
-                integral,
-                "exact probe",
-                claim=claim.label,
-                reason="" if not refuted else "nonzero at a point",
-                residual="N*gamma1" if refuted else None,
-                witness=witness if refuted else None,
-                seconds=1.5,
-            )
-        )
-    return CaseAudit(stored.case_id, stored.content_hash, tuple(results))
-
+from tests.helpers.stores import audit_of, count
 
 # -------------------------------------------------------------------- opening
 

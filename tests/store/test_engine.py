@@ -11,9 +11,6 @@ from __future__ import annotations
 
 import pytest
 from click.testing import CliRunner
-from conftest import POSTGRES
-from databases import rows
-from samples import CASES, ZHUKOVSKY
 from sqlalchemy import text
 from sqlalchemy.exc import OperationalError
 
@@ -31,6 +28,8 @@ from registry.errors import (
 )
 from registry.store import engine, frames
 from registry.store.database import Store
+from tests.helpers.databases import POSTGRES, rows
+from tests.helpers.samples import CASES, ZHUKOVSKY
 
 
 def test_file_store_uses_wal_and_foreign_keys(file_store, tmp_path):

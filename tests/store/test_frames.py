@@ -4,11 +4,11 @@ claim, or one run's), across runs and case versions."""
 from __future__ import annotations
 
 import pandas as pd
-from test_database import audit_of, count
 
 from registry.model import Verdict
 from registry.store import frames
 from registry.store.tables import ResultRow
+from tests.helpers.stores import audit_of, count
 
 
 def test_cases_and_claims_frames(store, sample_case, other_case, case_factory):

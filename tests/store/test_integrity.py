@@ -18,9 +18,6 @@ from datetime import UTC, datetime
 
 import pytest
 from click.testing import CliRunner
-from conftest import POSTGRES
-from databases import connection, execute, rows
-from samples import CASES, ZHUKOVSKY
 from sqlalchemy import event, insert, select
 
 import registry
@@ -35,6 +32,8 @@ from registry.store import engine
 from registry.store.database import Store
 from registry.store.integrity import verify
 from registry.store.tables import RunRow
+from tests.helpers.databases import POSTGRES, connection, execute, rows
+from tests.helpers.samples import CASES, ZHUKOVSKY
 
 YEHIA_B = "yehia-2003-kovalevskaya-b"
 PICK = [ZHUKOVSKY, YEHIA_B, "affine-nonsymmetric"]

@@ -20,9 +20,6 @@ import pytest
 from alembic.autogenerate import compare_metadata
 from alembic.runtime.migration import MigrationContext
 from click.testing import CliRunner
-from conftest import POSTGRES
-from databases import connection, is_url
-from samples import TEST_DATA
 from sqlalchemy import JSON, Boolean, DateTime, MetaData, create_engine, insert, inspect, text
 from sqlalchemy import column as sql_column
 from sqlalchemy import select as sql_select
@@ -35,6 +32,8 @@ from registry.store import migrate
 from registry.store.database import Store
 from registry.store.integrity import verify
 from registry.store.tables import SCHEMA_VERSION, Base, latest_verdicts
+from tests.helpers.databases import POSTGRES, connection, is_url
+from tests.helpers.samples import TEST_DATA
 
 FIRST_SCHEMA_DUMP = TEST_DATA / "registry-schema-1.sql"
 

@@ -8,10 +8,10 @@ import pytest
 from sqlalchemy import insert, inspect, text
 from sqlalchemy.exc import IntegrityError
 from sqlalchemy.orm import Session
-from test_database import audit_of, count
 
 from registry.store import tables
 from registry.store.tables import ResultRow, RunRow
+from tests.helpers.stores import audit_of, count
 
 
 def test_a_store_has_schema_version(store):

@@ -1,11 +1,7 @@
 """Dask clusters for the tests of ``tests/distributed``: in this process (workers as
 threads, so that a monkeypatched check reaches the child processes they fork), in
 processes of a LocalCluster, or as separate ``dask scheduler`` and ``dask worker``
-processes.
-
-The fixtures are imported by the test modules that use them (``from dask_clusters
-import process_cluster``), not defined in a ``conftest.py`` of their folder: a second
-module named ``conftest`` would hide the top one from ``from conftest import ...``."""
+processes. ``tests/distributed/conftest.py`` makes the fixtures available there."""
 
 from __future__ import annotations
 
@@ -59,7 +55,7 @@ def process_cluster():
 # ------------------------------------------ a cluster of separate dask processes
 
 #: The directory that holds the package under test: the workers must import the same code.
-SOURCE = str(Path(__file__).resolve().parents[1])
+SOURCE = str(Path(__file__).resolve().parents[2])
 
 
 def dask_command(*args: str) -> list[str]:

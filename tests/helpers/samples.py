@@ -2,9 +2,11 @@
 
 from pathlib import Path
 
-CASES = Path(__file__).resolve().parents[1] / "data" / "cases"
+import sympy as sp
+
+CASES = Path(__file__).resolve().parents[2] / "data" / "cases"
 #: The tests' own data: the classical catalog, golden outputs, an old schema dump.
-TEST_DATA = Path(__file__).resolve().parent / "data"
+TEST_DATA = Path(__file__).resolve().parents[1] / "data"
 #: Classical cases whose verdicts the literature settles (tests of numeric evidence).
 CLASSICAL = TEST_DATA / "classical"
 #: The seed catalog: the reference paper's cases (and one classical case) at the top of
@@ -39,3 +41,33 @@ expression = "M1 + bogus*gamma1"
 def case_file(case_id: str) -> Path:
     """The seed catalog's file for ``case_id``."""
     return CASES / f"{case_id}.toml"
+
+
+#: A claim that is identically zero, so no probe refutes it, but whose proof must expand
+#: powers of a six-variable linear form (minutes of work): a worker busy in a long check.
+SLOW_CASE = """\
+id = "slow-{n}"
+title = "A claim whose proof takes minutes"
+
+[source]
+citation = "Test, Nowhere (2026)"
+
+[parameters]
+k = "real"
+
+[system]
+inertia = ["1", "2", "3"]
+potential = "gamma3"
+torque = ["0", "0", "{n}"]  # cases of different torques go to different workers
+
+[[claims]]
+label = "I"
+kind = "casimir"
+expression = "s + ({linear})**40 - ({square})**20"
+"""
+
+
+def slow_case(n: int) -> str:
+    """The text of a case whose claim's proof takes minutes (see SLOW_CASE)."""
+    linear = sp.sympify(f"gamma1 + gamma2 + gamma3 + M1 + k + {n}")
+    return SLOW_CASE.format(n=n, linear=linear, square=sp.expand(linear**2))

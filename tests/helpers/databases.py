@@ -14,9 +14,16 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from postgres_server import PostgresServer
 from sqlalchemy import create_engine, text
 from sqlalchemy.engine import Connection, make_url
+
+from tests.helpers.postgres_server import PostgresServer
+
+#: Marks the PostgreSQL variant of a test (deselect them with ``-m "not postgres"``).
+POSTGRES = pytest.mark.postgres
+
+#: The backends the storage, API and CLI tests run on.
+BACKENDS = ("sqlite", pytest.param("postgres", marks=POSTGRES))
 
 
 def is_url(target: str | Path) -> bool:

@@ -12,67 +12,14 @@ import signal
 import subprocess
 import sys
 import time
-from pathlib import Path
 
 import pytest
-import sympy as sp
-from test_crashes import group_members, kill_group, registry_command
 
-#: A claim that is identically zero, so no probe refutes it, but whose proof must expand
-#: powers of a six-variable linear form (minutes of work): a worker busy in a long check.
-SLOW_CASE = """\
-id = "slow-{n}"
-title = "A claim whose proof takes minutes"
-
-[source]
-citation = "Test, Nowhere (2026)"
-
-[parameters]
-k = "real"
-
-[system]
-inertia = ["1", "2", "3"]
-potential = "gamma3"
-torque = ["0", "0", "{n}"]  # cases of different torques go to different workers
-
-[[claims]]
-label = "I"
-kind = "casimir"
-expression = "s + ({linear})**40 - ({square})**20"
-"""
-
-
-def slow_case(n: int) -> str:
-    """The text of a case whose claim's proof takes minutes (see SLOW_CASE)."""
-    linear = sp.sympify(f"gamma1 + gamma2 + gamma3 + M1 + k + {n}")
-    return SLOW_CASE.format(n=n, linear=linear, square=sp.expand(linear**2))
-
+from tests.helpers.processes import busy, children, group_members, kill_group, registry_command
+from tests.helpers.samples import slow_case
 
 #: How long the workers may survive the audit process (the issue's bound: one second).
 SURVIVAL = 1.0
-
-
-def children(pid: int) -> list[int]:
-    """Live child processes of ``pid``."""
-    found = []
-    for stat in Path("/proc").glob("[0-9]*/stat"):
-        try:
-            text = stat.read_text()
-        except OSError:
-            continue
-        state, ppid = text[text.rindex(")") + 2 :].split()[:2]
-        if int(ppid) == pid and state not in ("Z", "X"):
-            found.append(int(stat.parent.name))
-    return found
-
-
-def busy(pid: int) -> bool:
-    """Whether a process is running on a CPU or runnable (state R), i.e. computing."""
-    try:
-        text = Path(f"/proc/{pid}/stat").read_text()
-    except OSError:
-        return False
-    return text[text.rindex(")") + 2 :].split()[0] == "R"
 
 
 @pytest.mark.skipif(not sys.platform.startswith("linux"), reason="reads /proc")
