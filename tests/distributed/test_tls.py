@@ -15,10 +15,10 @@ import sys
 from pathlib import Path
 
 import pytest
-from dask_clusters import Certificate, dask_processes, source_environment
 
 import registry
 from registry.distributed.scheduler import TLS_KEYS
+from tests.helpers.dask_clusters import Certificate, dask_processes, source_environment
 
 ROOT = Path(__file__).resolve().parents[2]
 SEED = ROOT / "data" / "cases"
