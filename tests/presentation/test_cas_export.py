@@ -15,10 +15,10 @@ import re
 
 import pytest
 import sympy as sp
-from samples import CASES
 
 from registry.language.casefile import load_case, parse_case_text
 from registry.presentation.cas_export import LANGUAGES, MAPLE, MATHEMATICA, PYTHON, export
+from tests.helpers.samples import CASES
 
 CATALOG = sorted(CASES.rglob("*.toml"))
 PAIRS = {"(": ")", "[": "]", "{": "}"}

@@ -7,10 +7,10 @@ import xml.etree.ElementTree as ET
 
 import pytest
 import sympy as sp
-from samples import CASES
 
 from registry.language.casefile import load_case
 from registry.presentation.mathml import equation, mathml
+from tests.helpers.samples import CASES
 
 NS = "{http://www.w3.org/1998/Math/MathML}"
 
