@@ -112,6 +112,61 @@ def test_every_import_goes_in_an_allowed_direction():
     assert violations(PACKAGE) == []
 
 
+def cycles(package: Path) -> list[list[str]]:
+    """The import circles among the package's modules (strongly connected components of
+    more than one module, or a module importing itself), each sorted."""
+    graph: dict[str, set[str]] = {}
+    for path in sorted(package.rglob("*.py")):
+        graph[module_name(path, package)] = {m for _, m in imports_of(path, package)}
+    index: dict[str, int] = {}
+    low: dict[str, int] = {}
+    stack: list[str] = []
+    found: list[list[str]] = []
+
+    def visit(node: str) -> None:  # Tarjan's algorithm
+        index[node] = low[node] = len(index)
+        stack.append(node)
+        for other in graph[node]:
+            if other not in graph:
+                continue
+            if other not in index:
+                visit(other)
+                low[node] = min(low[node], low[other])
+            elif other in stack:
+                low[node] = min(low[node], index[other])
+        if low[node] == index[node]:
+            component = []
+            while True:
+                other = stack.pop()
+                component.append(other)
+                if other == node:
+                    break
+            if len(component) > 1 or node in graph[node]:
+                found.append(sorted(component))
+
+    for node in graph:
+        if node not in index:
+            visit(node)
+    return found
+
+
+def test_the_import_graph_has_no_circle():
+    assert cycles(PACKAGE) == []
+
+
+def test_a_circle_of_imports_is_found(tmp_path):
+    package = tmp_path / "registry"
+    (package / "mathematics").mkdir(parents=True)
+    (package / "__init__.py").write_text("")
+    (package / "mathematics" / "__init__.py").write_text("")
+    (package / "mathematics" / "a.py").write_text("from .b import f\n")
+    (package / "mathematics" / "b.py").write_text("def g():\n    from .c import h\n")
+    (package / "mathematics" / "c.py").write_text("from . import a\n")
+    assert cycles(package) == [
+        ["registry.mathematics.a", "registry.mathematics.b", "registry.mathematics.c"]
+    ]
+
+
 def test_every_folder_of_the_package_is_a_known_layer():
     folders = {p.name for p in PACKAGE.iterdir() if (p / "__init__.py").exists()}
     assert folders <= set(ALLOWED) | set(FORBIDDEN)

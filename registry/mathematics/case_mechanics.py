@@ -17,7 +17,7 @@ import sympy as sp
 
 from ..model import Case, CheckResult, Claim
 from . import mechanics as mech
-from .zero_test import Domain
+from .domain import Domain
 
 #: Residuals by component name; read-only, since every check and repair shares them.
 Residuals = Mapping[str, sp.Expr]

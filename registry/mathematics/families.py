@@ -26,10 +26,11 @@ from sympy.core.function import AppliedUndef
 from ..model import Verdict
 from . import mechanics as mech
 from . import symengine_bridge
+from .domain import Domain
 from .factoring import factor
 from .mechanics import AXIS, MOMENTUM, Vector, s
 from .potentials import closed_form, tangential_potential
-from .zero_test import Domain, decide
+from .zero_test import decide
 
 
 @dataclass(frozen=True)

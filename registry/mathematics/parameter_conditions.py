@@ -18,9 +18,10 @@ from dataclasses import dataclass, replace
 import sympy as sp
 
 from ..model import Verdict
+from .domain import Domain
 from .mechanics import STATE, s
 from .normal_form import Atoms, numerator, reduce_radical
-from .zero_test import Domain, decide
+from .zero_test import decide
 
 Branch = dict[sp.Symbol, sp.Expr]
 

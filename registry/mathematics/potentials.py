@@ -21,8 +21,9 @@ from sympy.polys.matrices import DomainMatrix
 from ..model import Verdict
 from . import mechanics as mech
 from . import symengine_bridge
+from .domain import Domain
 from .mechanics import AXIS, Vector
-from .zero_test import Domain, decide
+from .zero_test import decide
 
 
 def tangential_potential(nu: Vector, domain: Domain) -> tuple[sp.Expr, str] | None:

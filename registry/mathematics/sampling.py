@@ -16,16 +16,13 @@ import random
 from collections.abc import Iterator, Mapping, Sequence
 from fractions import Fraction
 from functools import lru_cache
-from typing import TYPE_CHECKING
 
 import sympy as sp
 from sympy.core.function import AppliedUndef
 
 from .certified_evaluation import OutsideDomain, evaluate, exact_root
+from .domain import Domain
 from .mechanics import AXIS, MOMENTUM, S_VALUE, STATE, s
-
-if TYPE_CHECKING:
-    from .zero_test import Domain
 
 
 def _rational(rng: random.Random, *, positive=False, nonzero=False, integer=False) -> Fraction:

@@ -20,12 +20,13 @@ from __future__ import annotations
 
 import random
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass
 
 import sympy as sp
 
 from ..model import Verdict, Witness
 from .certified_evaluation import OutsideDomain, Value, evaluate
+from .domain import Domain
 from .mechanics import S_VALUE, s
 from .normal_form import prove_zero
 from .sampling import concrete_functions, radical_bases, sample_point, substitute_functions
@@ -34,31 +35,6 @@ from .sampling import concrete_functions, radical_bases, sample_point, substitut
 PROBES = 4
 #: Attempts to find that many points inside the domain before giving up.
 MAX_ATTEMPTS = 40
-
-
-@dataclass(frozen=True)
-class Domain:
-    """Where residuals live: parameters (symbols carry assumptions), arbitrary
-    functions of a family, expressions that must not vanish (moments of inertia)
-    the level set ``on`` (expressions that vanish there), and expressions that must be
-    defined at a sample point (the case's potential, torque and claim: a witness where
-    I itself is undefined would prove nothing)."""
-
-    parameters: tuple[sp.Symbol, ...] = ()
-    functions: Mapping[str, tuple[sp.FunctionClass, tuple[sp.Symbol, ...]]] = field(
-        default_factory=dict
-    )
-    nonzero: tuple[sp.Expr, ...] = ()
-    on: tuple[sp.Expr, ...] = ()
-    defined: tuple[sp.Expr, ...] = ()
-
-    def restricted(self, on: Sequence[sp.Expr]) -> Domain:
-        """The same domain restricted to the level set where ``on`` vanish."""
-        return replace(self, on=tuple(on))
-
-    def requiring(self, exprs: Sequence[sp.Expr]) -> Domain:
-        """The same domain where ``exprs`` must also be defined (a claim, the potential)."""
-        return replace(self, defined=(*self.defined, *exprs))
 
 
 @dataclass(frozen=True)

@@ -5,9 +5,9 @@ from __future__ import annotations
 
 import sympy as sp
 
+from registry.mathematics.domain import Domain
 from registry.mathematics.mechanics import M1, gamma1, gamma2, gamma3
 from registry.mathematics.parameter_conditions import equations_text, parameter_conditions
-from registry.mathematics.zero_test import Domain
 
 N = sp.Symbol("N", real=True)
 k = sp.Symbol("k", positive=True)

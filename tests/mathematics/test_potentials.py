@@ -8,7 +8,7 @@ import sympy as sp
 
 from registry.mathematics import mechanics as mech
 from registry.mathematics import potentials
-from registry.mathematics.zero_test import Domain
+from registry.mathematics.domain import Domain
 
 
 def _random_polynomial(rng: random.Random, degree: int) -> sp.Expr:

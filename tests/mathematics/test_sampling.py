@@ -6,6 +6,7 @@ import random
 import sympy as sp
 
 from registry.mathematics.certified_evaluation import evaluate
+from registry.mathematics.domain import Domain
 from registry.mathematics.mechanics import AXIS, S_VALUE, gamma1, gamma2, gamma3, s
 from registry.mathematics.sampling import (
     concrete_functions,
@@ -13,7 +14,6 @@ from registry.mathematics.sampling import (
     sample_points,
     substitute_functions,
 )
-from registry.mathematics.zero_test import Domain
 
 k = sp.Symbol("k", positive=True)
 SPHERE = gamma1**2 + gamma2**2 + gamma3**2 - 1

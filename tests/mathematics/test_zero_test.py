@@ -4,8 +4,9 @@ import sympy as sp
 
 from registry.mathematics import zero_test
 from registry.mathematics.certified_evaluation import evaluate
+from registry.mathematics.domain import Domain
 from registry.mathematics.mechanics import AXIS, S_VALUE, gamma1, gamma2, gamma3, s
-from registry.mathematics.zero_test import Domain, decide
+from registry.mathematics.zero_test import decide
 from registry.model import Verdict
 
 k = sp.Symbol("k", positive=True)
