@@ -436,6 +436,23 @@ class SearchOptions:
 
 
 @dataclass(frozen=True)
+class IntegralStatus:
+    """Whether an integral a search found is ``new`` or a ``rediscovered`` claim of the
+    searched case: it then equals the claims ``equals`` modulo the known integrals
+    ``modulo`` (H, |gamma|^2, ...) and their products, by the exact identity
+    ``relation`` (``F = K + 2*H**2``, checked in the system's ring)."""
+
+    status: str
+    equals: tuple[str, ...] = ()
+    modulo: tuple[str, ...] = ()
+    relation: str = ""
+
+    @property
+    def new(self) -> bool:
+        return self.status == "new"
+
+
+@dataclass(frozen=True)
 class IntegralSet:
     """The extra integrals on a set of parameter values: ``when`` (equations taken
     together, as text; empty for the generic values), how many there are, a basis of
@@ -446,6 +463,19 @@ class IntegralSet:
     extra: int
     integrals: tuple[str, ...] = ()
     casimir: tuple[Verdict, ...] = ()
+    #: per integral: new, or a claim rediscovered (empty where it was not decided)
+    status: tuple[IntegralStatus, ...] = ()
+
+    @property
+    def new(self) -> tuple[str, ...]:
+        """The integrals that are not (combinations of) the case's claims."""
+        if not self.status:
+            return self.integrals
+        return tuple(i for i, s in zip(self.integrals, self.status, strict=True) if s.new)
+
+    @property
+    def rediscovered(self) -> tuple[str, ...]:
+        return tuple(i for i, s in zip(self.integrals, self.status, strict=True) if not s.new)
 
 
 @dataclass(frozen=True)
@@ -471,9 +501,18 @@ class Search:
     dimensions: tuple[tuple[int, int, int, int], ...] = ()
     seconds: float = 0.0
     method: str = ""
+    #: the case's claims proven integrals (on the searched level set) and counted as known
+    claims: tuple[str, ...] = ()
 
     @property
     def decided(self) -> bool:
         """Whether the generic values were searched to the end (``dimensions`` then holds
         their counts). A search refused or cut short before that establishes nothing."""
         return bool(self.dimensions)
+
+    @property
+    def claims_complete(self) -> bool:
+        """Whether the case's claims span every integral of the ansatz beyond the known
+        ones: the search is complete, has claims, and every generic integral it found is
+        one of them rediscovered (a family: and no special set carries more)."""
+        return self.complete and bool(self.claims) and not self.special and not self.generic.new

@@ -1,8 +1,9 @@
 """The main job: load the catalog into the default database, audit it, print the verdicts.
 
 Before the audit every case gets its recorded search (``Registry.survey``: which
-polynomial integrals it has up to the degree its claims reach); what a search finds is
-a claim that this audit decides. Stored audits and searches are reused.
+polynomial integrals it has up to the degree its claims reach); what a search finds that
+is not one of the case's claims again is a claim that this audit decides. Stored audits
+and searches are reused.
 
 Usage: python scripts/audit.py [--db PATH|URL] [--json] [--no-survey]
 """
@@ -18,6 +19,21 @@ import registry
 from registry.presentation.verdict_table import verdict_table
 
 ROOT = Path(__file__).resolve().parents[1]
+
+
+def survey_line(searches: list) -> str:
+    """The survey in one line: what the literature already claimed (rediscovered), what
+    the registry found (new), where the claims span every integral searched for."""
+    undecided = sum(not s.decided for s in searches)
+    new = sum(len(s.generic.new) + sum(x.extra for x in s.special) for s in searches)
+    again = sum(len(s.generic.rediscovered) for s in searches)
+    complete = sorted({s.case for s in searches if s.claims_complete})
+    return (
+        f"{len(searches)} recorded searches: {new} new integral(s), {again} rediscovered "
+        f"claim(s), {len(complete)} case(s) whose claims span every integral up to the "
+        f"searched degree; {undecided} not decided (refused systems, with the reason); "
+        "list them with: registry searches"
+    )
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -39,11 +55,7 @@ def main(argv: list[str] | None = None) -> int:
         else:
             print(verdict_table(report.outcomes(), report.run))
             if surveyed:
-                undecided = sum(not r.search.decided for r in surveyed)
-                print(
-                    f"{len(surveyed)} recorded searches ({undecided} not decided: "
-                    "non-polynomial systems or level sets); list them with: registry searches"
-                )
+                print(survey_line([r.search for r in surveyed]))
     return 1 if refused else 0
 
 

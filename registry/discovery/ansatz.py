@@ -159,6 +159,11 @@ class PolynomialSystem:
             raise NotPolynomialError(f"the {what} is not polynomial: {err}") from None
         return self.reduce(poly)
 
+    def expression(self, poly: PolyElement) -> sp.Expr:
+        """A ring element as a sympy expression in the state and the parameters."""
+        plain = {v: k for k, v in self._plain.items()}
+        return sp.sympify(poly.as_expr()).xreplace(plain)
+
     def _polynomial_field(self, field: Sequence[sp.Expr]) -> list[PolyElement]:
         """Y = D X with one denominator D for all six components (dropping D changes no
         conserved quantity where X is defined)."""

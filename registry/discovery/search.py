@@ -51,6 +51,7 @@ from ..model import (
     SearchOptions,
     Verdict,
 )
+from . import novelty
 from .ansatz import PolynomialSystem
 from .integrals import Analysis, Generator, analyse, products
 from .linear import GF_PRIME, PRIME, Field
@@ -93,6 +94,7 @@ class _State:
     generic: IntegralSet | None = None
     counts: dict = field(default_factory=dict)
     known: tuple[str, ...] = ()
+    claims: tuple[str, ...] = ()
     progress: Progress | None = None
     done: int = 0
     total: int = 0
@@ -164,6 +166,7 @@ def discover(
         dimensions=tuple((d, *c) for d, c in sorted(state.counts.items())),
         seconds=time.perf_counter() - started,
         method=METHOD,
+        claims=state.claims,
     )
 
 
@@ -212,6 +215,9 @@ def _search(
             for v, d in generic.extras
         ]
     found = _proven(state, case, when, integrals)
+    if not when and found.integrals:  # new, or the case's own claims again
+        kept = [e for e in integrals if to_text(e) in found.integrals]
+        found = _named(state, case, m, system, params, found, kept)
     if not when:  # the generic values are decided, whatever happens to the locus
         state.known, state.counts, state.generic = tuple(names), generic.counts, found
     if not free:
@@ -318,17 +324,22 @@ def _system(options: SearchOptions, m: CaseMechanics, free: list[sp.Symbol]):
     return PolynomialSystem(m.field, params, weights, options.degree, on), params
 
 
-def _known(m: CaseMechanics, system: PolynomialSystem) -> tuple[list[Generator], list[str]]:
-    """H, |gamma|^2 and the torque's Casimir (s where there is no torque) as generators of
-    the trivial integrals, and their names. Non-polynomial ones cannot lie in the ansatz
-    and generate nothing there."""
+def _known_integrals(m: CaseMechanics) -> list[tuple[str, sp.Expr]]:
+    """H, |gamma|^2 and the torque's Casimir (s where there is no torque), named."""
     family = recognise(m.mu, m.domain)
     named = [("H", m.hamiltonian), (None, 2 * mech.C1)]
     if family.casimir is not None:
         named.append((None, family.casimir))
+    return [(name or to_text(sp.expand(expr)), expr) for name, expr in named]
+
+
+def _known(m: CaseMechanics, system: PolynomialSystem) -> tuple[list[Generator], list[str]]:
+    """The known integrals (``_known_integrals``) as generators of the trivial integrals,
+    and their names. Non-polynomial ones cannot lie in the ansatz and generate nothing
+    there."""
     gens, names = [], []
-    for name, expr in named:
-        names.append(name or to_text(sp.expand(expr)))
+    for name, expr in _known_integrals(m):
+        names.append(name)
         try:
             poly = system.polynomial(expr, what="known integral")
         except DiscoveryError:
@@ -478,6 +489,47 @@ def _proven(state: _State, case: Case, when, integrals: Sequence[sp.Expr]) -> In
         kept.append(claim.expression.text)
         casimirs.append(audit.result("casimir", claim.label).verdict)
     return IntegralSet(when, len(kept), tuple(kept), tuple(casimirs))
+
+
+def _named(state: _State, case: Case, m, system, params, found: IntegralSet, exprs) -> IntegralSet:
+    """``found`` with each integral said new, or equal to claims of the case (proven by
+    the audit's zero test on the searched level set) modulo the known integrals."""
+    claims = _verified_claims(case, system)
+    state.claims = tuple(k.name for k in claims)
+    trivial = [k for name, expr in _known_integrals(m) if (k := novelty.known(system, name, expr))]
+    fld = Field(QQ.frac_field(*params) if params else QQ, params, {})
+    status = novelty.statuses(system, fld, trivial, claims, exprs)
+    return replace(found, status=tuple(status))
+
+
+def _verified_claims(case: Case, system: PolynomialSystem) -> list[novelty.Known]:
+    """The claims of ``case`` that hold on the searched level set (theirs contains it) and
+    lie in the system's ring, each proven an integral by the audit's zero test; a claim
+    the audit does not verify is not known (nothing is taken on trust)."""
+    applicable = []
+    for claim in case.claims:
+        try:
+            inside = all(not system.polynomial(eq.expr) for eq in claim.on)
+        except DiscoveryError:
+            continue
+        k = (
+            novelty.known(system, claim.label, claim.expression.expr, claim=True)
+            if inside
+            else None
+        )
+        if k is not None:
+            applicable.append((claim, k))
+    if not applicable:
+        return []
+    audit = audit_case(
+        replace(case, claims=tuple(c for c, _ in applicable)),
+        checks=["integral"],
+        repair=False,
+        budget=None,
+    )
+    return [
+        k for c, k in applicable if audit.result("integral", c.label).verdict is Verdict.VERIFIED
+    ]
 
 
 def _check_invariant(system: PolynomialSystem, options: SearchOptions) -> None:

@@ -3,7 +3,7 @@ Discovery), a plain-text summary, and the result in one sentence."""
 
 from __future__ import annotations
 
-from ..model import IntegralSet, Search
+from ..model import IntegralSet, IntegralStatus, Search
 
 
 def statement(search: Search) -> str:
@@ -19,6 +19,18 @@ def statement(search: Search) -> str:
         )
     if search.generic.extra:
         text = f"{search.generic.extra} extra integral(s) {ansatz} exist for generic {values}"
+        again = search.generic.rediscovered if search.generic.status else ()
+        if again:
+            named = sorted({c for st in search.generic.status for c in st.equals})
+            text += (
+                f" ({len(search.generic.new)} new, {len(again)} the case's claims "
+                f"{', '.join(named)} again)"
+            )
+        if search.claims_complete:
+            text += (
+                f"; the claims {', '.join(named)} span every integral of weighted degree "
+                f"<= {o.degree} beyond {', '.join(search.known)}"
+            )
     else:
         text = f"No extra integral {ansatz} exists for generic {values}"
     if search.special:
@@ -30,12 +42,34 @@ def statement(search: Search) -> str:
     return text + " (the search is not complete: see its coverage)."
 
 
+def status_text(status: IntegralStatus) -> str:
+    """``new``, or ``= K modulo H, |gamma|^2``: what a found integral is."""
+    if status.new:
+        return "new"
+    text = f"= {', '.join(status.equals)}"
+    return text + (f" modulo {', '.join(status.modulo)}" if status.modulo else "")
+
+
 def _set(entry: IntegralSet) -> dict:
-    return {
+    out = {
         "extra": entry.extra,
         "integrals": list(entry.integrals),
         "casimir": [str(v) for v in entry.casimir],
     }
+    if entry.status:
+        out["status"] = [
+            {
+                "expression": text,
+                "status": st.status,
+                "equals": list(st.equals),
+                "modulo": list(st.modulo),
+                "relation": st.relation,
+            }
+            for text, st in zip(entry.integrals, entry.status, strict=True)
+        ]
+    out["new"] = len(entry.new)
+    out["rediscovered"] = len(entry.integrals) - len(entry.new)
+    return out
 
 
 def search_document(search: Search) -> dict:
@@ -48,6 +82,8 @@ def search_document(search: Search) -> dict:
         "on": [eq.text for eq in o.on],
         "free": list(o.free),
         "known": list(search.known),
+        "claims": list(search.claims),
+        "claims_complete": search.claims_complete,
         "generic": _set(search.generic),
         "special": [{"when": list(s.when), **_set(s)} for s in search.special],
         "complete": search.complete,
@@ -73,7 +109,8 @@ def search_text(search: Search) -> str:
         f"(weights M={o.weights[0]}, gamma={o.weights[1]})"
         + (f" on {', '.join(eq.text for eq in o.on)}" if o.on else "")
         + (f", free {', '.join(o.free)}" if o.free else ""),
-        f"known: {', '.join(search.known)}",
+        f"known: {', '.join(search.known)}"
+        + (f"; the case's claims {', '.join(search.claims)}" if search.claims else ""),
     ]
 
     def describe(entry: IntegralSet, where: str) -> None:
@@ -81,8 +118,10 @@ def search_text(search: Search) -> str:
             lines.append(f"{where}: no extra integral")
             return
         lines.append(f"{where}: {entry.extra} extra integral(s)")
-        for text, casimir in zip(entry.integrals, entry.casimir, strict=True):
-            lines.append(f"    {text}    (integral verified; casimir {casimir})")
+        status = entry.status or (None,) * len(entry.integrals)
+        for text, casimir, st in zip(entry.integrals, entry.casimir, status, strict=True):
+            what = f"; {status_text(st)}" if st is not None else ""
+            lines.append(f"    {text}    (integral verified; casimir {casimir}{what})")
 
     if search.decided:
         describe(search.generic, "generic")

@@ -23,6 +23,7 @@ from ..model import (
     Evidence,
     FamilyRecord,
     IntegralSet,
+    IntegralStatus,
     Search,
     SearchOptions,
     Source,
@@ -138,6 +139,8 @@ def search_row(case_pk: int, search: Search, code_version: str, statement: str) 
         dimensions=[list(d) for d in search.dimensions],
         method=search.method,
         statement=statement,
+        claims=list(search.claims),
+        claims_complete=search.claims_complete,
     )
 
 
@@ -158,6 +161,7 @@ def discovery_rows(search_id: int, search: Search, derived: dict[int, int]) -> l
             extra=s.extra,
             integrals=list(s.integrals),
             casimir=[verdict_text(v) for v in s.casimir],
+            status=[status_data(t) for t in s.status],
             derived_case_pk=derived.get(i - 1) if i else None,
         )
         for i, s in enumerate(sets)
@@ -169,7 +173,11 @@ def search(row: SearchRow, case_id: str, content_hash: str, rows, on) -> Search:
     options = row.options
     sets = [
         IntegralSet(
-            tuple(r.when), r.extra, tuple(r.integrals), tuple(verdict_of(v) for v in r.casimir)
+            tuple(r.when),
+            r.extra,
+            tuple(r.integrals),
+            tuple(verdict_of(v) for v in r.casimir),
+            tuple(integral_status(d) for d in (r.status or [])),
         )
         for r in sorted(rows, key=lambda r: r.position)
     ]
@@ -190,6 +198,27 @@ def search(row: SearchRow, case_id: str, content_hash: str, rows, on) -> Search:
         dimensions=tuple((d[0], d[1], d[2], d[3]) for d in row.dimensions),
         seconds=row.seconds,
         method=row.method,
+        claims=tuple(row.claims or ()),
+    )
+
+
+def status_data(status: IntegralStatus) -> dict[str, Any]:
+    """An integral's status as plain data (stored, and printed by ``--json``)."""
+    return {
+        "status": status.status,
+        "equals": list(status.equals),
+        "modulo": list(status.modulo),
+        "relation": status.relation,
+    }
+
+
+def integral_status(data: dict[str, Any]) -> IntegralStatus:
+    """An IntegralStatus from its ``status_data`` form."""
+    return IntegralStatus(
+        data["status"],
+        tuple(data.get("equals", ())),
+        tuple(data.get("modulo", ())),
+        data.get("relation", ""),
     )
 
 

@@ -497,9 +497,9 @@ class Store:
         derived: Sequence[Case | None] = (),
     ) -> int:
         """Store a search of a case version, in one transaction: its row, a row per set
-        of values it found integrals on, its generic integrals attached as claims to the
-        searched version, and each special set's ``derived`` case (None to skip) stored
-        as a case of its own. Returns the search's number."""
+        of values it found integrals on, its new generic integrals (not the case's claims
+        rediscovered) attached as claims to the searched version, and each special set's
+        ``derived`` case (None to skip) stored as a case of its own. Returns the search's number."""
         with self.write() as session:
             hold(session, f"claims of version {case_pk}")  # the next positions are ours
             row = search_row(case_pk, search, code_version, statement)
@@ -511,9 +511,13 @@ class Store:
                 )
                 or 0
             ) + 1
+            new = set(search.generic.new)  # a rediscovered claim is not added again
+            attached = 0
             for i, text in enumerate(search.generic.integrals):
-                claim = _discovered_claim(row.id, i, text, search)
-                session.add(claim_row(claim, case_pk, position + i, search_id=row.id))
+                if text in new:
+                    claim = _discovered_claim(row.id, i, text, search)
+                    session.add(claim_row(claim, case_pk, position + attached, search_id=row.id))
+                    attached += 1
             versions: dict[int, int] = {}
             for i, case in enumerate(derived):
                 if case is not None:

@@ -255,7 +255,7 @@ def searches_frame(store: Store) -> pd.DataFrame:
         .subquery()
     )
     generic = (
-        select(DiscoveryRow.search_id, DiscoveryRow.extra)
+        select(DiscoveryRow.search_id, DiscoveryRow.extra, DiscoveryRow.status)
         .where(DiscoveryRow.position == 0)
         .subquery()
     )
@@ -267,10 +267,13 @@ def searches_frame(store: Store) -> pd.DataFrame:
             SearchRow.options,
             func.coalesce(generic.c.extra, 0).label("generic_extra"),
             func.coalesce(n_special.c.n, 0).label("n_special"),
+            generic.c.status,
             SearchRow.complete,
+            SearchRow.claims_complete,
             SearchRow.coverage,
             SearchRow.statement,
             SearchRow.known,
+            SearchRow.claims,
             SearchRow.method,
             SearchRow.code_version,
             SearchRow.started_at,
@@ -285,6 +288,12 @@ def searches_frame(store: Store) -> pd.DataFrame:
     options = list(frame.pop("options"))
     for position, key in enumerate(("degree", "weights", "on", "free"), start=3):
         frame.insert(position, key, [o[key] for o in options])
+    again = [sum(t["status"] != "new" for t in s or []) for s in frame.pop("status")]
+    where = list(frame.columns).index("n_special")
+    frame.insert(
+        where, "generic_new", [n - r for n, r in zip(frame.generic_extra, again, strict=True)]
+    )
+    frame.insert(where + 1, "rediscovered", again)
     return frame
 
 
@@ -303,6 +312,7 @@ def discoveries_frame(store: Store) -> pd.DataFrame:
             DiscoveryRow.extra,
             DiscoveryRow.integrals,
             DiscoveryRow.casimir,
+            DiscoveryRow.status,
             derived.c.case_id.label("derived_case"),
             derived.c.version.label("derived_version"),
         )

@@ -32,7 +32,7 @@ from sqlalchemy.orm import DeclarativeBase, Mapped, mapped_column
 from sqlalchemy.types import TypeDecorator
 
 #: Version of the table layout, kept in the ``meta`` table (the Alembic revision, as a number).
-SCHEMA_VERSION = 4
+SCHEMA_VERSION = 5
 
 #: The states of an audit run; every run starts as ``running``.
 RUN_STATUSES = ("running", "complete", "failed", "interrupted")
@@ -260,6 +260,9 @@ class SearchRow(Base):
     dimensions: Mapped[list[list[int]]] = mapped_column(JSON)
     method: Mapped[str] = mapped_column(Text, default="")
     statement: Mapped[str] = mapped_column(Text, default="")
+    # the claims proven integrals and counted as known; whether they span the ansatz's
+    claims: Mapped[list[str]] = mapped_column(JSON, default=list, server_default="[]")
+    claims_complete: Mapped[bool] = mapped_column(Boolean, default=False, server_default=false())
 
 
 class DiscoveryRow(Base):
@@ -276,6 +279,8 @@ class DiscoveryRow(Base):
     extra: Mapped[int]
     integrals: Mapped[list[str]] = mapped_column(JSON)
     casimir: Mapped[list[str]] = mapped_column(JSON)
+    # per integral: {"status": "new" | "rediscovered", "equals", "modulo", "relation"}
+    status: Mapped[list[dict[str, Any]]] = mapped_column(JSON, default=list, server_default="[]")
     derived_case_pk: Mapped[int | None] = mapped_column(ForeignKey("cases.id"))
 
 

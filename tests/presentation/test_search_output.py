@@ -27,7 +27,13 @@ def test_the_document_has_the_contracts_keys_and_values(kovalevskaya):
     assert doc["degree"] == 4 and doc["weights"] == {"M": 1, "gamma": 2}
     assert doc["free"] == ["lam"] and doc["on"] == []
     assert doc["known"] == ["H", "gamma1**2 + gamma2**2 + gamma3**2", "s"]
-    assert doc["generic"] == {"extra": 0, "integrals": [], "casimir": []}
+    assert doc["generic"] == {
+        "extra": 0,
+        "integrals": [],
+        "casimir": [],
+        "new": 0,
+        "rediscovered": 0,
+    }
     assert [s["when"] for s in doc["special"]] == [["lam = 1"], ["lam = 2"]]
     assert doc["special"][0]["integrals"] == ["M1"] and doc["special"][0]["extra"] == 1
     assert doc["complete"] is True
