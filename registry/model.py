@@ -121,19 +121,37 @@ class Claim:
 
 @dataclass(frozen=True)
 class System:
-    """Principal moments (A, B, C), the potential U(gamma) and the torque vector mu."""
+    """The system of a case, in one of two forms (CASE_FORMAT.md).
 
-    inertia: tuple[Expression, Expression, Expression]
+    The inertia form: principal moments (A, B, C) and the potential U(gamma), so that
+    H = M.I^-1 M/2 + U; the Hamiltonian form: ``hamiltonian`` H itself (``inertia`` is
+    then empty and ``potential`` 0). Both have the torque vector mu and the bracket's
+    parameter ``kappa`` (0: e(3), > 0: so(4), < 0: so(3,1)); the equations of motion are
+    dx/dt = Pi grad H with Pi = [[hat(M + mu), hat(gamma)], [hat(gamma), kappa hat(M)]].
+    """
+
+    inertia: tuple[Expression, ...]
     potential: Expression
     torque: tuple[Expression, Expression, Expression]
+    hamiltonian: Expression | None = None
+    kappa: Expression = Expression("0", sp.Integer(0))
 
     @property
-    def inertia_exprs(self) -> tuple[sp.Expr, sp.Expr, sp.Expr]:
-        return tuple(e.expr for e in self.inertia)  # type: ignore[return-value]
+    def hamiltonian_form(self) -> bool:
+        """Whether the case gives H itself (``system.hamiltonian``) rather than A, B, C, U."""
+        return self.hamiltonian is not None
+
+    @property
+    def inertia_exprs(self) -> tuple[sp.Expr, ...]:
+        return tuple(e.expr for e in self.inertia)
 
     @property
     def torque_exprs(self) -> tuple[sp.Expr, sp.Expr, sp.Expr]:
         return tuple(e.expr for e in self.torque)  # type: ignore[return-value]
+
+    @property
+    def kappa_expr(self) -> sp.Expr:
+        return self.kappa.expr
 
 
 class FrozenDict(dict):

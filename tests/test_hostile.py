@@ -87,6 +87,9 @@ def placed(field: str, text: str) -> str:
     """A case with the expression ``text`` in ``field`` (potential, torque[i], ...)."""
     if field == "potential":
         return case(system=system(potential=q(text)))
+    if field in ("hamiltonian", "kappa"):
+        fields = {"hamiltonian": q("M1**2 + M2**2 + 2*M3**2 + C*gamma1"), field: q(text)}
+        return case(system="[system]\n" + "".join(f"{k} = {v}\n" for k, v in fields.items()))
     if field.startswith(("torque", "inertia")):
         name, index = field[:-3], int(field[-2])
         entries = ['"C"', '"C"', '"2*C"'] if name == "inertia" else ['"0"', '"0"', '"0"']
@@ -108,6 +111,8 @@ FIELD_NAMES = {
     "inertia[2]": "system.inertia[2]",
     "expression": "claims[0].expression",
     "on[0]": "claims[0].on[0]",
+    "hamiltonian": "system.hamiltonian",
+    "kappa": "system.kappa",
 }
 
 
@@ -191,6 +196,62 @@ expression_cases(
         ("torque[1]", "gamma1\x1b[2J", "control character U+001B is not allowed"),
         ("on[0]", "gamma1\x00 = 0", "control character U+0000 is not allowed"),
     ],
+)
+
+# --- the Hamiltonian form (issue 20): system.hamiltonian and system.kappa
+expression_cases(
+    "hamiltonian-form",
+    [
+        ("hamiltonian", "__import__('os').system('touch pwned')", ATTRIBUTE),
+        ("hamiltonian", "M1**2 + eval('gamma1')", "unknown function 'eval'"),
+        ("hamiltonian", "M1.__class__", ATTRIBUTE),
+        ("hamiltonian", "lambda: M1", "lambdas are not allowed"),
+        (
+            "hamiltonian",
+            "M1**2 + bogus*gamma1",
+            "unknown name 'bogus' (declare it under [parameters])",
+        ),
+        ("hamiltonian", "M1**2 # __import__('os')", "comments ('#') are not allowed"),
+        ("kappa", "__import__('os')", "unknown function '__import__'"),
+        ("kappa", "C.__dict__", ATTRIBUTE),
+        ("kappa", "'1'", "strings are not allowed"),
+        ("kappa", "kappa", "unknown name 'kappa' (declare it under [parameters])"),
+        ("kappa", "C*M1", "kappa must be a constant (the parameters only); it depends on M1"),
+        ("kappa", "s", "kappa must be a constant (the parameters only); it depends on s"),
+        ("kappa", "C\x1b[2J", "control character U+001B is not allowed"),
+    ],
+)
+BOTH = (
+    "system.hamiltonian: give either the Hamiltonian or {}, not both: with "
+    "system.hamiltonian, H is the whole energy (inertia and potential are part of it)"
+)
+HOSTILE.update(
+    {
+        "hamiltonian-form-with-inertia": (
+            case(system=system(hamiltonian=q("M1**2"))),
+            [BOTH.format("system.inertia and system.potential")],
+        ),
+        "hamiltonian-form-with-potential": (
+            case(system='[system]\nhamiltonian = "M1**2"\npotential = "C*gamma3"\n'),
+            [BOTH.format("system.potential")],
+        ),
+        "hamiltonian-form-not-a-string": (
+            case(system="[system]\nhamiltonian = 2\n"),
+            ["system.hamiltonian: expected a string, found an integer"],
+        ),
+        "hamiltonian-form-kappa-boolean": (
+            case(system='[system]\nhamiltonian = "M1**2"\nkappa = true\n'),
+            ["system.kappa: expected a string, found a boolean"],
+        ),
+        "hamiltonian-form-kappa-infinite": (
+            case(system='[system]\nhamiltonian = "M1**2"\nkappa = inf\n'),
+            ["system.kappa: expected a finite number or an expression: 'inf'"],
+        ),
+        "hamiltonian-form-kappa-array": (
+            case(system='[system]\nhamiltonian = "M1**2"\nkappa = ["1"]\n'),
+            ["system.kappa: expected a string, found an array"],
+        ),
+    }
 )
 
 NAME = "not a valid name (use ASCII letters, digits and '_', not starting with a digit)"

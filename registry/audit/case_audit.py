@@ -23,7 +23,7 @@ from ..model import (
     FamilyRecord,
     Verdict,
 )
-from .checks import CHECKS, CheckSpec
+from .checks import CHECKS, CheckSpec, not_applicable
 from .numeric_evidence import evidence as numeric_evidence
 from .repairs import repairs
 from .time_budget import BudgetExceeded, TimeBudget, time_limit
@@ -57,8 +57,9 @@ def audit_case(
         raise ValueError(f"unknown check(s): {', '.join(sorted(unknown))}")
     m = CaseMechanics(case)
     results: list[CheckResult] = []
+    skipped = not_applicable(case)
     for spec in CHECKS.values():
-        if spec.name not in wanted:
+        if spec.name not in wanted or spec.name in skipped:
             continue
         seconds = budget.check if budget else None
         if not spec.per_claim:
@@ -95,9 +96,11 @@ def _with_evidence(audit: CaseAudit, m: CaseMechanics, seconds: float | None) ->
 
 def count_checks(case: Case) -> int:
     """How many checks an audit of ``case`` runs (for the worker's deadline)."""
+    skipped = not_applicable(case)
     return sum(
         sum(spec.applies(c) for c in case.claims) if spec.per_claim else 1
         for spec in CHECKS.values()
+        if spec.name not in skipped
     )
 
 

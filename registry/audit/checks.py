@@ -20,7 +20,7 @@ from ..mathematics import symengine_bridge
 from ..mathematics.case_mechanics import CaseMechanics
 from ..mathematics.factoring import factor
 from ..mathematics.zero_test import ZeroTest, decide
-from ..model import CheckResult, Claim, Verdict
+from ..model import Case, CheckResult, Claim, Verdict
 
 
 @dataclass(frozen=True)
@@ -32,6 +32,9 @@ class CheckSpec:
     per_claim: bool
     cost: str  # "cheap" or "expensive", a note for schedulers and readers
     applies: Callable[[Claim], bool] = lambda claim: True
+    #: Why the check does not apply to a case ("" where it does): a check whose statement
+    #: holds by definition for the case is left out, never reported as verified.
+    inapplicable: Callable[[Case], str] = lambda case: ""
 
     @property
     def statement(self) -> str:
@@ -41,14 +44,38 @@ class CheckSpec:
 CHECKS: dict[str, CheckSpec] = {}
 
 
-def check(name: str, *, per_claim: bool = False, cost: str = "cheap", applies=None):
+def check(
+    name: str, *, per_claim: bool = False, cost: str = "cheap", applies=None, inapplicable=None
+):
     """Register a check under ``name``; its one-line docstring states the claim."""
 
     def register(fn):
-        CHECKS[name] = CheckSpec(name, fn, per_claim, cost, applies or (lambda claim: True))
+        CHECKS[name] = CheckSpec(
+            name,
+            fn,
+            per_claim,
+            cost,
+            applies or (lambda claim: True),
+            inapplicable or (lambda case: ""),
+        )
         return fn
 
     return register
+
+
+def not_applicable(case: Case) -> dict[str, str]:
+    """The case checks that do not apply to ``case``, each with the reason."""
+    found = {name: spec.inapplicable(case) for name, spec in CHECKS.items()}
+    return {name: reason for name, reason in found.items() if reason}
+
+
+def _defined_as_pi_grad_h(case: Case) -> str:
+    if case.system.hamiltonian_form:
+        return (
+            "not applicable: the case gives H (system.hamiltonian), and its vector field "
+            "is defined as Pi grad H"
+        )
+    return ""
 
 
 def _result(
@@ -120,7 +147,7 @@ def jacobi(m: CaseMechanics) -> CheckResult:
 
 @check("energy")
 def energy(m: CaseMechanics) -> CheckResult:
-    """The Hamiltonian H = M.I^-1 M/2 + U is conserved: dH/dt = 0 along (2.2)."""
+    """The Hamiltonian H (M.I^-1 M/2 + U, or the case's own) is conserved: dH/dt = 0."""
     started = time.perf_counter()
     residuals = {"dH/dt": mech.time_derivative(m.hamiltonian, m.field)}
     return _result("energy", _decide(m, "energy", residuals), residuals, started)
@@ -128,15 +155,15 @@ def energy(m: CaseMechanics) -> CheckResult:
 
 @check("c1")
 def c1(m: CaseMechanics) -> CheckResult:
-    """C1 = |gamma|^2/2 is a Casimir of Pi_mu: Pi_mu grad C1 = 0."""
+    """C1 = (kappa |M|^2 + |gamma|^2)/2 is a Casimir of Pi: Pi grad C1 = 0."""
     started = time.perf_counter()
-    residuals = m.casimir_residual(mech.C1)
+    residuals = m.casimir_residual(m.c1)
     return _result("c1", _decide(m, "c1", residuals), residuals, started)
 
 
-@check("hamiltonian")
+@check("hamiltonian", inapplicable=_defined_as_pi_grad_h)
 def hamiltonian(m: CaseMechanics) -> CheckResult:
-    """System (2.2) is Hamiltonian for Pi_mu: its vector field equals Pi_mu grad H."""
+    """System (2.2) is Hamiltonian for Pi: its vector field equals Pi grad H."""
     started = time.perf_counter()
     generated = mech.hamiltonian_vector_field(m.pi, m.hamiltonian)
     residuals = {

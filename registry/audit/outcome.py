@@ -10,7 +10,7 @@ case's own discovered Casimirs and Jacobi conditions.
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 from ..model import (
     Case,
@@ -24,6 +24,7 @@ from ..model import (
     Verdict,
 )
 from .case_audit import CASE_CHECKS, claim_verdict
+from .checks import not_applicable
 
 
 def missing(check: str, claim: str | None = None) -> CheckResult:
@@ -83,6 +84,9 @@ class CaseOutcome:
     family: FamilyRecord | None = None
     jacobi_conditions: Conditions | None = None
     casimirs: tuple[Correction, ...] = ()
+    #: Case checks that do not apply to the case (name -> why), e.g. ``hamiltonian``
+    #: where the case gives H and its vector field is Pi grad H by definition.
+    not_applicable: Mapping[str, str] = field(default_factory=dict)
 
     @property
     def poisson(self) -> Verdict | None:
@@ -116,11 +120,13 @@ def case_outcome(audit: CaseAudit, case: Case | None, version: int | None = None
                 conditions=conditions.get(claim.label),
             )
         )
+    skipped = not_applicable(case) if case is not None and load_error is None else {}
     return CaseOutcome(
         case_id=audit.case,
         case=case,
         version=version,
-        checks={name: result(name) for name in CASE_CHECKS},
+        checks={name: result(name) for name in CASE_CHECKS if name not in skipped},
+        not_applicable=skipped,
         claims=tuple(claims),
         error=None if load_error is None else load_error.reason,
         family=audit.family,

@@ -75,9 +75,14 @@ def derived_case_text(case: Case, found: IntegralSet, options: SearchOptions) ->
     data["title"] = f"{case.title}, where {', '.join(found.when)}"
     data.pop("aliases", None)
     system = data.setdefault("system", {})
-    system["inertia"] = [put(e) for e in case.system.inertia_exprs]
-    system["potential"] = put(case.system.potential.expr)
+    if case.system.hamiltonian_form:
+        system["hamiltonian"] = put(case.system.hamiltonian.expr)
+    else:
+        system["inertia"] = [put(e) for e in case.system.inertia_exprs]
+        system["potential"] = put(case.system.potential.expr)
     system["torque"] = [put(e) for e in case.system.torque_exprs]
+    if "kappa" in system:
+        system["kappa"] = put(case.system.kappa_expr)
     names = {str(p) for p in values}
     data["parameters"] = {k: v for k, v in data.get("parameters", {}).items() if k not in names}
     if not data["parameters"]:

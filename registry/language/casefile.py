@@ -43,6 +43,7 @@ from dataclasses import replace
 from typing import Any
 
 import sympy as sp
+from sympy.core.function import AppliedUndef
 
 from ..errors import CaseFormatError, ExpressionError, Problem
 from ..mathematics.mechanics import MOMENTUM, STATE, s
@@ -112,7 +113,7 @@ SOURCE_TEXT_FIELDS = (
     "url",
 )
 _SOURCE_KEYS = ("citation", "locator", "doi", "authors", "year", *SOURCE_TEXT_FIELDS)
-_SYSTEM_KEYS = ("inertia", "potential", "torque")
+_SYSTEM_KEYS = ("inertia", "potential", "torque", "hamiltonian", "kappa")
 _CLAIM_KEYS = ("label", "kind", "expression", "on", "locator", "notes", "provenance")
 #: Most authors of one source, and most aliases of one case.
 MAX_AUTHORS = 50
@@ -696,13 +697,16 @@ class _Reader:
     # ------------------------------------------------------------- the system
 
     def system(self, data: dict) -> System | None:
-        """[system]: inertia (required), potential, torque."""
+        """[system]: inertia (required) and potential, or hamiltonian instead of both;
+        torque; kappa."""
         table = self.table(data, "system", "system")
         if table is None:
             if "system" not in data:
                 self.problem("system.inertia", "required field is missing")
             return None
         self.check_keys(table, _SYSTEM_KEYS, "system")
+        if "hamiltonian" in table:
+            return self.hamiltonian_system(table)
         if "inertia" not in table:
             self.problem("system.inertia", "required field is missing")
             inertia = None
@@ -713,12 +717,60 @@ class _Reader:
             potential = self.expression(table["potential"], "system.potential")
             if potential is not None:
                 self.check_potential(potential)
+        torque, kappa = self.torque_and_kappa(table)
+        if inertia is None or potential is None or torque is None or kappa is None:
+            return None
+        return System(inertia, potential, torque, kappa=kappa)
+
+    def torque_and_kappa(self, table: dict) -> tuple[tuple[Expression, ...] | None, Any]:
+        """``torque`` (default 0, 0, 0) and ``kappa`` (default 0), each None if refused."""
         torque = (_ZERO,) * 3
         if "torque" in table:
             torque = self.triple(table["torque"], "system.torque")
-        if inertia is None or potential is None or torque is None:
+        kappa = _ZERO
+        if "kappa" in table:
+            kappa = self.kappa(table["kappa"])
+        return torque, kappa
+
+    def hamiltonian_system(self, table: dict) -> System | None:
+        """The Hamiltonian form: H itself, which excludes inertia and potential."""
+        hamiltonian = self.expression(table["hamiltonian"], "system.hamiltonian")
+        conflict = [key for key in ("inertia", "potential") if key in table]
+        if conflict:
+            both = " and ".join(f"system.{key}" for key in conflict)
+            self.problem(
+                "system.hamiltonian",
+                f"give either the Hamiltonian or {both}, not both: with system.hamiltonian, "
+                "H is the whole energy (inertia and potential are part of it)",
+            )
+        torque, kappa = self.torque_and_kappa(table)
+        if conflict or hamiltonian is None or torque is None or kappa is None:
             return None
-        return System(inertia, potential, torque)
+        return System((), _ZERO, torque, hamiltonian=hamiltonian, kappa=kappa)
+
+    def kappa(self, value: Any) -> Expression | None:
+        """``kappa``: a number or an expression in the parameters (a constant)."""
+        field = "system.kappa"
+        if isinstance(value, int) and not isinstance(value, bool):
+            value = str(value)
+        elif isinstance(value, float):
+            if value != value or value in (float("inf"), float("-inf")):
+                self.problem(field, "expected a finite number or an expression", repr(value))
+                return None
+            value = repr(value)
+        kappa = self.expression(value, field)
+        if kappa is None:
+            return None
+        var = _first_of(kappa.expr, (*STATE, s))
+        if var is not None or kappa.expr.atoms(AppliedUndef):
+            what = var if var is not None else "a declared function"
+            self.problem(
+                field,
+                f"kappa must be a constant (the parameters only); it depends on {what}",
+                kappa.text,
+            )
+            return None
+        return kappa
 
     def triple(
         self, value: Any, field: str, check: Callable[[Expression, str], None] | None = None

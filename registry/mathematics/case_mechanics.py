@@ -1,6 +1,7 @@
 """The symbolic objects of one case, computed once and shared by its checks and repairs.
 
-``CaseMechanics(case)`` holds Pi_mu, the vector field of (2.2), H, the components of
+``CaseMechanics(case)`` holds Pi (Pi_mu of the paper, deformed by kappa), the vector
+field dx/dt = Pi grad H (written as (2.2) for the inertia form), H, the components of
 the Jacobi identity and the domain where the case's residuals live. The residuals
 of a claimed expression (dI/dt along the flow, Pi_mu grad I) are memoized per
 expression: the repairs of a refuted claim read the residual its check computed.
@@ -29,11 +30,19 @@ class CaseMechanics:
 
     def __init__(self, case: Case):
         self.case = case
-        self.inertia = case.system.inertia_exprs
-        self.potential = case.system.potential.expr
-        self.mu = case.system.torque_exprs
+        system = case.system
+        self.inertia = system.inertia_exprs
+        self.potential = system.potential.expr
+        self.mu = system.torque_exprs
+        self.kappa = system.kappa_expr
+        self.given_hamiltonian = None if system.hamiltonian is None else system.hamiltonian.expr
         self._memo: dict[tuple, CheckResult] = {}
         self._residuals: dict[tuple[str, sp.Expr], Residuals] = {}
+
+    @property
+    def hamiltonian_form(self) -> bool:
+        """Whether the case gives H itself, so that its vector field is defined as Pi grad H."""
+        return self.given_hamiltonian is not None
 
     @cached_property
     def domain(self) -> Domain:
@@ -41,20 +50,37 @@ class CaseMechanics:
             parameters=tuple(self.case.parameters.values()),
             functions=dict(self.case.functions),
             nonzero=tuple(self.inertia),
-            defined=(self.potential, *self.mu),
+            defined=(
+                self.given_hamiltonian if self.hamiltonian_form else self.potential,
+                *self.mu,
+                *([self.kappa] if self.kappa != 0 else []),
+            ),
         )
 
     @cached_property
     def pi(self) -> sp.Matrix:
-        return mech.poisson_tensor(self.mu)
+        return mech.poisson_tensor(self.mu, self.kappa)
 
     @cached_property
     def field(self) -> tuple[sp.Expr, ...]:
-        return mech.vector_field(self.inertia, self.potential, self.mu)
+        return mech.equations_of_motion(
+            self.mu,
+            self.kappa,
+            h=self.given_hamiltonian,
+            inertia=self.inertia,
+            potential=self.potential,
+        )
 
     @cached_property
     def hamiltonian(self) -> sp.Expr:
+        if self.hamiltonian_form:
+            return self.given_hamiltonian
         return mech.hamiltonian(self.inertia, self.potential)
+
+    @cached_property
+    def c1(self) -> sp.Expr:
+        """The bracket's second Casimir (kappa |M|^2 + |gamma|^2)/2 for mu = 0."""
+        return mech.casimir_c1(self.kappa)
 
     @cached_property
     def jacobiator(self) -> dict[str, sp.Expr]:

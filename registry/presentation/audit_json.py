@@ -70,6 +70,8 @@ def case_document(outcome: CaseOutcome) -> dict:
         doc["error"] = outcome.error
     doc["checks"] = {name: str(r.verdict) for name, r in outcome.checks.items()}
     doc["details"] = {name: result_document(r) for name, r in outcome.checks.items()}
+    if outcome.not_applicable:
+        doc["not_applicable"] = dict(outcome.not_applicable)
     if outcome.family is not None:
         doc["family"] = outcome.family.as_dict()
     jacobi = outcome.jacobi_conditions

@@ -55,13 +55,21 @@ def _claim_html(claim: Claim) -> str:
 
 
 def case_html(case: Case) -> str:
-    """A case as an HTML table: title, id, citation, inertia, potential, torque, claims."""
+    """A case as an HTML table: title, id, citation, inertia and potential (or H), torque,
+    kappa, claims."""
     system = case.system
+    if system.hamiltonian_form:
+        energy = [_row("Hamiltonian H", _code(system.hamiltonian.text))]
+    else:
+        energy = [
+            _row("inertia (A, B, C)", _code(", ".join(e.text for e in system.inertia))),
+            _row("potential U", _code(system.potential.text)),
+        ]
     rows = [
         _row("source", _source_html(case)),
-        _row("inertia (A, B, C)", _code(", ".join(e.text for e in system.inertia))),
-        _row("potential U", _code(system.potential.text)),
+        *energy,
         _row("torque μ", _code(", ".join(e.text for e in system.torque))),
+        *([_row("bracket κ", _code(system.kappa.text))] if system.kappa_expr != 0 else []),
         *(_row(f"{c.label} ({c.kind})", _claim_html(c)) for c in case.claims),
     ]
     caption = f"<caption><b>{escape(case.title)}</b> {_code(case.id)}</caption>"
@@ -132,9 +140,13 @@ def case_latex(case: Case) -> str:
     rows = [
         (r"\textbf{" + latex.escape(case.title, balanced=True) + "}", _text(case.id)),
         (_text("source"), _text(case.source.citation)),
-        ("(A, B, C)", _vector(system.inertia_exprs)),
-        ("U", _tex(system.potential.expr)),
+        *(
+            [("H", _tex(system.hamiltonian.expr))]
+            if system.hamiltonian_form
+            else [("(A, B, C)", _vector(system.inertia_exprs)), ("U", _tex(system.potential.expr))]
+        ),
         (r"\mu", _vector(system.torque_exprs)),
+        *([(r"\kappa", _tex(system.kappa_expr))] if system.kappa_expr != 0 else []),
         *(_claim_tex(c) for c in case.claims),
     ]
     body = r" \\ ".join(f"{head} & {cell}" for head, cell in rows)

@@ -1,0 +1,294 @@
+"""Issue 20: any Hamiltonian, and the brackets of so(4) and so(3,1).
+
+A case may give H itself (``system.hamiltonian``) and the bracket's parameter
+``system.kappa``; the equations are dx/dt = Pi grad H with
+Pi = [[hat(M + mu), hat(gamma)], [hat(gamma), kappa hat(M)]] (CASE_FORMAT.md).
+"""
+
+from __future__ import annotations
+
+import tomllib
+
+import pytest
+import sympy as sp
+import tomli_w
+from samples import CASES, CLASSICAL, SEED, case_file
+
+from registry.audit.case_audit import audit_case
+from registry.audit.checks import not_applicable
+from registry.audit.outcome import case_outcome
+from registry.errors import CaseFormatError
+from registry.language.case_writer import derived_case_text
+from registry.language.casefile import load_case, parse_case_text
+from registry.language.printer import to_text
+from registry.mathematics import mechanics as mech
+from registry.mathematics.case_mechanics import CaseMechanics
+from registry.mathematics.zero_test import decide
+from registry.model import Case, IntegralSet, SearchOptions, Verdict
+from registry.presentation.audit_json import case_document
+from registry.presentation.notebook import case_html, case_latex
+
+M1, M2, M3 = mech.MOMENTUM
+g1, g2, g3 = mech.AXIS
+kappa = sp.Symbol("kappa", real=True)
+c = sp.Symbol("c", real=True)
+
+HEAD = """\
+id = "kovalevskaya-so4-test"
+title = "Kovalevskaya's top on so(4) and so(3,1)"
+[source]
+citation = "test fixture: Komarov's Kovalevskaya analogue, derived in this file"
+[parameters]
+c = "real"
+kappa = "real"
+"""
+
+#: Komarov's integral of the Kovalevskaya top on so(4)/so(3,1), in the convention of
+#: CASE_FORMAT.md (Pi is -1 times Sokolov's bracket); derived in ``test_komarov_integral``.
+K_DEFORMED = "(M1**2 - M2**2 - 2*c*gamma1 + kappa*c**2)**2 + (2*M1*M2 - 2*c*gamma2)**2"
+#: The same without its kappa-dependent term: Kovalevskaya's e(3) integral.
+K_UNDEFORMED = "(M1**2 - M2**2 - 2*c*gamma1)**2 + (2*M1*M2 - 2*c*gamma2)**2"
+
+KOVALEVSKAYA_SO4 = (
+    HEAD
+    + f"""\
+[system]
+hamiltonian = "M1**2 + M2**2 + 2*M3**2 + 2*c*gamma1"
+kappa = "kappa"
+
+[[claims]]
+label = "K"
+kind = "integral"
+expression = "{K_DEFORMED}"
+
+[[claims]]
+label = "K-e3"
+kind = "integral"
+expression = "{K_UNDEFORMED}"
+"""
+)
+
+
+def verdicts(audit) -> dict[tuple[str, str | None], Verdict]:
+    return {(r.check, r.claim): r.verdict for r in audit.results}
+
+
+# ------------------------------------------------------------------ the language
+
+
+def test_the_hamiltonian_form_loads():
+    case = parse_case_text(KOVALEVSKAYA_SO4)
+    system = case.system
+    assert system.hamiltonian_form
+    assert system.hamiltonian.text == "M1**2 + M2**2 + 2*M3**2 + 2*c*gamma1"
+    assert system.hamiltonian.expr == M1**2 + M2**2 + 2 * M3**2 + 2 * c * g1
+    assert system.kappa.text == "kappa" and system.kappa_expr == kappa
+    assert system.inertia == () and system.potential.expr == 0
+    assert system.torque_exprs == (0, 0, 0)
+
+
+@pytest.mark.parametrize(
+    ("value", "expected"),
+    [("1", sp.Integer(1)), ("-0.25", sp.Rational(-1, 4)), ('"-1/4"', sp.Rational(-1, 4))],
+)
+def test_kappa_is_a_number_or_an_expression(value, expected):
+    text = HEAD + f'[system]\nhamiltonian = "M1**2 + gamma1"\nkappa = {value}\n'
+    assert parse_case_text(text).system.kappa_expr == expected
+
+
+def test_kappa_with_the_inertia_form_and_its_default():
+    text = HEAD + '[system]\ninertia = ["1", "1", "2"]\npotential = "c*gamma1"\n'
+    assert parse_case_text(text).system.kappa_expr == 0
+    assert not parse_case_text(text).system.hamiltonian_form
+    deformed = parse_case_text(text + 'kappa = "kappa"\n')
+    assert deformed.system.kappa_expr == kappa
+
+
+def test_hamiltonian_with_inertia_is_an_error_that_says_so():
+    text = HEAD + '[system]\nhamiltonian = "M1**2"\ninertia = ["1", "1", "2"]\n'
+    with pytest.raises(CaseFormatError) as info:
+        parse_case_text(text, "so4.toml")
+    assert str(info.value) == (
+        "so4.toml: system.hamiltonian: give either the Hamiltonian or system.inertia, not "
+        "both: with system.hamiltonian, H is the whole energy (inertia and potential are "
+        "part of it)"
+    )
+
+
+def test_hamiltonian_may_use_s_radicals_and_declared_functions():
+    text = (
+        HEAD
+        + '[functions]\nf = ["s"]\n[system]\n'
+        + 'hamiltonian = "M1**2 + M2**2 + M3**2 + sqrt(gamma1**2 + 1) + f(s)"\n'
+    )
+    case = parse_case_text(text)
+    assert case.system.hamiltonian.expr.has(mech.s)
+    assert audit_case(case, ["energy"]).results[0].verdict is Verdict.VERIFIED
+
+
+#: Hashes of seed cases as computed before the Hamiltonian form existed: a case file
+#: that does not use the new fields keeps its hash (every stored result stays valid).
+PINNED_HASHES = {
+    "yehia-2003-kovalevskaya-b": "26f9cc30a1caf478f4ab37a9869ffd40122bb447d9c8554bc1f34f357934ecc1",
+    "zhukovsky-gyrostat": "e193e494c42f75e3a27e42a1ea4f9156a3133ed2a915f6ce087044cb7f1bf963",
+    "affine-nonsymmetric": "509a37570aabb3240d8b5e72a35511026660742fc76b54e1c732c45173dca56b",
+}
+
+
+@pytest.mark.parametrize("case_id", SEED)
+def test_content_hash_of_old_case_files_is_unchanged(case_id):
+    assert load_case(case_file(case_id)).content_hash == PINNED_HASHES[case_id]
+
+
+def test_content_hash_sees_the_new_fields():
+    case = parse_case_text(KOVALEVSKAYA_SO4)
+    other = parse_case_text(KOVALEVSKAYA_SO4.replace('kappa = "kappa"', 'kappa = "0"'))
+    same_as_default = parse_case_text(KOVALEVSKAYA_SO4.replace('kappa = "kappa"\n', ""))
+    assert len({case.content_hash, other.content_hash, same_as_default.content_hash}) == 3
+
+
+def test_printed_forms_carry_h_and_kappa():
+    case = parse_case_text(KOVALEVSKAYA_SO4)
+    html = case_html(case)
+    assert "Hamiltonian H" in html and "κ" in html and "inertia" not in html
+    assert r"\kappa" in case_latex(case)
+
+
+def test_derived_case_keeps_the_hamiltonian_form():
+    case = parse_case_text(KOVALEVSKAYA_SO4)
+    found = IntegralSet(when=("kappa = 1",), extra=1, integrals=("M3",))
+    derived = parse_case_text(derived_case_text(case, found, SearchOptions()))
+    assert derived.system.hamiltonian.expr == case.system.hamiltonian.expr
+    assert derived.system.kappa_expr == 1
+    assert "kappa" not in derived.parameters
+
+
+# ------------------------------------------------------------------ the mechanics
+
+
+def test_komarov_integral():
+    """Among (M1^2 - M2^2 + a c gamma1 + b kappa c^2)^2 + (2 M1 M2 + a' c gamma2)^2, the
+    integral of H = M1^2 + M2^2 + 2 M3^2 + 2 c gamma1 on the bracket kappa is the one
+    with a = a' = -2, b = 1 (derived here, not taken from memory)."""
+    h = M1**2 + M2**2 + 2 * M3**2 + 2 * c * g1
+    field = mech.equations_of_motion((0, 0, 0), kappa, h=h)
+    b = sp.Symbol("b")
+    found = []
+    for a in (2, -2):
+        for a2 in (2, -2):
+            k = (M1**2 - M2**2 + a * c * g1 + b * kappa * c**2) ** 2 + (
+                2 * M1 * M2 + a2 * c * g2
+            ) ** 2
+            residual = sp.Poly(sp.expand(mech.time_derivative(k, field)), *mech.STATE)
+            found += [(a, a2, s[b]) for s in sp.solve(residual.coeffs(), b, dict=True)]
+    assert found == [(-2, -2, 1)]
+
+
+def test_kappa_deformed_integral_holds_and_the_undeformed_one_is_refuted():
+    audit = audit_case(parse_case_text(KOVALEVSKAYA_SO4))
+    found = verdicts(audit)
+    assert found["jacobi", None] is Verdict.VERIFIED
+    assert found["energy", None] is Verdict.VERIFIED
+    assert found["c1", None] is Verdict.VERIFIED
+    assert ("hamiltonian", None) not in found
+    assert found["integral", "K"] is Verdict.VERIFIED
+    assert found["integral", "K-e3"] is Verdict.REFUTED
+    witness = audit.result("integral", "K-e3").witness
+    assert witness is not None and witness.point["kappa"] != "0"
+    # on e(3) (kappa = 0) both are Kovalevskaya's integral
+    e3 = audit_case(parse_case_text(KOVALEVSKAYA_SO4.replace('kappa = "kappa"', 'kappa = "0"')))
+    assert verdicts(e3)["integral", "K-e3"] is Verdict.VERIFIED
+    # there the parameter kappa of K is only a shift of M1^2 - M2^2 - 2 c gamma1
+    assert verdicts(e3)["integral", "K"] is Verdict.REFUTED
+
+
+def test_the_bracket_casimirs():
+    """M.gamma and kappa|M|^2 + |gamma|^2 are Casimirs of Pi (mu = 0), |gamma|^2 alone is
+    not where kappa != 0."""
+    m = CaseMechanics(parse_case_text(KOVALEVSKAYA_SO4))
+    for expr, expected in (
+        (mech.S_VALUE, Verdict.VERIFIED),
+        (2 * mech.casimir_c1(kappa), Verdict.VERIFIED),
+        (2 * mech.C1, Verdict.REFUTED),
+    ):
+        assert decide(m.casimir_residual(expr), m.domain).verdict is expected
+
+
+@pytest.mark.parametrize("k", [0, 1, -1, kappa])
+@pytest.mark.parametrize(
+    ("torque", "poisson_when_deformed"),
+    [
+        ((0, 0, 0), True),
+        ((0, 0, sp.Symbol("lam", positive=True)), False),  # a gyrostat: constant torque
+        ((0, 0, sp.Symbol("lam", positive=True) * g3), False),
+    ],
+)
+def test_jacobi_for_every_kappa_with_and_without_torque(k, torque, poisson_when_deformed):
+    """Pi is Poisson for mu = 0 on e(3), so(4) and so(3,1); a constant torque (or
+    lam gamma3 e3) keeps it Poisson on e(3) only: kappa != 0 breaks it."""
+    pi = mech.poisson_tensor(torque, k)
+    nonzero = [v for v in mech.jacobiator(pi).values() if sp.expand(v) != 0]
+    assert (not nonzero) is (k == 0 or poisson_when_deformed)
+
+
+def test_kappa_with_torque_breaks_jacobi_in_the_audit():
+    text = (
+        HEAD
+        + 'lam = "positive"\n[system]\nhamiltonian = "M1**2 + M2**2 + 2*M3**2 + 2*c*gamma1"\n'
+        + 'kappa = "kappa"\ntorque = ["0", "0", "lam"]\n'
+    )
+    audit = audit_case(parse_case_text(text))
+    assert verdicts(audit)["jacobi", None] is Verdict.REFUTED
+    conditions = {cond.target: cond for cond in audit.conditions}
+    assert ("kappa = 0",) in conditions["jacobi"].branches
+
+
+def test_hamiltonian_check_does_not_apply_to_the_hamiltonian_form():
+    case = parse_case_text(KOVALEVSKAYA_SO4)
+    assert "defined as Pi grad H" in not_applicable(case)["hamiltonian"]
+    audit = audit_case(case)
+    document = case_document(case_outcome(audit, case))
+    assert "hamiltonian" not in document["checks"]
+    assert document["not_applicable"] == not_applicable(case)
+    assert not not_applicable(load_case(case_file(SEED[0])))
+
+
+# ------------------------------------------- both forms of every catalog case
+
+
+def as_hamiltonian_form(case: Case) -> Case:
+    """The same case written with ``system.hamiltonian`` (H = M.I^-1 M/2 + U)."""
+    data = tomllib.loads(case.text)
+    system = data["system"]
+    system.pop("inertia")
+    system.pop("potential", None)
+    system["hamiltonian"] = to_text(CaseMechanics(case).hamiltonian)
+    return parse_case_text(tomli_w.dumps(data), f"{case.id} as Hamiltonian form")
+
+
+CATALOG = sorted(CASES.rglob("*.toml")) + sorted(CLASSICAL.glob("*.toml"))
+INERTIA_FORM = [p for p in CATALOG if not load_case(p).system.hamiltonian_form]
+
+
+@pytest.mark.parametrize("path", INERTIA_FORM, ids=lambda p: p.stem)
+def test_inertia_form_gives_exactly_the_equations_pi_grad_h(path):
+    """For every catalog case, today's equations (2.2) equal Pi grad H of the Hamiltonian
+    form, component by component (proven by the zero test)."""
+    case = load_case(path)
+    explicit = CaseMechanics(case)
+    general = CaseMechanics(as_hamiltonian_form(case))
+    difference = {
+        str(v): a - b for v, a, b in zip(mech.STATE, explicit.field, general.field, strict=True)
+    }
+    assert decide(difference, explicit.domain).verdict is Verdict.VERIFIED
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("path", INERTIA_FORM, ids=lambda p: p.stem)
+def test_both_forms_give_the_same_verdicts(path):
+    case = load_case(path)
+    twin = as_hamiltonian_form(case)
+    first = verdicts(audit_case(case, repair=False))
+    second = verdicts(audit_case(twin, repair=False))
+    assert first.pop(("hamiltonian", None)) is Verdict.VERIFIED
+    assert first == second
