@@ -832,6 +832,7 @@ def test_corpus_covers_every_category():
         "types",
         "lookalike",
         "caret",
+        "hamiltonian",
     }
 
 
