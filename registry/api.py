@@ -533,7 +533,7 @@ class Registry:
         return frames.verdicts_frame(self.store, run)
 
     def corrections(self, run: int | None = None) -> pd.DataFrame:
-        """Families, re-checked repairs and parameter conditions of a run (default: newest)."""
+        """Families, re-checked corrections and parameter conditions of a run (default: newest)."""
         return frames.corrections_frame(self.store, run)
 
     def export_case(self, case_id: str, claim: str | None = None, kind: str = "torque") -> str:
@@ -609,7 +609,7 @@ class Registry:
             "claims": self.claims(),
             "verdicts": self.verdicts(),
             "all_results": frames.all_results_frame(self.store),
-            "repairs": self.corrections(),
+            "corrections": self.corrections(),
             "runs": self.runs(),
         }
 
@@ -647,8 +647,8 @@ class Registry:
         """One row per audit run: when, status, code and sympy versions."""
         return frames.runs_frame(self.store)
 
-    def check(self) -> Verification:
-        """Verify the database itself (``registry check``): schema, integrity, foreign
+    def verify_db(self) -> Verification:
+        """Verify the database itself (``registry verify-db``): schema, integrity, foreign
         keys, hashes of the stored case texts, and every stored expression re-parsed."""
         return verify(self.store)
 

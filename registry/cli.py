@@ -649,7 +649,7 @@ def verdicts(run: int | None) -> None:
 @click.option("--run", type=int, default=None, help="Corrections of this run (default: newest).")
 @_user_errors
 def corrections(run: int | None) -> None:
-    """List torque families, re-checked repairs and parameter conditions.
+    """List torque families, re-checked corrections and parameter conditions.
 
     Example: registry corrections --run 3
     """
@@ -663,7 +663,7 @@ def corrections(run: int | None) -> None:
     "fmt",
     type=click.Choice(["csv", "json", "parquet"]),
     default=None,
-    help="Write the tables cases, claims, verdicts, all_results, repairs and runs.",
+    help="Write the tables cases, claims, verdicts, all_results, corrections and runs.",
 )
 @click.option("--bibtex", is_flag=True, help="Write the sources of the cases as BibTeX.")
 @click.option(
@@ -755,7 +755,7 @@ def plot(case_id: str, claim: str, output: str | None, seed: int) -> None:
 def list_checks() -> None:
     """List the mathematical checks the audit runs, each with the statement it tests.
 
-    (registry check verifies the database instead.)
+    (registry verify-db verifies the database instead.)
 
     Example: registry list-checks
     """
@@ -799,7 +799,7 @@ def list_checks() -> None:
 def report(
     run: int | None, fmt: str, output: str | None, plots: bool, diff: tuple[int, int] | None
 ) -> None:
-    """Write a report of one audit run: systems, claims, verdicts, residuals, repairs.
+    """Write a report of one audit run: systems, claims, verdicts, residuals, corrections.
 
     Prints the path of the file written. With --diff, prints the verdicts that
     changed between two runs instead ("no changes" when none).
@@ -829,19 +829,19 @@ def runs() -> None:
     _print_frame(_registry().runs())
 
 
-@main.command()
+@main.command("verify-db")
 @_user_errors
-def check() -> None:
+def verify_db() -> None:
     """Verify the database: schema, SQLite integrity and foreign keys (on PostgreSQL,
     the foreign keys by query), that every stored case text matches its hash and
     re-parses, and every stored expression.
 
     Exits with status 1 when a problem is found.
 
-    Example: registry check
+    Example: registry verify-db
     """
     reg = _registry()
-    found = reg.check()
+    found = reg.verify_db()
     click.echo(f"database {reg.store.location!r}, schema revision {found.revision}")
     click.echo(", ".join(f"{n} {name}" for name, n in found.counts.items()))
     click.echo(f"engine: {found.engine}")

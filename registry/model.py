@@ -392,7 +392,7 @@ class Evidence:
 
 @dataclass(frozen=True)
 class CaseAudit:
-    """All check results for one case version, with the repairs derived from them."""
+    """All check results for one case version, with the corrections derived from them."""
 
     case: str
     content_hash: str

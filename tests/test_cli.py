@@ -517,11 +517,10 @@ def test_export_unknown_case(db_target):
     assert "no-such-case" in errors[0]
 
 
-@pytest.mark.parametrize("command", ["list-checks", "checks"])
-def test_checks_lists_every_registered_check_with_its_statement(command):
+def test_checks_lists_every_registered_check_with_its_statement():
     from registry.audit.checks import CHECKS
 
-    result = invoke(None, command)
+    result = invoke(None, "list-checks")
     assert result.exit_code == 0
     lines = result.stdout.splitlines()
     assert [line.split()[0] for line in lines] == list(CHECKS)
@@ -634,3 +633,12 @@ def test_audit_on_a_terminal_shows_each_case(db_target, monkeypatch, recording_b
     assert bar.kwargs["disable"] is False and bar.kwargs["total"] == 1
     assert bar.postfixes == [ZHUKOVSKY] and bar.updates == 1 and bar.closed
     assert ZHUKOVSKY in result.stdout
+
+
+@pytest.mark.parametrize(("old", "new"), [("checks", "list-checks"), ("check", "verify-db")])
+def test_renamed_commands_are_gone_under_their_old_names(old, new):
+    """No hidden aliases: the old name is an unknown command, the new one is listed."""
+    assert old not in main.commands and new in main.commands
+    result = invoke(None, old)
+    assert result.exit_code != 0
+    assert "No such command" in result.output + result.stderr

@@ -131,7 +131,7 @@ def assert_sound(db: str) -> None:
         with closing(sqlite3.connect(db, timeout=30)) as conn:
             assert [r[0] for r in conn.execute("PRAGMA integrity_check")] == ["ok"]
             assert conn.execute("PRAGMA foreign_key_check").fetchall() == []
-    checked = CliRunner().invoke(main, ["--db", str(db), "check"])
+    checked = CliRunner().invoke(main, ["--db", str(db), "verify-db"])
     assert checked.exit_code == 0, checked.output
     assert "problem:" not in checked.output
     twice = rows(

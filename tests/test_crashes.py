@@ -156,7 +156,7 @@ def wait_for_cases(
 
 def check_command(db: Path) -> object:
     """``registry check`` in this process."""
-    return CliRunner().invoke(main, ["--db", str(db), "check"])
+    return CliRunner().invoke(main, ["--db", str(db), "verify-db"])
 
 
 # ---------------------------------------------------------------------- fixtures
@@ -309,7 +309,7 @@ def test_audits_killed_at_random_moments_leave_a_sound_database(db, audited, cap
     assert result_keys(db, last) == reference
     assert "running" not in {status for status, _ in final.values()}
     checked = subprocess.run(
-        registry_command(db, "check"), capture_output=True, text=True, timeout=WAIT
+        registry_command(db, "verify-db"), capture_output=True, text=True, timeout=WAIT
     )
     assert checked.returncode == 0, checked.stdout + checked.stderr
     assert sqlite_checks(db) == (["ok"], [])

@@ -33,7 +33,7 @@ def test_record_then_audit_verifies_every_discovered_claim(db_target):
         v = reg.verdicts()
         integral = v[(v.check == "integral") & v.case.isin(report.derived)]
         assert list(integral.verdict) == ["verified", "verified"]
-        assert reg.check().problems == ()
+        assert reg.verify_db().problems == ()
 
 
 def test_generic_integrals_become_claims_of_the_searched_version(db_target):
@@ -47,7 +47,7 @@ def test_generic_integrals_become_claims_of_the_searched_version(db_target):
         outcome = [o for o in run.outcomes() if o.case_id == "family-lagrange-lam"][0]
         (claim,) = [c for c in outcome.claims if c.label == discovered.label]
         assert str(claim.integral.verdict) == "verified"
-        assert reg.check().problems == ()
+        assert reg.verify_db().problems == ()
         # the file added again is unchanged: the discovered claim stays with its version
         (again,) = reg.add(FAMILIES / "lagrange-lam.toml")
         assert again.status == "unchanged"
@@ -165,7 +165,7 @@ def test_survey_records_a_search_of_every_case_and_reuses_it(db_target):
         assert (row.generic_new, row.rediscovered, row.claims_complete) == (0, 1, True)
         claims = reg.claims()
         assert not len(claims[claims.provenance == "discovered"])
-        assert reg.check().problems == ()
+        assert reg.verify_db().problems == ()
 
 
 def test_registry_survey_and_searches_commands(db_target):

@@ -24,8 +24,8 @@ from ..model import (
     Verdict,
 )
 from .checks import CHECKS, CheckSpec, not_applicable
+from .corrections import corrections
 from .numeric_evidence import evidence as numeric_evidence
-from .repairs import repairs
 from .time_budget import BudgetExceeded, TimeBudget, time_limit
 
 #: Budgets used when none is given: a few seconds per check.
@@ -46,9 +46,9 @@ def audit_case(
     """Run the named checks (default: all) on ``case``; a crash becomes an ``error`` result.
 
     With ``repair`` (the default when every check runs) the torque's family, the
-    repairs of refuted claims and the conditions for failed identities are derived.
-    Each check runs under ``budget.check`` seconds and the repairs under
-    ``budget.repairs``; one that runs out is ``inconclusive: time budget exceeded``.
+    corrections of refuted claims and the conditions for failed identities are derived.
+    Each check runs under ``budget.check`` seconds and the corrections under
+    ``budget.corrections``; one that runs out is ``inconclusive: time budget exceeded``.
     With ``numeric``, every claim also gets numerical evidence (``numeric_evidence``).
     """
     wanted = set(CHECKS) if checks is None else set(checks)
@@ -70,9 +70,9 @@ def audit_case(
                 results.append(_run(spec, m, claim, seconds=seconds))
     audit = CaseAudit(case.id, case.content_hash, tuple(results))
     if repair if repair is not None else checks is None:
-        audit = _with_repairs(audit, m, budget.repairs if budget else None)
+        audit = _with_corrections(audit, m, budget.corrections if budget else None)
     if numeric:
-        audit = _with_evidence(audit, m, budget.repairs if budget else None)
+        audit = _with_evidence(audit, m, budget.corrections if budget else None)
     return audit
 
 
@@ -104,17 +104,17 @@ def count_checks(case: Case) -> int:
     )
 
 
-def _with_repairs(audit: CaseAudit, m: CaseMechanics, seconds: float | None) -> CaseAudit:
+def _with_corrections(audit: CaseAudit, m: CaseMechanics, seconds: float | None) -> CaseAudit:
     try:
         with time_limit(seconds):
-            family, corrections, conditions = repairs(m, audit.results)
+            family, found, conditions = corrections(m, audit.results)
     except BudgetExceeded:
-        family = FamilyRecord("none", reason=f"repairs: time budget exceeded ({seconds:g} s)")
-        corrections, conditions = (), ()
-    except Exception as exc:  # a failed repair must not lose the verdicts
-        family = FamilyRecord("none", reason=f"repair failed: {type(exc).__name__}: {exc}")
-        corrections, conditions = (), ()
-    return replace(audit, family=family, corrections=corrections, conditions=conditions)
+        reason = f"corrections: time budget exceeded ({seconds:g} s)"
+        family, found, conditions = FamilyRecord("none", reason=reason), (), ()
+    except Exception as exc:  # a failed correction must not lose the verdicts
+        reason = f"corrections failed: {type(exc).__name__}: {exc}"
+        family, found, conditions = FamilyRecord("none", reason=reason), (), ()
+    return replace(audit, family=family, corrections=found, conditions=conditions)
 
 
 def _run(

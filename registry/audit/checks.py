@@ -3,7 +3,7 @@
 A check returns a ``CheckResult`` (verdict, method, witness, time), never a
 bare bool. Case checks take the case's ``CaseMechanics``; claim checks also take
 the claim. The symbolic objects (Pi_mu, the vector field, H) and the residuals are
-built once per case in ``CaseMechanics`` and shared by every check and repair.
+built once per case in ``CaseMechanics`` and shared by every check and correction.
 A new check is one more decorated function here (``@check``).
 """
 

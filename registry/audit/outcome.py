@@ -3,7 +3,7 @@
 Every renderer (the JSON document, the verdict table, the reports) reads these
 instead of re-deriving them: which result stands for each check (the load error of
 a case that could not be loaded, an ``error`` for a check that did not run), each
-claim's overall verdict, its evidence, repairs and parameter conditions, and the
+claim's overall verdict, its evidence, corrections and parameter conditions, and the
 case's own discovered Casimirs and Jacobi conditions.
 """
 
@@ -35,7 +35,7 @@ def missing(check: str, claim: str | None = None) -> CheckResult:
 @dataclass(frozen=True)
 class ClaimOutcome:
     """One claim: its integral and Casimir results (and the invariance of its level set,
-    where it was checked), its overall verdict, evidence, repairs and conditions."""
+    where it was checked), its overall verdict, evidence, corrections and conditions."""
 
     claim: Claim
     integral: CheckResult

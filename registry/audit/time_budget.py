@@ -25,16 +25,16 @@ class BudgetExceeded(BaseException):
 
 @dataclass(frozen=True)
 class TimeBudget:
-    """Seconds allowed to one check, to the repairs of one case, and the margin a
+    """Seconds allowed to one check, to the corrections of one case, and the margin a
     worker gets before it is killed."""
 
     check: float = 5.0
-    repairs: float = 20.0
+    corrections: float = 20.0
     margin: float = 10.0
 
     def case_deadline(self, n_checks: int) -> float:
         """Seconds after which a worker auditing a case with ``n_checks`` checks is killed."""
-        return self.check * n_checks + self.repairs + self.margin
+        return self.check * n_checks + self.corrections + self.margin
 
 
 def _interrupt(signum, frame):

@@ -1,7 +1,7 @@
 """The printer of the case-file language: a sympy expression written back as text
 that can be pasted into a case file.
 
-The checks (residuals), the repairs (corrected Casimirs and torques) and the
+The checks (residuals), the corrections (corrected Casimirs and torques) and the
 parameter conditions write their results with ``to_text``; the parser never
 needs it.
 

@@ -1,10 +1,10 @@
-"""The symbolic objects of one case, computed once and shared by its checks and repairs.
+"""The symbolic objects of one case, computed once and shared by its checks and corrections.
 
 ``CaseMechanics(case)`` holds Pi (Pi_mu of the paper, deformed by kappa), the vector
 field dx/dt = Pi grad H (written as (2.2) for the inertia form), H, the components of
 the Jacobi identity and the domain where the case's residuals live. The residuals
 of a claimed expression (dI/dt along the flow, Pi_mu grad I) are memoized per
-expression: the repairs of a refuted claim read the residual its check computed.
+expression: the corrections of a refuted claim read the residual its check computed.
 """
 
 from __future__ import annotations

@@ -1,5 +1,5 @@
 """Factoring over Q through python-flint: sympy's multivariate factoring dominates the
-cost of showing residuals and repairs; FLINT's is the same mathematics, much faster.
+cost of showing residuals and corrections; FLINT's is the same mathematics, much faster.
 
 >>> import sympy as sp
 >>> x, y = sp.symbols("x y")

@@ -30,7 +30,7 @@ def result_document(result: CheckResult) -> dict:
 
 
 def claim_document(outcome: ClaimOutcome) -> dict:
-    """One entry of a case's ``claims``: verdicts, details, evidence, repairs, conditions."""
+    """One entry of a case's ``claims``: verdicts, details, evidence, corrections, conditions."""
     claim = outcome.claim
     entry: dict = {
         "label": claim.label,

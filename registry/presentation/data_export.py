@@ -19,7 +19,7 @@ if TYPE_CHECKING:
 FORMATS = ("csv", "json", "parquet")
 
 #: The tables ``export_tables`` writes, in this order.
-TABLES = ("cases", "claims", "verdicts", "all_results", "repairs", "runs")
+TABLES = ("cases", "claims", "verdicts", "all_results", "corrections", "runs")
 
 #: Text columns whose values may look like numbers (a volume "8"), read back as text.
 TEXT_COLUMNS = ("volume", "issue", "pages", "doi", "locator", "citation", "label", "claim")

@@ -3,7 +3,7 @@
 A table of contents by topic, a summary table (each case linked to its section),
 then the cases grouped by topic, each with its source and system in LaTeX, the
 checks of the system (with the residual and witness of a refutation), its family
-and Casimirs, and each claim with its verdicts, numeric evidence, repairs, parameter
+and Casimirs, and each claim with its verdicts, numeric evidence, corrections, parameter
 conditions and the drift plot of a refuted claim. The content is said once, to a writer
 (``report_writers``) that knows how its format writes each block.
 """
@@ -289,7 +289,7 @@ def _conditions(w: Writer, found: Conditions | None, ns: Namespace) -> None:
 
 
 def _claim(w: Writer, outcome: ClaimOutcome, case: Case, ns: Namespace, plot: Plotter | None):
-    """One claim: its expression, verdicts, evidence, repairs and drift plot."""
+    """One claim: its expression, verdicts, evidence, corrections and drift plot."""
     claim = outcome.claim
     w.heading(4, f"Claim {claim.label} ({claim.kind}): {outcome.verdict}")
     w.para("Claimed" + (f" at {claim.locator}" if claim.locator else "") + ":")

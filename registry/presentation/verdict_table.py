@@ -25,15 +25,15 @@ def disagreements(outcomes: Sequence[CaseOutcome]) -> list[str]:
 
 def verdict_table(outcomes: Sequence[CaseOutcome], run: int | None = None) -> str:
     """A plain-text table of an audit: one row per claim, then a summary, notes on what
-    was not decided, and the repairs."""
+    was not decided, and the corrections (headed "Repairs", as the golden table has it)."""
     header = ("case", "family", "Poisson", "claim", "kind", "integral", "casimir", "verdict")
     rows = []
     notes = []
-    repairs = []
+    corrections = []
     for case in outcomes:
         poisson = case.poisson or ""
         family = case.family.name if case.family is not None else ""
-        repairs.extend(_repair_lines(case))
+        corrections.extend(_correction_lines(case))
         for name, result in case.checks.items():
             if result.verdict is not Verdict.VERIFIED and name != "jacobi":
                 notes.append(
@@ -86,13 +86,13 @@ def verdict_table(outcomes: Sequence[CaseOutcome], run: int | None = None) -> st
             "integral verdicts"
         )
     lines.extend(f"  note: {n}" for n in notes)
-    if repairs:
-        lines += ["", "Repairs (each re-checked):", *repairs]
+    if corrections:
+        lines += ["", "Repairs (each re-checked):", *corrections]
     return "\n".join(lines)
 
 
-def _repair_lines(case: CaseOutcome) -> list[str]:
-    """Readable lines for a case's conditions, discovered Casimirs and claim repairs."""
+def _correction_lines(case: CaseOutcome) -> list[str]:
+    """Readable lines for a case's conditions, discovered Casimirs and claim corrections."""
     lines = []
     name = case.case_id
     jacobi = case.jacobi_conditions

@@ -252,7 +252,7 @@ def check_result(row: ResultRow, label: str | None) -> CheckResult:
 def correction_rows(
     run_id: int, case_pk: int, audit: CaseAudit, claim_ids: dict[str, int]
 ) -> list[CorrectionRow]:
-    """The family, repairs and conditions of an audit, as rows."""
+    """The family, corrections and conditions of an audit, as rows."""
     rows = []
     if audit.family is not None:
         rows.append(

@@ -9,7 +9,7 @@ stored case is parsed again from its ``text`` when it is needed (``StoredCase.pa
 
 Around it: ``tables`` (the rows), ``conversions`` (rows to domain objects and back),
 ``engine`` (opening a database, its errors), ``frames`` (DataFrame queries),
-``integrity`` (``registry check``), ``migrate`` (schema revisions) and
+``integrity`` (``registry verify-db``), ``migrate`` (schema revisions) and
 ``processes`` (whose run is still alive).
 """
 
@@ -138,7 +138,7 @@ class StoredCase:
         with the claims attached to it by searches after its own.
 
         Every reader of a stored case parses it here (the audit, the reports, the export
-        of a corrected case); ``registry check`` parses under its own name for a version.
+        of a corrected case); ``registry verify-db`` parses under its own name for a version.
         """
         case = parse_case_text(self.text, self.path or self.case_id)
         if not self.attached:

@@ -1,4 +1,4 @@
-"""The registry as pandas DataFrames: cases, claims, verdicts, runs and repairs.
+"""The registry as pandas DataFrames: cases, claims, verdicts, runs and corrections.
 
 Named queries over the tables and the ``latest_verdicts`` view (no raw SQL), each
 one database session; ``Registry.cases()`` and the other queries of the API, and
@@ -195,7 +195,7 @@ def runs_frame(store: Store) -> pd.DataFrame:
 
 @guarded
 def corrections_frame(store: Store, run: int | None = None) -> pd.DataFrame:
-    """Families, repairs and conditions of one run (default: the newest run)."""
+    """Families, corrections and conditions of one run (default: the newest run)."""
     with store.read() as session:
         if run is None:
             run = session.scalar(select(func.max(CorrectionRow.run_id)))

@@ -1,4 +1,4 @@
-"""Verifying a registry database: what ``registry check`` reports.
+"""Verifying a registry database: what ``registry verify-db`` reports.
 
 The database engine's own checks and the table relations (no algebra there): on SQLite
 its ``integrity_check`` and ``foreign_key_check``; on PostgreSQL, which enforces foreign
@@ -277,7 +277,7 @@ def running_runs(store: Store) -> list[tuple[int, str | None, int | None]]:
 @guarded
 def stored_expressions(store: Store) -> list[StoredText]:
     """Every expression and equation the database keeps, with its place, so that
-    ``registry check`` can parse each again: the case columns, the claims, and the
+    ``registry verify-db`` can parse each again: the case columns, the claims, and the
     derived Casimirs, torques and parameter conditions of every run."""
     out: list[StoredText] = []
     with store.read() as session:

@@ -160,7 +160,7 @@ class ClaimRow(Base):
     notes: Mapped[str] = mapped_column(Text, default="", server_default="")
     provenance: Mapped[str] = mapped_column(Text, default="literature", server_default="literature")
     # the search that attached this claim to the case version (it is not in the text);
-    # checked by `registry check` (no foreign key: see migration 0004)
+    # checked by `registry verify-db` (no foreign key: see migration 0004)
     search_id: Mapped[int | None]
 
 

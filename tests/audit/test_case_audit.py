@@ -69,4 +69,4 @@ def test_a_claim_s_verdict_is_that_of_the_property_its_kind_names():
 
 
 def test_the_default_budget_bounds_every_check():
-    assert case_audit.DEFAULT_BUDGET.check > 0 and case_audit.DEFAULT_BUDGET.repairs > 0
+    assert case_audit.DEFAULT_BUDGET.check > 0 and case_audit.DEFAULT_BUDGET.corrections > 0

@@ -50,7 +50,9 @@ def test_an_expression_crafted_to_take_forever_ends_inconclusive_within_its_budg
     expr = case.claims[0].expression.expr + zero
     claim = replace(case.claims[0], expression=Expression("crafted", expr))
     started = time.perf_counter()
-    audit = audit_case(replace(case, claims=(claim,)), budget=TimeBudget(check=1.0, repairs=1.0))
+    audit = audit_case(
+        replace(case, claims=(claim,)), budget=TimeBudget(check=1.0, corrections=1.0)
+    )
     elapsed = time.perf_counter() - started
     for check in ("integral", "casimir"):
         result = audit.result(check, claim.label)
@@ -61,6 +63,6 @@ def test_an_expression_crafted_to_take_forever_ends_inconclusive_within_its_budg
 
 
 def test_a_workers_deadline_covers_every_check_the_repairs_and_a_margin():
-    budget = TimeBudget(check=2.0, repairs=5.0, margin=1.0)
+    budget = TimeBudget(check=2.0, corrections=5.0, margin=1.0)
     assert budget.case_deadline(10) == 2.0 * 10 + 5.0 + 1.0
-    assert TimeBudget() == TimeBudget(check=5.0, repairs=20.0, margin=10.0)
+    assert TimeBudget() == TimeBudget(check=5.0, corrections=20.0, margin=10.0)

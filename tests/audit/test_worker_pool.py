@@ -26,7 +26,7 @@ def test_a_worker_stuck_where_the_timer_cannot_reach_is_killed_and_replaced(monk
         load_case(CASES / "zhukovsky-gyrostat.toml"),
         load_case(CASES / "borisov-mamaev-1997.toml"),
     ]
-    budget = TimeBudget(check=0.5, repairs=0.5, margin=0.5)
+    budget = TimeBudget(check=0.5, corrections=0.5, margin=0.5)
     started = time.perf_counter()
     results = dict(audit_in_workers(cases, 1, budget))
     assert time.perf_counter() - started < 30
@@ -87,7 +87,7 @@ def test_the_rest_of_a_killed_workers_batch_is_still_audited(monkeypatch):
     stuck = replace(zhukovsky, id="stuck-variant", claims=(claim,) * 3)
     cases = [zhukovsky, stuck]
     assert len(batches(cases)) == 1 and batches(cases)[0][0][1].id == "stuck-variant"
-    results = dict(audit_in_workers(cases, 1, TimeBudget(check=0.5, repairs=0.5, margin=0.5)))
+    results = dict(audit_in_workers(cases, 1, TimeBudget(check=0.5, corrections=0.5, margin=0.5)))
     assert "worker killed" in results[1].results[0].reason
     assert {r.verdict for r in results[0].results} == {Verdict.VERIFIED}
 

@@ -26,7 +26,7 @@ from tests.helpers.samples import slow_case
 ROOT = Path(__file__).resolve().parents[2]
 SEED = ROOT / "data" / "cases"
 #: Generous budgets: the comparisons are of verdicts, not of a busy machine's speed.
-PATIENT = TimeBudget(check=60.0, repairs=120.0, margin=30.0)
+PATIENT = TimeBudget(check=60.0, corrections=120.0, margin=30.0)
 #: What a verdict is, apart from when and how fast it was found.
 COLUMNS = [
     "case",
@@ -136,7 +136,7 @@ def test_a_check_that_would_run_for_minutes_is_stopped_by_its_budget_on_the_work
 ):
     """In a Dask worker's child process the audit's alarm stops each slow check at its
     budget: inconclusive, on time, as in the local pool."""
-    budget = TimeBudget(check=1.0, repairs=1.0)
+    budget = TimeBudget(check=1.0, corrections=1.0)
     (case,) = cases = [crafted_case()]
     ((_, audit),) = audit_on_cluster(process_cluster, cases, budget)
     for check in ("integral", "casimir"):
@@ -158,7 +158,7 @@ def test_a_check_stuck_where_the_alarm_cannot_reach_is_killed_at_the_case_deadli
     """The slow case of ``tests/helpers/samples.py`` spends minutes in compiled code, where
     no alarm interrupts it: its child process is killed at the case's deadline, and the
     case is recorded inconclusive exactly as the local pool records it."""
-    budget = TimeBudget(check=1.0, repairs=1.0, margin=1.0)
+    budget = TimeBudget(check=1.0, corrections=1.0, margin=1.0)
     slow = registry.parse_case_text(slow_case(1), "slow-1")
     fine = load_case(SEED / "axis-torque.toml")
     started = time.monotonic()

@@ -32,7 +32,7 @@ KEYS = {
     "claims": ["case", "label", "kind", "expression"],
     "verdicts": ["case", "claim", "check", "verdict", "method"],
     "all_results": ["case", "claim", "check", "verdict", "run"],
-    "repairs": ["case", "claim", "kind", "verdict"],
+    "corrections": ["case", "claim", "kind", "verdict"],
     "runs": ["run", "status", "n_results"],
 }
 
@@ -121,7 +121,7 @@ def test_the_tables_hold_what_the_registry_holds(audited, tmp_path):
         audited.reg.export(tmp_path / fmt, fmt)
         exported = data_export.read_table(tmp_path / fmt / f"verdicts.{fmt}")
         assert _verdict_map(exported) == table, fmt
-    assert len(t["repairs"]) > 0
+    assert len(t["corrections"]) > 0
 
 
 @pytest.mark.parametrize("fmt", data_export.FORMATS)
@@ -135,7 +135,7 @@ def test_json_columns_come_back_as_json(audited, fmt, tmp_path):
     runs = data_export.read_table(tmp_path / f"runs.{fmt}")
     assert runs["options"].iloc[0]["jobs"] == 0
     assert str(runs["started_at"].dtype).startswith("datetime64")
-    payloads = data_export.read_table(tmp_path / f"repairs.{fmt}")["payload"]
+    payloads = data_export.read_table(tmp_path / f"corrections.{fmt}")["payload"]
     assert all(isinstance(p, dict) for p in payloads)
 
 

@@ -143,7 +143,7 @@ def test_a_server_that_is_not_running_is_one_error_line(postgres_server, tmp_pat
     with pytest.raises(ServerUnavailableError) as info:
         Store(url)
     assert str(info.value) == expected
-    for command in (["cases"], ["add", str(CASES / f"{ZHUKOVSKY}.toml")], ["check"]):
+    for command in (["cases"], ["add", str(CASES / f"{ZHUKOVSKY}.toml")], ["verify-db"]):
         result = invoke(url, *command)
         assert result.exit_code == 1
         assert result.stderr.splitlines() == [f"Error: {expected}"]
@@ -176,7 +176,7 @@ def test_a_database_the_server_does_not_have_is_never_created(postgres_server):
 def test_reading_an_empty_server_database_leaves_it_empty_and_add_fills_it(postgres_server):
     url = postgres_server.create_database("empty")
     tables = "SELECT count(*) FROM information_schema.tables WHERE table_schema = 'public'"
-    for command in (["cases"], ["runs"], ["check"], ["audit"]):
+    for command in (["cases"], ["runs"], ["verify-db"], ["audit"]):
         result = invoke(url, *command)
         assert result.exit_code == 1
         assert result.stderr.splitlines() == [

@@ -77,7 +77,7 @@ def pk_of(target: str, case_id: str) -> int:
 
 
 def test_a_sound_database_passes(db, backend):
-    result = CliRunner().invoke(main, ["--db", str(db), "check"])
+    result = CliRunner().invoke(main, ["--db", str(db), "verify-db"])
     assert result.exit_code == 0, result.output
     lines = result.stdout.splitlines()
     assert lines[0] == f"database {str(db)!r}, schema revision 0005"
@@ -165,7 +165,7 @@ def test_broken_references_and_unknown_values_are_found(db):
 
 def test_the_cli_lists_the_problems_and_exits_1(db):
     damage(db, "UPDATE check_results SET verdict = 'probably' WHERE id = 2")
-    result = CliRunner().invoke(main, ["--db", str(db), "check"])
+    result = CliRunner().invoke(main, ["--db", str(db), "verify-db"])
     assert result.exit_code == 1
     assert "problem: check_results row 2: unknown verdict 'probably'" in result.stdout
     assert result.stderr.splitlines() == ["Error: 1 problem(s) found in the database"]
@@ -187,7 +187,7 @@ def test_a_missing_database_is_reported_and_not_created(tmp_path):
     missing = tmp_path / "nowhere.sqlite"
     with pytest.raises(DatabaseMissingError):
         registry.open(missing, create=False)
-    for command in (["cases"], ["verdicts"], ["audit"], ["check"], ["runs"]):
+    for command in (["cases"], ["verdicts"], ["audit"], ["verify-db"], ["runs"]):
         result = CliRunner().invoke(main, ["--db", str(missing), *command])
         assert result.exit_code == 1
         assert result.stderr.splitlines() == [
@@ -224,7 +224,7 @@ def test_a_read_only_role_reads_but_does_not_write(db, databases):
     url = db.replace("//registry@", "//reader@")
     reg = registry.open(url)
     assert set(reg.cases()["case"]) == set(PICK)  # reading works
-    assert reg.check().ok
+    assert reg.verify_db().ok
     with pytest.raises(DatabaseReadOnlyError) as info:
         reg.add(CASES / "borisov-mamaev-1997.toml")
     assert str(info.value) == (
@@ -388,7 +388,7 @@ def test_a_signal_during_a_database_session_waits_for_its_end(db_target):
 
 def test_the_python_api_gives_the_same_verification(db):
     damage(db, "UPDATE check_results SET verdict = 'probably' WHERE id = 2")
-    found = registry.open(db).check()
+    found = registry.open(db).verify_db()
     assert not found.ok
     assert found.problems == ("check_results row 2: unknown verdict 'probably'",)
     assert found.counts["case versions"] == 3

@@ -185,10 +185,10 @@ def family_record(family: Family) -> FamilyRecord:
     )
 
 
-def repairs(
+def corrections(
     m: CaseMechanics, results: Sequence[CheckResult]
 ) -> tuple[FamilyRecord, tuple[Correction, ...], tuple[Conditions, ...]]:
-    """The family of the torque, the repairs of every refuted claim and the conditions
+    """The family of the torque, the corrections of every refuted claim and the conditions
     under which failed identities hold, for an audited case."""
     verdict = {(r.check, r.claim): r.verdict for r in results}
     family = recognise(m.mu, m.domain)
