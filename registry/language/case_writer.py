@@ -75,7 +75,7 @@ def derived_case_text(case: Case, found: IntegralSet, options: SearchOptions) ->
     data["title"] = f"{case.title}, where {', '.join(found.when)}"
     data.pop("aliases", None)
     system = data.setdefault("system", {})
-    if case.system.hamiltonian_form:
+    if case.system.hamiltonian is not None:
         system["hamiltonian"] = put(case.system.hamiltonian.expr)
     else:
         system["inertia"] = [put(e) for e in case.system.inertia_exprs]

@@ -58,7 +58,7 @@ def case_html(case: Case) -> str:
     """A case as an HTML table: title, id, citation, inertia and potential (or H), torque,
     kappa, claims."""
     system = case.system
-    if system.hamiltonian_form:
+    if system.hamiltonian is not None:
         energy = [_row("Hamiltonian H", _code(system.hamiltonian.text))]
     else:
         energy = [
@@ -142,7 +142,7 @@ def case_latex(case: Case) -> str:
         (_text("source"), _text(case.source.citation)),
         *(
             [("H", _tex(system.hamiltonian.expr))]
-            if system.hamiltonian_form
+            if system.hamiltonian is not None
             else [("(A, B, C)", _vector(system.inertia_exprs)), ("U", _tex(system.potential.expr))]
         ),
         (r"\mu", _vector(system.torque_exprs)),

@@ -150,7 +150,7 @@ def _system(w: Writer, case: Case) -> None:
     """Inertia and potential (or H), torque and kappa in LaTeX, and the declared parameters."""
     w.heading(3, "System")
     system = case.system
-    if system.hamiltonian_form:
+    if system.hamiltonian is not None:
         h = system.hamiltonian
         w.equation(f"H = {w.tex(h.expr)}", equation(sp.Symbol("H"), h.expr), f"H = {h.text}")
     else:
