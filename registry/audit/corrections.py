@@ -7,6 +7,11 @@
   lambda is chosen so that as many components of mu as possible stay unchanged.
 * Parameter conditions (``mathematics.parameter_conditions``) under which a refuted
   claim, or a failing Jacobi identity, holds.
+
+The torque's family, the corrected Casimir and the corrected torque are the reference
+paper's, for its bracket e(3) (kappa = 0; any Hamiltonian, since a Casimir does not
+depend on H). On so(4) and so(3,1) they do not apply, and the family record says so;
+the parameter conditions apply to every case.
 """
 
 from __future__ import annotations
@@ -185,13 +190,25 @@ def family_record(family: Family) -> FamilyRecord:
     )
 
 
+#: Why the paper's corrections are not sought on a deformed bracket.
+NOT_E3 = (
+    "not applicable: the torque families, corrected Casimirs and corrected torques are the "
+    "reference paper's, for the bracket of e(3) (kappa = 0); this case has kappa = {}"
+)
+
+
 def corrections(
     m: CaseMechanics, results: Sequence[CheckResult]
 ) -> tuple[FamilyRecord, tuple[Correction, ...], tuple[Conditions, ...]]:
     """The family of the torque, the corrections of every refuted claim and the conditions
     under which failed identities hold, for an audited case."""
     verdict = {(r.check, r.claim): r.verdict for r in results}
-    family = recognise(m.mu, m.domain)
+    e3 = m.kappa == 0
+    family = (
+        recognise(m.mu, m.domain)
+        if e3
+        else Family("none", reason=NOT_E3.format(m.case.system.kappa.text))
+    )
     corrections: list[Correction] = []
     conditions: list[Conditions] = []
     poisson = verdict.get(("jacobi", None))
@@ -199,14 +216,14 @@ def corrections(
         conditions.append(holds_when(m.jacobiator, m, "jacobi"))
     refuted = [c for c in m.case.claims if verdict.get((str(c.kind), c.label)) is Verdict.REFUTED]
     own = None
-    if poisson is Verdict.VERIFIED and (refuted or not m.case.claims):
+    if e3 and poisson is Verdict.VERIFIED and (refuted or not m.case.claims):
         own = corrected_casimir(m, family)  # needed only where it is reported
     if own is not None and not m.case.claims:
         corrections.append(own)
     for claim in refuted:
         if own is not None:
             corrections.append(replace(own, claim=claim.label))
-        if verdict.get(("casimir", claim.label)) is Verdict.REFUTED:
+        if e3 and verdict.get(("casimir", claim.label)) is Verdict.REFUTED:
             torque = corrected_torque(m, claim)
             if torque is not None:
                 corrections.append(torque)
