@@ -12,11 +12,11 @@ import tomllib
 import pytest
 import sympy as sp
 import tomli_w
-from samples import CASES, CLASSICAL, SEED, case_file
 
 from registry.audit.case_audit import audit_case
 from registry.audit.checks import not_applicable
 from registry.audit.outcome import case_outcome
+from registry.discovery.search import discover, search_options
 from registry.errors import CaseFormatError
 from registry.language.case_writer import derived_case_text
 from registry.language.casefile import load_case, parse_case_text
@@ -27,6 +27,7 @@ from registry.mathematics.zero_test import decide
 from registry.model import Case, IntegralSet, SearchOptions, Verdict
 from registry.presentation.audit_json import case_document
 from registry.presentation.notebook import case_html, case_latex
+from tests.helpers.samples import CASES, CLASSICAL, SEED, case_file
 
 M1, M2, M3 = mech.MOMENTUM
 g1, g2, g3 = mech.AXIS
@@ -292,3 +293,79 @@ def test_both_forms_give_the_same_verdicts(path):
     second = verdicts(audit_case(twin, repair=False))
     assert first.pop(("hamiltonian", None)) is Verdict.VERIFIED
     assert first == second
+
+
+# ------------------------------------------------------------------ discovery
+
+SEARCHED = """\
+id = "search-family"
+title = "A family to search"
+[source]
+citation = "test fixture"
+"""
+
+
+def test_discovery_finds_kovalevskaya_on_so4_in_a_family():
+    """H = M1^2 + M2^2 + a M3^2 + 2 gamma1 on so(4) (kappa = 1), a free: a = 2 is
+    Kovalevskaya's analogue (a quartic integral), a = 1 Lagrange's (M1); nothing else."""
+    case = parse_case_text(
+        SEARCHED
+        + '[parameters]\na = "real"\n[system]\n'
+        + 'hamiltonian = "M1**2 + M2**2 + a*M3**2 + 2*gamma1"\nkappa = "1"\n'
+    )
+    found = discover(case, search_options(case, degree=4, weights=(1, 1), free=["a"]))
+    assert found.complete and found.generic.extra == 0
+    assert found.known == (
+        "H",
+        "M1**2 + M2**2 + M3**2 + gamma1**2 + gamma2**2 + gamma3**2",
+        "M1*gamma1 + M2*gamma2 + M3*gamma3",
+    )
+    special = {s.when: s for s in found.special}
+    assert set(special) == {("a = 1",), ("a = 2",)}
+    assert special["a = 1",].integrals == ("M1",)
+    (quartic,) = special["a = 2",].integrals
+    # it is Komarov's integral at c = kappa = 1, up to the Casimirs and H
+    at = {c: 1, kappa: 1}
+    komarov = sp.sympify(K_DEFORMED, locals={"c": c, "kappa": kappa}).xreplace(at)
+    assert "not weighted-homogeneous" in found.method
+    twin = parse_case_text(
+        SEARCHED
+        + '[system]\nhamiltonian = "M1**2 + M2**2 + 2*M3**2 + 2*gamma1"\nkappa = "1"\n'
+        + f'[[claims]]\nlabel = "F"\nkind = "integral"\nexpression = "{quartic}"\n'
+        + f'[[claims]]\nlabel = "K"\nkind = "integral"\nexpression = "{komarov}"\n'
+    )
+    assert verdicts(audit_case(twin, repair=False))["integral", "F"] is Verdict.VERIFIED
+    assert verdicts(audit_case(twin, repair=False))["integral", "K"] is Verdict.VERIFIED
+
+
+def test_discovery_finds_clebschs_condition_from_one_free_coefficient():
+    """Kirchhoff's H = (M1^2 + 2 M2^2 + 3 M3^2)/2 + (gamma1^2 + 2 gamma2^2 + b gamma3^2)/2
+    is Clebsch's case exactly where (b1 - b2)/a3 + (b2 - b3)/a1 + (b3 - b1)/a2 = 0 with
+    a = (1, 2, 3) (the coefficients of M_i^2, as dH/dM = a M), b = (1, 2, b): b = 7/3."""
+    case = parse_case_text(
+        SEARCHED
+        + '[parameters]\nb = "real"\n[system]\n'
+        + 'hamiltonian = "M1**2/2 + M2**2 + 3*M3**2/2 + gamma1**2/2 + gamma2**2 + b*gamma3**2/2"\n'
+    )
+    found = discover(case, search_options(case, degree=2, weights=(1, 1), free=["b"]))
+    assert found.complete and found.generic.extra == 0
+    assert [s.when for s in found.special] == [("b = 7/3",)]
+    assert found.special[0].extra == 1
+    a1, a2, a3, b1, b2 = 1, 2, 3, 1, 2
+    b3 = sp.Symbol("b3")
+    assert sp.solve((b1 - b2) / sp.S(a3) + (b2 - b3) / sp.S(a1) + (b3 - b1) / sp.S(a2), b3) == [
+        sp.Rational(7, 3)
+    ]
+
+
+def test_kappa_may_be_free():
+    """Kovalevskaya's top with kappa free: Komarov's integral exists for every kappa, so
+    the generic values have the quartic integral, and no kappa is special."""
+    case = parse_case_text(
+        SEARCHED
+        + '[parameters]\nkappa = "real"\n[system]\n'
+        + 'hamiltonian = "M1**2 + M2**2 + 2*M3**2 + 2*gamma1"\nkappa = "kappa"\n'
+    )
+    found = discover(case, search_options(case, degree=4, weights=(1, 1), free=["kappa"]))
+    assert found.complete and found.generic.extra == 1 and found.special == ()
+    assert "M1**2*kappa" in found.known[1]

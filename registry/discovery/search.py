@@ -40,6 +40,7 @@ from ..language.printer import to_text
 from ..mathematics import mechanics as mech
 from ..mathematics.case_mechanics import CaseMechanics
 from ..mathematics.families import recognise
+from ..mathematics.zero_test import decide
 from ..model import (
     Case,
     Claim,
@@ -53,6 +54,7 @@ from ..model import (
 )
 from . import novelty
 from .ansatz import PolynomialSystem
+from .grading import grading_note
 from .integrals import Analysis, Generator, analyse, products
 from .linear import GF_PRIME, PRIME, Field
 from .locus import Locus, drop_locus
@@ -136,6 +138,7 @@ def discover(
         )
     state = _State(options, seed, progress=progress)
     free = [case.parameters[f] for f in options.free]
+    note = grading_note(CaseMechanics(case).field, options.weights)
     elsewhere = None
     if mapper is not None:
         seconds = None if budget is None else budget + MAPPER_GRACE
@@ -165,7 +168,7 @@ def discover(
         coverage=coverage,
         dimensions=tuple((d, *c) for d, c in sorted(state.counts.items())),
         seconds=time.perf_counter() - started,
-        method=METHOD,
+        method=METHOD + (f"; {note}" if note else ""),
         claims=state.claims,
     )
 
@@ -226,7 +229,8 @@ def _search(
         Generator(system.polynomial(e), d)
         for e, (_, d) in zip(integrals, generic.extras, strict=True)
     ]
-    locus = _locus(state, system, params, len(free), generic, known, extras, rnd)
+    general = m.hamiltonian_form or m.kappa != 0
+    locus = _locus(state, system, params, len(free), generic, known, extras, rnd, general)
     candidates = []
     for assignment in locus.maximal():
         sub = substituted(case, assignment)
@@ -325,11 +329,21 @@ def _system(options: SearchOptions, m: CaseMechanics, free: list[sp.Symbol]):
 
 
 def _known_integrals(m: CaseMechanics) -> list[tuple[str, sp.Expr]]:
-    """H, |gamma|^2 and the torque's Casimir (s where there is no torque), named."""
-    family = recognise(m.mu, m.domain)
-    named = [("H", m.hamiltonian), (None, 2 * mech.C1)]
-    if family.casimir is not None:
-        named.append((None, family.casimir))
+    """H and the bracket's Casimirs, named: on e(3) |gamma|^2 and the torque's Casimir
+    (s where there is no torque); on so(4) and so(3,1) kappa |M|^2 + |gamma|^2 and s,
+    each where it is a Casimir of Pi (always for mu = 0; decided by the zero test for a
+    torque, which may destroy them)."""
+    named: list[tuple[str | None, sp.Expr]] = [("H", m.hamiltonian)]
+    if m.kappa == 0:
+        family = recognise(m.mu, m.domain)
+        named.append((None, 2 * mech.C1))
+        if family.casimir is not None:
+            named.append((None, family.casimir))
+    else:
+        untwisted = all(mu == 0 for mu in m.mu)
+        for expr in (2 * m.c1, mech.S_VALUE):
+            if untwisted or decide(m.casimir_residual(expr), m.domain).verdict is Verdict.VERIFIED:
+                named.append((None, expr))
     return [(name or to_text(sp.expand(expr)), expr) for name, expr in named]
 
 
@@ -349,14 +363,18 @@ def _known(m: CaseMechanics, system: PolynomialSystem) -> tuple[list[Generator],
     return gens, names
 
 
-def _locus(state, system, params, free, generic: Analysis, known, extras, rnd) -> Locus:
+def _locus(
+    state, system, params, free, generic: Analysis, known, extras, rnd, general=False
+) -> Locus:
     """Candidate sets of the free parameters (the first ``free`` of ``params``).
 
     Extra integrals appear where some block's kernel grows (block by block, cut off at
     each weight, since integrals are counted by degree) or where the trivial
-    integrals become dependent. The known integrals never do (H is quadratic in M with
-    finite moments, |gamma|^2 free of M, the torque's Casimir linear in M through s);
-    products with extra integrals of generic values may, so their rank is added.
+    integrals become dependent. On e(3) with H = M.I^-1 M/2 + U the known integrals
+    never do (H is quadratic in M with finite moments, |gamma|^2 free of M, the torque's
+    Casimir linear in M through s); products with extra integrals of generic values may,
+    and so may a ``general`` H or a deformed bracket (H can meet the Casimirs at special
+    values), so that their rank is added then.
     """
     ring = PolyRing([str(p) for p in params], QQ, "lex")
     locus = Locus()
@@ -382,7 +400,7 @@ def _locus(state, system, params, free, generic: Analysis, known, extras, rnd) -
             keep = {c: i for i, c in enumerate(c for c, w in enumerate(weights) if w <= cutoff)}
             rows = rows_of(((r, keep[c]), v) for (r, c), v in block.entries.items() if c in keep)
             drops(rows, len(keep) - generic.nullities[(b, cutoff)])
-    if extras:
+    if extras or general:
         trivial = products(system, [*known, *extras], system.degree)
         rows = rows_of(
             ((i, j), coeffs)
@@ -434,13 +452,10 @@ def substituted(case: Case, values: dict[sp.Symbol, sp.Expr]) -> Case | None:
         new = sp.sympify(e.expr).xreplace(values)
         return Expression(to_text(new), new)
 
-    inertia = (
-        put(case.system.inertia[0]),
-        put(case.system.inertia[1]),
-        put(case.system.inertia[2]),
-    )
+    inertia = tuple(put(e) for e in case.system.inertia)  # none in the Hamiltonian form
     if any(e.expr.has(sp.zoo, sp.nan, sp.oo) or sp.simplify(e.expr) == 0 for e in inertia):
         return None
+    given = case.system.hamiltonian
     system = replace(
         case.system,
         inertia=inertia,
@@ -450,8 +465,11 @@ def substituted(case: Case, values: dict[sp.Symbol, sp.Expr]) -> Case | None:
             put(case.system.torque[1]),
             put(case.system.torque[2]),
         ),
+        hamiltonian=None if given is None else put(given),
+        kappa=put(case.system.kappa),
     )
-    if any(e.expr.has(sp.zoo, sp.nan) for e in (system.potential, *system.torque)):
+    energy = system.potential if system.hamiltonian is None else system.hamiltonian
+    if any(e.expr.has(sp.zoo, sp.nan, sp.oo) for e in (energy, *system.torque, system.kappa)):
         return None
     kept = {n: s for n, s in case.parameters.items() if s not in values}
     return replace(

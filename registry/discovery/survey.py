@@ -12,7 +12,9 @@ import sympy as sp
 from ..audit.worker_pool import in_processes
 from ..errors import DiscoveryError
 from ..mathematics import mechanics as mech
+from ..mathematics.case_mechanics import CaseMechanics
 from ..model import Case, Claim, IntegralSet, Provenance, Search, SearchOptions
+from .grading import homogeneous_weights
 from .search import MAPPER_GRACE, Mapper, discover, in_order
 
 #: The smallest degree searched: below it no integral beyond H and |gamma|^2 can show.
@@ -23,14 +25,24 @@ def stated_options(case: Case) -> list[SearchOptions]:
     """The searches recorded for ``case``, whole phase space first.
 
     Weights M: 1, gamma: 1 where the potential has terms of degree >= 2 in gamma (which
-    make H homogeneous there), else M: 1, gamma: 2; the degree is the largest weighted
-    degree of its polynomial claims (the literature's, where it has any), at least 2.
+    make H homogeneous there), else M: 1, gamma: 2; for a case that gives H or a deformed
+    bracket, the weights that make its vector field homogeneous (``grading``), else
+    M: 1, gamma: 1. The degree is the largest weighted degree of its polynomial claims
+    (the literature's, where it has any), at least 2.
     """
-    weights = (1, 1) if _gamma_degree(case.system.potential.expr) >= 2 else (1, 2)
+    weights = _weights(case)
     claims = [c for c in case.claims if c.provenance is Provenance.LITERATURE] or list(case.claims)
     degree = max([LEAST_DEGREE, *(d for c in claims if (d := _degree(c, weights)) is not None)])
     level_sets = list(dict.fromkeys(c.on for c in claims if c.on))
     return [SearchOptions(degree, weights, on) for on in [(), *level_sets]]
+
+
+def _weights(case: Case) -> tuple[int, int]:
+    """The grading of the recorded searches of ``case`` (see ``stated_options``)."""
+    system = case.system
+    if not system.hamiltonian_form and system.kappa_expr == 0:
+        return (1, 1) if _gamma_degree(system.potential.expr) >= 2 else (1, 2)
+    return homogeneous_weights(CaseMechanics(case).field) or (1, 1)
 
 
 def not_searched(case: Case, options: SearchOptions, reason: str) -> Search:

@@ -129,6 +129,11 @@ def search_text(search: Search) -> str:
         lines.append("generic: not decided")
     for s in search.special:
         describe(s, ", ".join(s.when))
+    lines.extend(
+        f"ansatz: {part}"
+        for part in search.method.split("; ")
+        if part.startswith("the vector field is not weighted-homogeneous")
+    )
     lines.append(f"complete: {'yes' if search.complete else 'no'}")
     lines.extend(f"  coverage: {c}" for c in search.coverage if not search.complete)
     lines.append(statement(search))

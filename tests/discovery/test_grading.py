@@ -1,0 +1,43 @@
+"""The grading of a search: weights under which the vector field is homogeneous."""
+
+from __future__ import annotations
+
+import sympy as sp
+
+from registry.discovery.grading import grading_note, homogeneous_weights, shift
+from registry.mathematics import mechanics as mech
+
+M1, M2, M3 = mech.MOMENTUM
+g1, g2, g3 = mech.AXIS
+kappa, c = sp.symbols("kappa c", real=True)
+KOVALEVSKAYA = M1**2 + M2**2 + 2 * M3**2 + 2 * c * g1
+CLEBSCH = M1**2 + 2 * M2**2 + 3 * M3**2 + g1**2 + 2 * g2**2
+
+
+def field(h, k=0, mu=(0, 0, 0)):
+    return mech.equations_of_motion(mu, k, h=h)
+
+
+def test_e3_with_a_linear_potential_is_graded_m1_gamma2():
+    assert shift(field(KOVALEVSKAYA), (1, 2)) == 1
+    assert shift(field(KOVALEVSKAYA), (1, 1)) is None
+    assert homogeneous_weights(field(KOVALEVSKAYA)) == (1, 2)
+
+
+def test_quadratic_hamiltonians_are_graded_m1_gamma1_on_every_bracket():
+    for k in (0, kappa, -1):
+        assert homogeneous_weights(field(CLEBSCH, k)) == (1, 1)
+        assert grading_note(field(CLEBSCH, k), (1, 1)) == ""
+
+
+def test_kovalevskaya_on_so4_has_no_grading_and_the_note_says_what_the_ansatz_means():
+    f = field(KOVALEVSKAYA, kappa)
+    assert homogeneous_weights(f) is None
+    note = grading_note(f, (1, 1))
+    assert "not weighted-homogeneous for M: 1, gamma: 1" in note
+    assert "degrees are coupled" in note
+
+
+def test_linear_terms_in_m_break_homogeneity_and_radicals_are_not_graded():
+    assert homogeneous_weights(field(CLEBSCH + M3)) is None
+    assert homogeneous_weights(field(M1**2 + sp.sqrt(1 + g1**2))) is None
