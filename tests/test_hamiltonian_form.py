@@ -369,3 +369,14 @@ def test_kappa_may_be_free():
     found = discover(case, search_options(case, degree=4, weights=(1, 1), free=["kappa"]))
     assert found.complete and found.generic.extra == 1 and found.special == ()
     assert "M1**2*kappa" in found.known[1]
+
+
+def test_the_papers_corrections_say_they_do_not_apply_on_so4():
+    audit = audit_case(parse_case_text(KOVALEVSKAYA_SO4))
+    assert audit.family.name == "none"
+    assert audit.family.reason.startswith("not applicable: ")
+    assert "kappa = kappa" in audit.family.reason
+    assert not [c for c in audit.corrections if c.kind in ("casimir", "torque")]
+    # parameter conditions are still sought: K-e3 holds where kappa c^2 vanishes
+    (conditions,) = [c for c in audit.conditions if c.target == "K-e3"]
+    assert {b for b in conditions.branches} == {("c = 0",), ("kappa = 0",)}
