@@ -654,7 +654,26 @@ def corrections(run: int | None) -> None:
     Example: registry corrections --run 3
     """
     frame = _registry().corrections(run)
-    _print_frame(frame.drop(columns=["payload"]) if "payload" in frame else frame)
+    if "payload" in frame:
+        frame = _condition_branches(frame).drop(columns=["payload"])
+    _print_frame(frame)
+
+
+def _condition_branches(frame: pd.DataFrame) -> pd.DataFrame:
+    """The corrections listing with one row per branch of each parameter condition (its
+    equations in the expression column), or the reason where none was found."""
+    import pandas as pd
+
+    rows = []
+    for row in frame.to_dict("records"):
+        payload = row["payload"] or {}
+        if row["kind"] != "conditions":
+            rows.append(row)
+        elif not payload.get("branches"):
+            rows.append({**row, "expression": payload.get("reason", "")})
+        else:
+            rows += [{**row, "expression": ", ".join(b)} for b in payload["branches"]]
+    return pd.DataFrame(rows, columns=frame.columns)
 
 
 @main.command()

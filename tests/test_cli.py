@@ -24,7 +24,16 @@ from click.testing import CliRunner
 import registry
 from registry.cli import main
 from registry.store.database import Store
-from tests.helpers.samples import AFFINE, CASES, SEED, UNDECLARED, YEHIA_B, ZHUKOVSKY, case_file
+from tests.helpers.samples import (
+    AFFINE,
+    CASES,
+    CLASSICAL,
+    SEED,
+    UNDECLARED,
+    YEHIA_B,
+    ZHUKOVSKY,
+    case_file,
+)
 
 ROOT = Path(registry.__file__).resolve().parent.parent
 COMMANDS = ("add", "audit", "cases", "verdicts", "runs", "corrections", "export-case")
@@ -642,3 +651,27 @@ def test_renamed_commands_are_gone_under_their_old_names(old, new):
     result = invoke(None, old)
     assert result.exit_code != 0
     assert "No such command" in result.output + result.stderr
+
+
+def test_every_branch_of_a_condition_reaches_the_json_the_table_and_corrections(db_target):
+    # the Zhukovsky-Volterra gyrostat's |M|^2 holds on five components: A = B = C (any
+    # gyrostatic moment), and a moment along a principal axis of a body symmetric about it
+    path = CLASSICAL / "zhukovsky-volterra-gyrostat.toml"
+    assert invoke(db_target, "add", str(path)).exit_code == 0
+    done = invoke(db_target, "audit", "--json")
+    (case,) = json.loads(done.stdout)["cases"]
+    claim = [c for c in case["claims"] if c["label"] == "M-false"][0]
+    assert claim["holds_when"] == ["A = C", "B = C"]
+    assert claim["holds_when_branches"] == [
+        ["A = B", "k1 = 0", "k2 = 0"],
+        ["A = C", "k1 = 0", "k3 = 0"],
+        ["B = C", "k2 = 0", "k3 = 0"],
+        ["k1 = 0", "k2 = 0", "k3 = 0"],
+    ]
+    table = invoke(db_target, "audit").stdout  # the stored results, reused
+    assert "M-false: holds when A = C, B = C or A = B, k1 = 0, k2 = 0 or " in table
+    listing = invoke(db_target, "corrections").stdout
+    rows = [line.split() for line in listing.splitlines() if " conditions " in line]
+    branches = [" ".join(r[r.index("conditions") + 1 :]) for r in rows if "M-false" in r]
+    assert branches[:2] == ["A = C, B = C verified", "A = B, k1 = 0, k2 = 0 verified"]
+    assert len(branches) == 5

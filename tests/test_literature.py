@@ -91,6 +91,9 @@ HOLDS_WHEN = {
     ("goryachev-1900-heavy-top-all-s", "K"): (("a = 0",),),
     ("yehia-1986-kovalevskaya-gyrostat-transverse", "K"): (("k = 0",),),
     ("chaplygin-1903-kirchhoff-all-s", "F"): (("k = 0",),),
+    ("birtea-2011-grioli-area-lost", "area"): (
+        ("S11 = S33", "S12 = 0", "S13 = 0", "S22 = S33", "S23 = 0"),
+    ),
 }
 
 ID_RULE = re.compile(r"[a-z]+-(\d{4})(-[a-z0-9]+)+")

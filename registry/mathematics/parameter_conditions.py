@@ -4,10 +4,15 @@ The residual is brought to the normal form of the zero test (radicals and
 transcendental terms as new symbols, numerator reduced modulo the radical
 relations). It vanishes identically exactly when every coefficient of that
 numerator, as a polynomial in the state variables and those symbols, vanishes:
-a polynomial system in the parameters, which sympy solves. Branches that break
-the declared assumptions (a positive parameter set to zero) or make a moment
-of inertia vanish are dropped, and every branch kept is re-checked by the zero
-test with its values substituted.
+a polynomial system in the parameters. Every component of its solution set is
+found (``components``): a product vanishes when any of its factors does, so the
+system is split on the factors of its Gröbner basis until every element is
+irreducible, and each component is solved for the leading variables of its
+lexicographic basis (the others stay free: its most general solution). Components
+contained in others are dropped, and so are branches that break the declared
+assumptions (a positive parameter set to zero) or make a moment of inertia
+vanish; every branch kept is re-checked by the zero test with its values
+substituted.
 """
 
 from __future__ import annotations
@@ -53,19 +58,194 @@ def parameter_conditions(
         return ConditionSearch(
             reason="no admissible parameter values found that make the residual vanish"
         )
-    unknowns = [p for p in params if any(eq.has(p) for eq in equations)]
     try:
-        solutions = sp.solve(sorted(equations, key=sp.default_sort_key), unknowns, dict=True)
+        solutions = solve_components(sorted(equations, key=sp.default_sort_key), params)
     except NotImplementedError:
         return ConditionSearch(reason="sympy cannot solve the parameter system")
+    except TooManyBranches as exc:
+        return ConditionSearch(reason=str(exc))
     kept = [b for b in solutions if _admissible(b, protected)]
     kept = [b for b in kept if _holds(residuals, domain, b)]
-    kept.sort(key=lambda b: (len(b), sp.default_sort_key(tuple(b.items()))))
+    kept = most_general(kept)
     if not kept:
         return ConditionSearch(
             reason="no admissible parameter values found that make the residual vanish"
         )
     return ConditionSearch(tuple(kept))
+
+
+def solve_components(equations: Sequence[sp.Expr], params: Sequence[sp.Symbol]) -> list[Branch]:
+    """The most general solution of every component of ``equations = 0`` (a polynomial
+    system in ``params``), each as values of some parameters in terms of the others.
+
+    A system that is not polynomial over Q in the parameters (a radical of a parameter
+    in a coefficient) goes to ``sympy.solve`` whole, after the split on factors.
+    """
+    gens = [p for p in params if any(eq.has(p) for eq in equations)]
+    try:
+        polys = [sp.Poly(eq, *gens, domain=sp.QQ) for eq in equations]
+    except (sp.PolynomialError, sp.CoercionFailed, sp.GeneratorsNeeded):
+        return _solve_by_factors(equations, gens)
+    found: list[Branch] = []
+    for basis in components([p.as_expr() for p in polys], gens):
+        unknowns = _leading_variables(basis, gens)
+        for branch in sp.solve(list(basis), unknowns, dict=True):
+            if branch not in found:
+                found.append(branch)
+    return found
+
+
+def components(equations: Sequence[sp.Expr], gens: Sequence[sp.Symbol]) -> list[tuple]:
+    """The components of ``equations = 0`` over the declared assumptions, each as the
+    reduced lexicographic Gröbner basis (in ``gens``, largest first) of an ideal whose
+    elements are irreducible, none contained in another, in a deterministic order.
+
+    An equation that factors splits the system into one branch per factor that can
+    vanish (factors nonzero by the parameters' assumptions, such as a positive
+    parameter, are dropped; an equation with none leaves no solution), the other
+    equations that the factor divides dropped from its branch. A system whose
+    equations are irreducible is replaced by its Gröbner basis, which is split again
+    where one of its elements factors, until none does.
+
+    >>> a, b, c = sp.symbols("a b c")
+    >>> components([a * b, a * (c - 1)], [a, b, c])
+    [(a,), (b, c - 1)]
+    """
+    factors = _Factors(gens)
+    done: list[tuple] = []
+    seen: set[frozenset] = set()
+    stack = [tuple(equations)]
+    while stack:
+        system = stack.pop()
+        if frozenset(system) in seen:
+            continue
+        seen.add(frozenset(system))
+        if len(seen) > MAX_BRANCHES:
+            raise TooManyBranches(
+                f"the parameter system splits into more than {MAX_BRANCHES} branches"
+            )
+        branches = _split(system, factors)
+        if branches is not None:
+            stack.extend(branches)
+            continue
+        basis = tuple(sp.groebner(system, *gens, order="lex").exprs)
+        if any(e.is_number for e in basis):
+            continue
+        branches = _split(basis, factors)
+        if branches is None:
+            done.append(basis)
+        elif frozenset(basis) not in seen:
+            stack.append(basis)
+    done = list(dict.fromkeys(done))
+    ideals = {key: sp.groebner(key, *gens, order="lex") for key in done}
+    general = [
+        key
+        for key in done
+        if not any(
+            other != key and _contains(ideals[key], other) and not _contains(ideals[other], key)
+            for other in done
+        )
+    ]
+    return sorted(general, key=lambda key: (len(key), sp.default_sort_key(key)))
+
+
+#: The most systems ``components`` visits before it gives up (each a Gröbner basis).
+MAX_BRANCHES = 512
+
+
+class TooManyBranches(Exception):
+    """The split on factors would visit more systems than ``MAX_BRANCHES``."""
+
+
+class _Factors:
+    """The irreducible factors that can vanish of each equation (memoized), each in one
+    normal form (positive leading coefficient in ``gens``) so that a factor shared by two
+    equations is recognised."""
+
+    def __init__(self, gens: Sequence[sp.Symbol]):
+        self.gens = list(gens)
+        self.known: dict[sp.Expr, tuple[sp.Expr, ...]] = {}
+
+    def __call__(self, expr: sp.Expr) -> tuple[sp.Expr, ...]:
+        if expr not in self.known:
+            _, found = sp.Poly(expr, *self.gens, domain=sp.QQ).factor_list()
+            parts = []
+            for poly, _ in found:
+                poly = -poly if poly.LC() < 0 else poly
+                factor = poly.as_expr()
+                if not factor.is_nonzero and factor not in parts:
+                    parts.append(factor)
+            self.known[expr] = tuple(parts)
+        return self.known[expr]
+
+
+def _split(system: tuple, factors: _Factors) -> list[tuple] | None:
+    """One branch per vanishing factor of the first equation of ``system`` that factors
+    (or has a factor that cannot vanish), or None when every equation is irreducible."""
+    for i, equation in enumerate(system):
+        vanishing = factors(equation)
+        if len(vanishing) == 1 and sp.expand(vanishing[0] - equation) == 0:
+            continue
+        others = system[:i] + system[i + 1 :]
+        return [
+            tuple(sorted({f, *(e for e in others if f not in factors(e))}, key=sp.default_sort_key))
+            for f in vanishing
+        ]
+    return None
+
+
+def _contains(ideal: sp.GroebnerBasis, generators: tuple) -> bool:
+    """Whether every generator lies in ``ideal``: then the ideal's zero set lies in
+    theirs (the ideal's branch is a special case of theirs)."""
+    return all(ideal.contains(g) for g in generators)
+
+
+def _leading_variables(basis: tuple, gens: Sequence[sp.Symbol]) -> list[sp.Symbol]:
+    """The largest variable of each element of a lexicographic basis: the parameters
+    its branch fixes in terms of the others."""
+    return [g for g in gens if any(next(h for h in gens if e.has(h)) == g for e in basis)]
+
+
+#: The most systems ``_solve_by_factors`` splits a non-polynomial system into.
+MAX_SPLITS = 64
+
+
+def _solve_by_factors(equations: Sequence[sp.Expr], gens: Sequence[sp.Symbol]) -> list[Branch]:
+    """``sympy.solve`` on every choice of one vanishing factor per equation, for systems
+    that are not polynomial in the parameters (up to ``MAX_SPLITS`` choices, else on
+    the system whole)."""
+    systems = [()]
+    for eq in equations:
+        factors = [f for f in sp.Mul.make_args(sp.factor(eq)) if not f.is_number]
+        factors = [f.base if f.is_Pow and f.exp.is_positive else f for f in factors]
+        factors = [f for f in factors if not f.is_nonzero] or [eq]
+        systems = [(*s, f) for s in systems for f in factors]
+        if len(systems) > MAX_SPLITS:
+            systems = [tuple(equations)]
+            break
+    found: list[Branch] = []
+    for system in systems:
+        unknowns = [g for g in gens if any(e.has(g) for e in system)]
+        for branch in sp.solve(sorted(set(system), key=sp.default_sort_key), unknowns, dict=True):
+            if branch not in found:
+                found.append(branch)
+    return found
+
+
+def most_general(branches: Sequence[Branch]) -> list[Branch]:
+    """The branches that are not special cases of another (whose equations all hold
+    with the branch's values substituted), most general (fewest equations) first."""
+    ordered = sorted(branches, key=lambda b: (len(b), sp.default_sort_key(tuple(b.items()))))
+    kept: list[Branch] = []
+    for branch in ordered:
+        if not any(_special_case(branch, general) for general in kept):
+            kept.append(branch)
+    return kept
+
+
+def _special_case(branch: Branch, general: Branch) -> bool:
+    """Whether ``general``'s equations hold identically under ``branch``'s values."""
+    return all(sp.simplify(sp.sympify(p - v).xreplace(branch)) == 0 for p, v in general.items())
 
 
 def _coefficient_equations(residuals, params: set[sp.Symbol]) -> set[sp.Expr] | None:

@@ -97,14 +97,14 @@ def _correction_lines(case: CaseOutcome) -> list[str]:
     name = case.case_id
     jacobi = case.jacobi_conditions
     if jacobi is not None and jacobi.branches:
-        lines.append(f"  {name}: Poisson when {', '.join(jacobi.branches[0])}")
+        lines.append(f"  {name}: Poisson when {branches_text(jacobi.branches)}")
     for c in case.casimirs:
         lines.append(f"  {name}: a Casimir: {c.expression}")
     for claim in case.claims:
         where = f"{name}/{claim.label}"
         found = claim.conditions
         if found is not None and found.branches:
-            lines.append(f"  {where}: holds when {', '.join(found.branches[0])}")
+            lines.append(f"  {where}: holds when {branches_text(found.branches)}")
         for c in claim.corrections:
             if c.kind == "casimir":
                 lines.append(f"  {where}: corrected Casimir: {c.expression}")
@@ -112,6 +112,12 @@ def _correction_lines(case: CaseOutcome) -> list[str]:
                 changed = ", ".join(f"mu{k} = {text}" for k, text in c.changed_components)
                 lines.append(f"  {where}: corrected torque: {changed}")
     return lines
+
+
+def branches_text(branches: Sequence[Sequence[str]]) -> str:
+    """Every branch of a parameter condition: equations joined by commas, branches by
+    'or' (``A = C, B = C or k1 = 0, k2 = 0, k3 = 0``)."""
+    return " or ".join(", ".join(branch) for branch in branches)
 
 
 def diff_table(changes: Sequence[VerdictChange], run_a: int, run_b: int) -> str:
