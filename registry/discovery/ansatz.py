@@ -25,6 +25,7 @@ from sympy.polys.rings import PolyElement, PolyRing
 
 from ..errors import DiscoveryError
 from ..mathematics import mechanics as mech
+from .ring import NotInRingError, SystemRing
 
 #: Exponents of the six state variables (M1, M2, M3, gamma1, gamma2, gamma3).
 Monomial = tuple[int, int, int, int, int, int]
@@ -51,17 +52,24 @@ def count_monomials(max_weight: int, weights: Sequence[int]) -> int:
     return sum(counts)
 
 
-def weighted_monomials(degree: int, weights: Sequence[int]) -> list[Monomial]:
-    """Every monomial of the six state variables of exactly this weighted degree."""
+def weighted_monomials(
+    degree: int, weights: Sequence[int], bounds: Sequence[int | None] | None = None
+) -> list[Monomial]:
+    """Every monomial of the variables (six state variables unless more weights are
+    given) of exactly this weighted degree; a variable of weight 0 takes the exponents
+    0..its bound."""
+    n = len(weights)
+    bounds = bounds or (None,) * n
     found: list[Monomial] = []
-    exps = [0] * 6
+    exps = [0] * n
 
     def place(i: int, left: int) -> None:
-        if i == 6:
+        if i == n:
             if left == 0:
                 found.append(tuple(exps))  # type: ignore[arg-type]
             return
-        for a in range(left // weights[i] + 1):
+        top = (bounds[i] or 0) if weights[i] == 0 else left // weights[i]
+        for a in range(top + 1):
             exps[i] = a
             place(i + 1, left - a * weights[i])
         exps[i] = 0
@@ -96,24 +104,37 @@ class PolynomialSystem:
         degree: int,
         ideal: Sequence[sp.Expr] = (),
         max_size: int = MAX_SYSTEM_SIZE,
+        *,
+        hamiltonian: sp.Expr | None = None,
     ):
         self.params = tuple(params)
-        self.weights = tuple(weights)
         self.degree = degree
-        names = [str(v) for v in mech.STATE] + [str(p) for p in self.params]
+        around = [] if hamiltonian is None else [hamiltonian]
+        try:
+            self.space = SystemRing([*field, *around], weights, bound_from=around)
+        except NotInRingError as err:
+            raise NotPolynomialError(str(err)) from None
+        self.variables = self.space.variables
+        self.n = len(self.variables)
+        self.weights = self.space.weights
+        self.bounds = self.space.bounds
+        names = [str(v) for v in self.variables] + [str(p) for p in self.params]
         self.ring = PolyRing(names, QQ, "grevlex")
         self._plain = {
-            g: sp.Symbol(n) for g, n in zip((*mech.STATE, *self.params), names, strict=True)
+            g: sp.Symbol(n) for g, n in zip((*self.variables, *self.params), names, strict=True)
         }
-        self.field = self._polynomial_field(field)
-        self.ideal = self._groebner(ideal)
-        self.leading = [g.LM[:6] for g in self.ideal]
+        rates = self.space.rates(field) if self.space.extended else field
+        self.field = self._polynomial_field(rates)
+        self.ideal = self._groebner([*self.space.relations(), *ideal])
+        self.leading = [g.LM[: self.n] for g in self.ideal]
         self._check_size(max_size)
+        # (a monomial of weight 0, in inverse variables only, counts with degree 1)
         self.columns: list[tuple[Monomial, int]] = [
-            (e, d)
-            for d in range(1, degree + 1)
-            for e in weighted_monomials(d, self.weights)
-            if not any(all(a >= b for a, b in zip(e, lm, strict=True)) for lm in self.leading)
+            (e, max(d, 1))
+            for d in range(0 if self.space.extended else 1, degree + 1)
+            for e in weighted_monomials(d, self.weights, self.bounds)
+            if any(e)
+            and not any(all(a >= b for a, b in zip(e, lm, strict=True)) for lm in self.leading)
         ]
         self.column_index = {e: j for j, (e, _) in enumerate(self.columns)}
         self.blocks = self._blocks()
@@ -129,8 +150,12 @@ class PolynomialSystem:
             ),
             default=0,
         )
-        unknowns = count_monomials(self.degree, self.weights) - 1
-        equations = count_monomials(self.degree + max(shift, 0), self.weights)
+        positive = [w for w in self.weights if w]
+        times = 1
+        for w, b in zip(self.weights, self.bounds, strict=True):
+            times *= 1 if w else (b or 0) + 1
+        unknowns = count_monomials(self.degree, positive) * times - 1
+        equations = count_monomials(self.degree + max(shift, 0), positive) * times
         if unknowns * equations > limit:
             raise DiscoveryError(
                 f"the ansatz of weighted degree <= {self.degree} has {unknowns} unknowns and "
@@ -140,18 +165,22 @@ class PolynomialSystem:
 
     def weight_of(self, monomial: tuple[int, ...]) -> int:
         """The weighted degree of a ring monomial (its state part)."""
-        return sum(a * w for a, w in zip(monomial[:6], self.weights, strict=True))
+        return sum(a * w for a, w in zip(monomial[: self.n], self.weights, strict=True))
 
     # ------------------------------------------------------------ conversion
 
     def polynomial(self, expr: sp.Expr, *, what: str = "expression") -> PolyElement:
         """``expr`` as an element of the system's ring (s expanded; parameter denominators
-        cleared), reduced modulo the level set. NotPolynomialError if it is not
-        polynomial in the state variables."""
-        numer, denom = sp.fraction(
-            sp.together(sp.expand(sp.sympify(expr).subs(mech.s, mech.S_VALUE)))
-        )
-        if denom.free_symbols & set(mech.STATE):
+        cleared; in an extended ring, inverses and roots written with its variables),
+        reduced modulo the level set. NotPolynomialError if it is not in the ring."""
+        expr = sp.sympify(expr).subs(mech.s, mech.S_VALUE)
+        if self.space.extended:
+            try:
+                expr = self.space.lift(expr)
+            except NotInRingError as err:
+                raise NotPolynomialError(f"the {what} is not in the system's ring: {err}") from None
+        numer, denom = sp.fraction(sp.together(sp.expand(expr)))
+        if denom.free_symbols & set(self.variables):
             raise NotPolynomialError(f"the {what} is not polynomial in the state variables")
         try:
             poly = self.ring.from_expr(sp.expand(numer).xreplace(self._plain))
@@ -193,10 +222,10 @@ class PolynomialSystem:
             numer, denom = sp.fraction(
                 sp.together(sp.expand(sp.sympify(g).subs(mech.s, mech.S_VALUE)))
             )
-            if denom.free_symbols & set(mech.STATE):
+            if denom.free_symbols & set(self.variables):
                 raise NotPolynomialError("a level-set equation is not polynomial")
             polys.append(sp.expand(numer).xreplace(self._plain))
-        state = [self._plain[v] for v in mech.STATE]
+        state = [self._plain[v] for v in self.variables]
         params = [self._plain[p] for p in self.params]
         domain = QQ.frac_field(*params) if params else QQ
         basis = sp.groebner(polys, *state, order="grevlex", domain=domain)
@@ -229,7 +258,7 @@ class PolynomialSystem:
         """D d(x^exps)/dt reduced modulo the level set."""
         total = self.ring.zero
         pad = (0,) * len(self.params)
-        for i in range(6):
+        for i in range(self.n):
             if exps[i]:
                 lower = list(exps)
                 lower[i] -= 1
@@ -241,13 +270,13 @@ class PolynomialSystem:
         parameter polynomial; ValueError for a monomial outside the ansatz."""
         coords: dict[int, dict[tuple[int, ...], object]] = {}
         for m, c in poly.items():
-            state = m[:6]
+            state = m[: self.n]
             if not any(state):
                 continue
             j = self.column_index.get(state)
             if j is None:
                 raise ValueError(f"monomial {state} is outside the ansatz")
-            coords.setdefault(j, {})[m[6:]] = c
+            coords.setdefault(j, {})[m[self.n :]] = c
         return coords
 
     def _blocks(self) -> list[Block]:
@@ -255,8 +284,8 @@ class PolynomialSystem:
         entries: dict[tuple[int, int], dict] = {}
         for j, (exps, _) in enumerate(self.columns):
             for m, c in self.derivative(exps).items():
-                r = rows.setdefault(m[:6], len(rows))
-                entries.setdefault((r, j), {})[m[6:]] = c
+                r = rows.setdefault(m[: self.n], len(rows))
+                entries.setdefault((r, j), {})[m[self.n :]] = c
         parent = list(range(len(self.columns)))
 
         def find(a: int) -> int:

@@ -139,7 +139,7 @@ def checked(system: PolynomialSystem, expr: sp.Expr, combination: sp.Expr, gens)
     values = {g.symbol: g.expr for g in gens if g.symbol != g.expr}
     difference = sp.expand(expr - combination.xreplace(values))
     rest = system.polynomial(difference)
-    if any(any(m[:6]) for m in rest.monoms()):
+    if any(any(m[: system.n]) for m in rest.monoms()):
         raise DiscoveryError(
             f"the identity {to_text(expr)} = {to_text(combination)} failed its check"
         )

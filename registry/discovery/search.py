@@ -325,7 +325,10 @@ def _system(options: SearchOptions, m: CaseMechanics, free: list[sp.Symbol]):
     symbolic = sorted((set(m.case.parameters.values()) - set(free)) & present, key=str)
     params = [*free, *symbolic]
     weights = (options.weights[0],) * 3 + (options.weights[1],) * 3
-    return PolynomialSystem(m.field, params, weights, options.degree, on), params
+    system = PolynomialSystem(
+        m.field, params, weights, options.degree, on, hamiltonian=m.hamiltonian
+    )
+    return system, params
 
 
 def _known_integrals(m: CaseMechanics) -> list[tuple[str, sp.Expr]]:
@@ -424,15 +427,15 @@ def _expression(system: PolynomialSystem, vec, fld: Field) -> sp.Expr:
     (polynomial in the symbolic parameters), the first one positive."""
     terms = [
         fld.domain.to_sympy(c)
-        * sp.Mul(*(x**e for x, e in zip(mech.STATE, system.columns[j][0], strict=True)))
+        * sp.Mul(*(x**e for x, e in zip(system.variables, system.columns[j][0], strict=True)))
         for j, c in enumerate(vec)
         if c
     ]
     numer = sp.numer(sp.together(sp.Add(*terms)))
-    _, primitive = sp.Poly(numer, *mech.STATE).primitive()
+    _, primitive = sp.Poly(numer, *system.variables).primitive()
     if primitive.LC().could_extract_minus_sign():
         primitive = -primitive
-    return primitive.as_expr()
+    return system.space.lower(primitive.as_expr())
 
 
 def substituted(case: Case, values: dict[sp.Symbol, sp.Expr]) -> Case | None:
@@ -554,7 +557,8 @@ def _check_invariant(system: PolynomialSystem, options: SearchOptions) -> None:
     """The level set must be kept by the flow, or an integral on it means nothing."""
     for g in system.ideal:
         rate = sum(
-            (g.diff(system.ring.gens[i]) * system.field[i] for i in range(6)), system.ring.zero
+            (g.diff(system.ring.gens[i]) * system.field[i] for i in range(system.n)),
+            system.ring.zero,
         )
         if system.reduce(rate):
             equations = ", ".join(eq.text for eq in options.on)

@@ -106,18 +106,37 @@ def _searched_apart(work) -> Search:
 
 
 def _degree(claim: Claim, weights: tuple[int, int]) -> int | None:
-    """The weighted degree of a claim polynomial in (M, gamma); None for any other."""
-    expr = claim.expression.expr
-    if not expr.is_polynomial(*mech.STATE):
+    """The weighted degree of a claim in the system's ring (``ring_degree``)."""
+    return ring_degree(claim.expression.expr, weights)
+
+
+def ring_degree(expr: sp.Expr, weights: tuple[int, int]) -> int | None:
+    """The weighted degree of an expression in a system's ring (``ring``): of its terms'
+    polynomial parts in (M, gamma), inverses weighing nothing and sqrt(b) half of b;
+    None for an expression outside such a ring. ``s`` counts as a constant (it is a
+    known integral wherever it is one)."""
+    expr = sp.expand(sp.sympify(expr))
+    w = dict(zip(mech.STATE, (weights[0],) * 3 + (weights[1],) * 3, strict=True))
+
+    def weight(e: sp.Expr) -> int | None:
+        if e in w:
+            return w[e]
+        if e.is_number or not (e.free_symbols & set(mech.STATE)):
+            return 0
+        if isinstance(e, sp.Mul):
+            parts = [weight(f) for f in e.args]
+            return None if None in parts else sum(parts)  # type: ignore[arg-type]
+        if isinstance(e, sp.Pow) and e.exp.is_Rational:
+            if e.exp < 0:
+                return 0
+            inner = [weight(t) for t in sp.Add.make_args(sp.expand(e.base))]
+            return None if None in inner else int(max(inner) * e.exp)  # type: ignore[type-var]
         return None
-    w = (weights[0],) * 3 + (weights[1],) * 3
-    monomials = sp.Poly(expr, *mech.STATE).monoms()
-    return max((sum(a * b for a, b in zip(m, w, strict=True)) for m in monomials), default=0)
+
+    degrees = [weight(t) for t in sp.Add.make_args(expr)]
+    return None if None in degrees else max(degrees, default=0)  # type: ignore[type-var]
 
 
 def _gamma_degree(potential: sp.Expr) -> int:
-    """The total degree of a potential in gamma (0 where it is not polynomial there)."""
-    gamma = mech.STATE[3:]
-    if not potential.is_polynomial(*gamma):
-        return 0
-    return sp.Poly(potential, *gamma).total_degree()
+    """The degree of a potential in gamma, in its ring (0 where it is in none)."""
+    return ring_degree(potential, (0, 1)) or 0

@@ -55,16 +55,33 @@ def test_on_a_level_set_the_ansatz_drops_the_multiples_of_its_leading_monomial()
     assert system.reduce(system.polynomial(mech.S_VALUE)) == 0
 
 
-def test_a_field_with_a_radical_is_not_polynomial():
-    field = mech.vector_field((1, 2, 3), sp.sqrt(mech.gamma1), (0, 0, 0))
-    with pytest.raises(DiscoveryError, match="not rational in the state variables"):
-        PolynomialSystem(field, [], WEIGHTS, 2)
+def test_a_field_with_a_transcendental_function_or_a_cube_root_is_refused():
+    for potential in (sp.sin(mech.gamma1), sp.cbrt(mech.gamma1)):
+        field = mech.vector_field((1, 2, 3), potential, (0, 0, 0))
+        with pytest.raises(DiscoveryError, match="not rational in the state variables|root"):
+            PolynomialSystem(field, [], WEIGHTS, 2, hamiltonian=potential)
 
 
-def test_a_rational_field_is_cleared_of_its_denominator():
-    field = mech.vector_field((1, 2, 3), 1 / (1 + mech.gamma1**2), (0, 0, 0))
-    system = PolynomialSystem(field, [], WEIGHTS, 2)
-    assert all(y.is_zero or y.ring.ngens == 6 for y in system.field)
+def test_a_square_root_and_a_denominator_become_variables_of_the_ring():
+    """rho = sqrt(gamma1), r = 1/rho and u = 1/(1 + gamma3^2), with their relations: the
+    field is polynomial in them, and rho^2 reduces to gamma1."""
+    potential = sp.sqrt(mech.gamma1) + 1 / (1 + mech.gamma3**2)
+    field = mech.vector_field((1, 2, 3), potential, (0, 0, 0))
+    system = PolynomialSystem(field, [], WEIGHTS, 2, hamiltonian=potential)
+    kinds = sorted(a.kind for a in system.space.adjoined)
+    assert kinds == ["inverse", "root", "root_inverse"]
+    assert all(y.ring.ngens == 9 for y in system.field)
+    rho = sp.sqrt(mech.gamma1)
+    assert system.polynomial(rho**2) == system.polynomial(mech.gamma1)
+    assert (
+        system.polynomial((1 + mech.gamma3**2) / (1 + mech.gamma3**2) ** 2 * (1 + mech.gamma3**2))
+        == system.ring.one
+    )
+    # the normal form of rho^3 is gamma1 * rho: no power of rho above the first survives
+    (monomial,) = system.polynomial(rho**3).monoms()
+    assert max(monomial[: system.n]) == 1
+    with pytest.raises(DiscoveryError, match="not in the system's ring"):
+        system.polynomial(1 / (1 + mech.gamma2))
 
 
 def test_the_size_limit_is_checked_before_the_system_is_built():
