@@ -84,7 +84,7 @@ class SystemRing:
         prepared = [self._prepare(e) for e in expressions]
         for e in prepared:
             self._collect(e)
-        bounds = {}
+        bounds: dict[sp.Symbol, int] = {}
         for e in bound_from:
             lifted = self.lift(e)
             for symbol in [*self.inverses.values(), *(r for _, r in self.roots.values())]:
