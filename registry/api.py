@@ -43,6 +43,8 @@ if TYPE_CHECKING:
     import pandas as pd
     from distributed import Client
 
+    from .presentation.site import Catalog
+
 #: Where the registry lives when neither --db nor REGISTRY_DB says otherwise.
 DEFAULT_DB = Path("data") / "registry.sqlite"
 
@@ -619,6 +621,29 @@ class Registry:
         from .presentation import data_export
 
         return data_export.export_tables(self.tables(), Path(out_dir), fmt)
+
+    def catalog(self) -> Catalog:
+        """What the static site shows: every case's newest version with the newest audit
+        of that version, the version history, the searches and discoveries."""
+        from .presentation.site import CaseEntry, Catalog
+
+        entries = []
+        for stored in self.store.case_versions():
+            case = stored.parse()
+            run, audit = self.store.stored_audit(stored.pk) or (None, None)
+            found = outcomes((audit,), {case.id: case}, {case.id: stored.version}) if audit else ()
+            entries.append(
+                CaseEntry(case, stored.version, stored.text, run, next(iter(found), None))
+            )
+        versions = frames.versions_frame(self.store)
+        return Catalog(self.cases(), tuple(entries), versions, self.searches(), self.discoveries())
+
+    def site(self, out_dir: str | os.PathLike, base_url: str = "") -> list[Path]:
+        """Write the registry as a static web site into ``out_dir`` (``presentation.site``):
+        byte-identical for the same registry; ``base_url`` is where it will be served."""
+        from .presentation.site import build_site
+
+        return build_site(self.catalog(), Path(out_dir), base_url)
 
     def diff(self, run_a: int, run_b: int) -> list[VerdictChange]:
         """The verdicts that differ between two runs, on the cases both runs audited, sorted

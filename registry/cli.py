@@ -839,6 +839,36 @@ def report(
 
 
 @main.command()
+@click.option(
+    "-o",
+    "--output",
+    type=click.Path(file_okay=False),
+    default="site",
+    show_default=True,
+    help="Folder to write the site into (created if need be).",
+)
+@click.option(
+    "--base-url",
+    default="",
+    metavar="URL",
+    help="Where the site will be served (https://example.org/registry/): each page's "
+    "canonical address and the url of a case's BibTeX entry. Links are relative either way.",
+)
+@_user_errors
+def site(output: str, base_url: str) -> None:
+    """Write the registry as a static web site: an index with filters, a page per case
+    (cases/ID.html, with downloads for Mathematica, Maple and Python), pages per source
+    and topic, the searches and the corrections. The same registry gives byte-identical
+    files. Prints the folder and how many files it holds.
+
+    Example: registry site -o site && python -m http.server -d site
+    """
+    written = _registry().site(output, base_url)
+    pages = sum(p.suffix == ".html" for p in written)
+    click.echo(f"{output}: {len(written)} files, {pages} pages")
+
+
+@main.command()
 @_user_errors
 def runs() -> None:
     """List the audit runs.

@@ -89,6 +89,16 @@ def cases_frame(store: Store) -> pd.DataFrame:
 
 
 @guarded
+def versions_frame(store: Store) -> pd.DataFrame:
+    """One row per stored case version, oldest first for each case: case, version,
+    content_hash, added_at (the version history a case's page shows)."""
+    stmt = select(
+        CaseRow.case_id.label("case"), CaseRow.version, CaseRow.content_hash, CaseRow.added_at
+    ).order_by(CaseRow.case_id, CaseRow.version)
+    return _select_frame(store, stmt)
+
+
+@guarded
 def claims_frame(store: Store) -> pd.DataFrame:
     """One row per claim of each newest case version, in file order."""
     newest = newest_versions()
