@@ -10,6 +10,7 @@ conditions and the drift plot of a refuted claim. The content is said once, to a
 
 from __future__ import annotations
 
+import io
 import re
 import tempfile
 from collections import Counter
@@ -361,7 +362,18 @@ def _drift_png(case: Case, label: str) -> bytes:
     from .plots import drift_plot
 
     with tempfile.TemporaryDirectory() as scratch:
-        return drift_plot(case, label, Path(scratch) / "drift.png").read_bytes()
+        return _palette_png(drift_plot(case, label, Path(scratch) / "drift.png").read_bytes())
+
+
+def _palette_png(png: bytes, colours: int = 64) -> bytes:
+    """A line plot's PNG with an adaptive palette of ``colours`` (a third of the bytes;
+    a report embeds several and stays small)."""
+    from PIL import Image  # matplotlib's own dependency
+
+    image = Image.open(io.BytesIO(png)).convert("RGB").quantize(colours)
+    out = io.BytesIO()
+    image.save(out, format="PNG", optimize=True)
+    return out.getvalue()
 
 
 def _plotter(directory: Path) -> Plotter:

@@ -211,6 +211,15 @@ class _Views:
     def discoveries(self) -> list[dict[str, Any]]:
         return _records(self.catalog.discoveries)
 
+    @cached_property
+    def claims(self) -> dict[str, list[dict[str, Any]]]:
+        """The claims of each case with their verdicts and repairs (``_claims``), by id."""
+        out = {}
+        for case_id, entry in self.entries.items():
+            ns = Namespace(entry.case.parameters, entry.case.functions)
+            out[case_id] = _claims(entry.case, entry.outcome, ns)
+        return out
+
     def newest_search(self, case_id: str) -> dict[str, Any] | None:
         """The newest recorded search of a case (any of its versions), or None."""
         found = [s for s in self.searches if s["case"] == case_id]
@@ -266,7 +275,7 @@ class _Views:
             "casimirs": [_correction(c, ns) for c in outcome.casimirs] if outcome else [],
             "jacobi": _branches(outcome.jacobi_conditions, ns) if outcome else [],
             "error": outcome.error if outcome else None,
-            "claims": _claims(case, outcome, ns),
+            "claims": self.claims[case.id],
             "newest_search": search,
             "search_discoveries": [_discovery(d, ns) for d in found],
             "history": history,
@@ -533,9 +542,7 @@ def site_files(catalog: Catalog, base_url: str = "") -> dict[str, bytes]:
         if outcome is None:
             continue
         ns = Namespace(entry.case.parameters, entry.case.functions)
-        claims = [
-            c for c in _claims(entry.case, outcome, ns) if c["corrections"] or c["conditions"]
-        ]
+        claims = [c for c in views.claims[entry.case.id] if c["corrections"] or c["conditions"]]
         jacobi = _branches(outcome.jacobi_conditions, ns)
         casimirs = [_correction(c, ns) for c in outcome.casimirs]
         if claims or jacobi or casimirs or outcome.family is not None:

@@ -1,0 +1,442 @@
+"""The static site (``registry site``), tested on the files and in a real headless Chromium.
+
+One database is built per module: the three seed cases, a renamed case (its old id is an
+alias), and a hostile case whose title, notes, citation, DOI, URL and topic carry markup
+and quotes; audited in this process, with a recorded search of Zhukovsky's gyrostat. The
+site is built twice (byte-identical) and served from 127.0.0.1 by ``http.server``.
+
+In the browser (Debian's ``chromium`` and ``chromedriver``, driven by Selenium): the index
+and case pages load, every MathML formula renders with a non-zero size, the filters change
+the visible rows (and with scripts off the full table shows), an alias page redirects,
+links clicked lead to pages that exist, and no injected script runs. A screenshot of a
+case page is kept in ``test-artifacts/`` (ignored by git; its path is printed). Every
+internal link of every page is checked on the files (hrefs and srcs resolve). Under
+``REGISTRY_CI`` a missing Chromium fails these tests instead of skipping them.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+import shutil
+import threading
+import urllib.request
+from functools import partial
+from html.parser import HTMLParser
+from http.server import SimpleHTTPRequestHandler, ThreadingHTTPServer
+from pathlib import Path
+from types import SimpleNamespace
+from urllib.parse import unquote, urljoin, urlparse
+
+import pytest
+import sympy as sp
+from click.testing import CliRunner
+from samples import CASES, SEED, YEHIA_B, ZHUKOVSKY
+
+import registry
+from registry.cli import main
+from registry.language.casefile import parse_case_text
+from registry.presentation.site import bracket
+
+ROOT = Path(__file__).resolve().parents[2]
+ARTIFACTS = ROOT / "test-artifacts"
+CHROMIUM = os.environ.get("REGISTRY_CHROMIUM", "/usr/bin/chromium")
+CHROMEDRIVER = os.environ.get("REGISTRY_CHROMEDRIVER", "/usr/bin/chromedriver")
+RENAMED = "zhukovsky-1885-renamed-gyrostat"
+HOSTILE_ID = "hostile-2024-markup"
+PAYLOAD = "<script>window.__pwned = 1</script>"
+HOSTILE = f'''id = "{HOSTILE_ID}"
+title = "Evil {PAYLOAD} \\"quoted\\" & 'single' <img src=x onerror=\\"window.__pwned=2\\">"
+topic = "<b>bold topic</b>"
+notes = "Notes </pre>{PAYLOAD}<!-- and a comment"
+
+[source]
+citation = "A. B. Author, Journal of {PAYLOAD} 1 (2024) 1-2"
+authors = ["A. B. Author"]
+year = 2024
+locator = "p. 1 \\"<i>\\""
+doi = "10.1000/\\"><script>window.__pwned=3</script>"
+url = "javascript:window.__pwned=4"
+
+[parameters]
+c = "positive"
+
+[system]
+inertia = ["1", "1", "2"]
+potential = "c*gamma3"
+
+[[claims]]
+label = "I1"
+kind = "integral"
+expression = "M3"
+notes = "{PAYLOAD}"
+'''
+
+
+def _renamed_zhukovsky() -> str:
+    """Zhukovsky's gyrostat under a new id, listing its seed id as an alias."""
+    text = (CASES / f"{ZHUKOVSKY}.toml").read_text(encoding="utf-8")
+    text = re.sub(r'^id = "[^"]+"', f'id = "{RENAMED}"', text, count=1, flags=re.M)
+    return text.replace(f'id = "{RENAMED}"', f'id = "{RENAMED}"\naliases = ["{ZHUKOVSKY}"]', 1)
+
+
+@pytest.fixture(scope="module")
+def built(tmp_path_factory) -> SimpleNamespace:
+    """The database, and the site built twice from it into two folders."""
+    folder = tmp_path_factory.mktemp("site")
+    db = folder / "registry.sqlite"
+    with registry.open(db) as reg:
+        reg.add(*(CASES / f"{c}.toml" for c in SEED if c != ZHUKOVSKY))
+        for name, text in ((RENAMED, _renamed_zhukovsky()), (HOSTILE_ID, HOSTILE)):
+            reg.add_case(parse_case_text(text, f"{name}.toml"))
+        reg.audit(jobs=0)
+        reg.survey([RENAMED], jobs=1)
+        first = reg.site(folder / "one")
+        reg.site(folder / "two")
+        cases = reg.cases()
+        verdicts = reg.verdicts()
+        claims = reg.claims()
+    return SimpleNamespace(
+        db=db,
+        site=folder / "one",
+        other=folder / "two",
+        written=first,
+        cases=cases,
+        verdicts=verdicts,
+        claims=claims,
+    )
+
+
+def _tree(folder: Path) -> dict[str, bytes]:
+    return {
+        p.relative_to(folder).as_posix(): p.read_bytes() for p in folder.rglob("*") if p.is_file()
+    }
+
+
+# ------------------------------------------------------------------ the files
+
+
+def test_two_builds_are_byte_identical(built):
+    one, two = _tree(built.site), _tree(built.other)
+    assert one.keys() == two.keys()
+    assert [name for name in one if one[name] != two[name]] == []
+    assert sorted(one) == sorted(p.relative_to(built.site).as_posix() for p in built.written)
+
+
+def test_every_case_has_its_permanent_page_downloads_and_alias_redirect(built):
+    ids = list(built.cases["case"])
+    assert set(ids) == {*SEED, RENAMED, HOSTILE_ID} - {ZHUKOVSKY}
+    for case_id in ids:
+        for ext in ("html", "toml", "audit.json", "m", "mpl", "py"):
+            assert (built.site / "cases" / f"{case_id}.{ext}").is_file(), (case_id, ext)
+    redirect = (built.site / "cases" / f"{ZHUKOVSKY}.html").read_text(encoding="utf-8")
+    assert f'content="0; url={RENAMED}.html"' in redirect
+    for page in ("index.html", "searches.html", "corrections.html", "topics/index.html"):
+        assert (built.site / page).is_file()
+
+
+class _Links(HTMLParser):
+    """Every href and src of a page, and its element ids; tags left open or closed wrong."""
+
+    VOID = {"meta", "img", "br", "hr", "link", "input", "source", "mspace", "none"}
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.links: list[str] = []
+        self.ids: set[str] = set()
+        self.open: list[str] = []
+        self.errors: list[str] = []
+
+    def handle_starttag(self, tag, attrs):
+        for name, value in attrs:
+            if name in ("href", "src") and value is not None:
+                self.links.append(value)
+            if name == "id" and value:
+                self.ids.add(value)
+        if tag not in self.VOID:
+            self.open.append(tag)
+
+    def handle_startendtag(self, tag, attrs):
+        self.handle_starttag(tag, attrs)
+        if tag not in self.VOID:
+            self.open.pop()
+
+    def handle_endtag(self, tag):
+        if not self.open or self.open.pop() != tag:
+            self.errors.append(f"</{tag}> at {self.getpos()}")
+
+
+def _parsed(path: Path) -> _Links:
+    parser = _Links()
+    parser.feed(path.read_text(encoding="utf-8"))
+    parser.close()
+    return parser
+
+
+def test_every_internal_link_of_every_page_resolves_and_tags_balance(built):
+    pages = sorted(built.site.rglob("*.html"))
+    assert len(pages) > 10
+    broken, unbalanced, external = [], [], set()
+    for page in pages:
+        found = _parsed(page)
+        if found.errors or found.open:
+            unbalanced.append((page.name, found.errors[:3], found.open[:3]))
+        for link in found.links:
+            parts = urlparse(link)
+            if parts.scheme or link.startswith("//"):
+                external.add(parts.scheme)
+                continue
+            target = (page.parent / unquote(parts.path)).resolve() if parts.path else page
+            if not target.is_file():
+                broken.append((page.relative_to(built.site).as_posix(), link))
+            elif parts.fragment and target.suffix == ".html":
+                if parts.fragment not in _parsed(target).ids:
+                    broken.append((page.name, link))
+    assert broken == []
+    assert unbalanced == []
+    assert external <= {"https"}  # DOI links; never javascript:
+
+
+def test_hostile_text_is_escaped_everywhere(built):
+    ours = {"index.html": 2}  # the JSON index and site.js
+    for page in built.site.rglob("*.html"):
+        text = page.read_text(encoding="utf-8")
+        name = page.relative_to(built.site).as_posix()
+        assert text.count("<script") == ours.get(name, 0), name
+        assert "<img src=x" not in text and "<b>bold" not in text, name
+        assert 'href="javascript:' not in text, name
+    case_page = (built.site / "cases" / f"{HOSTILE_ID}.html").read_text(encoding="utf-8")
+    assert "&lt;script&gt;window.__pwned = 1&lt;/script&gt;" in case_page
+    assert 'href="javascript:' not in case_page
+    assert 'href="https://doi.org/10.1000/%22%3E%3Cscript%3E' in case_page  # quoted DOI
+    index = json.loads((built.site / "index.json").read_text(encoding="utf-8"))
+    (row,) = [r for r in index if r["id"] == HOSTILE_ID]
+    assert PAYLOAD in row["title"]  # data kept as it is, escaped where it is written
+
+
+def test_downloads_reload_parse_and_evaluate(built, tmp_path):
+    case_dir = built.site / "cases"
+    toml = case_dir / f"{YEHIA_B}.toml"
+    result = CliRunner().invoke(main, ["--db", str(tmp_path / "r.sqlite"), "add", str(toml)])
+    assert result.exit_code == 0, result.output
+    with registry.open(tmp_path / "r.sqlite") as reg, registry.open(built.db) as original:
+        assert reg.case(YEHIA_B).content_hash == original.case(YEHIA_B).content_hash
+        case = original.case(YEHIA_B)
+    document = json.loads((case_dir / f"{YEHIA_B}.audit.json").read_text(encoding="utf-8"))
+    (entry,) = document["cases"]
+    assert entry["case"] == YEHIA_B and entry["claims"][0]["verdict"] == "refuted"
+    namespace: dict = {}
+    code = (case_dir / f"{YEHIA_B}.py").read_text(encoding="utf-8")
+    exec(compile(code, f"{YEHIA_B}.py", "exec"), namespace)  # the site's own file
+    assert namespace["claims"]["I2"] == case.claims[0].expression.expr
+    for got, want in zip(namespace["torque"], case.system.torque_exprs, strict=True):
+        assert sp.expand(got - want) == 0
+    math = (case_dir / f"{YEHIA_B}.m").read_text(encoding="utf-8")
+    assert 'caseId = "yehia-2003-kovalevskaya-b";' in math
+    assert "claims = <|" in math and "pC" in math  # C is a Mathematica built-in: renamed
+
+
+def test_case_page_shows_verdicts_witness_repairs_history_and_citations(built):
+    page = (built.site / "cases" / f"{YEHIA_B}.html").read_text(encoding="utf-8")
+    for text in (
+        "witness point",
+        "Corrected Casimir",
+        "Corrected torque",
+        "The claim holds when",
+        "Version history",
+        "@misc{registry:yehia-2003-kovalevskaya-b,",
+        "@article{yehia2003,",
+    ):
+        assert text in page, text
+    assert page.count("<math") > 10
+    assert "e(3)" in page
+    renamed = (built.site / "cases" / f"{RENAMED}.html").read_text(encoding="utf-8")
+    assert "Newest search for integrals" in renamed and "No search recorded" not in renamed
+    assert f'<a href="{ZHUKOVSKY}.html">{ZHUKOVSKY}</a>' in renamed
+
+
+def test_bracket_names_follow_the_sign_of_kappa():
+    case = parse_case_text(HOSTILE, "h.toml")
+    assert bracket(case)[0] == "e(3)"
+
+
+def test_cli_site_prints_the_folder_and_its_counts(built, tmp_path):
+    out = tmp_path / "cli-site"
+    args = ["--db", str(built.db), "site", "-o", str(out), "--base-url", "https://x.org/reg"]
+    result = CliRunner().invoke(main, args)
+    assert result.exit_code == 0, result.output
+    assert re.fullmatch(rf"{re.escape(str(out))}: \d+ files, \d+ pages\n", result.output)
+    page = (out / "cases" / f"{YEHIA_B}.html").read_text(encoding="utf-8")
+    assert f'<link rel="canonical" href="https://x.org/reg/cases/{YEHIA_B}.html">' in page
+    assert f"url = {{https://x.org/reg/cases/{YEHIA_B}.html}}" in page
+
+
+# ------------------------------------------------------------------ the browser
+
+
+@pytest.fixture(scope="module")
+def server(built):
+    """The first build served over HTTP from 127.0.0.1 (a free port)."""
+    handler = partial(_QuietHandler, directory=str(built.site))
+    httpd = ThreadingHTTPServer(("127.0.0.1", 0), handler)
+    thread = threading.Thread(target=httpd.serve_forever, daemon=True)
+    thread.start()
+    yield f"http://127.0.0.1:{httpd.server_address[1]}/"
+    httpd.shutdown()
+    httpd.server_close()
+
+
+class _QuietHandler(SimpleHTTPRequestHandler):
+    def log_message(self, *args):  # no request log on the test's output
+        pass
+
+
+def _chrome(tmp_path_factory, javascript: bool = True):
+    """A headless Chromium with a fresh profile, driven by the distribution's driver."""
+    if not (shutil.which(CHROMIUM) and shutil.which(CHROMEDRIVER)):
+        if os.environ.get("REGISTRY_CI"):
+            pytest.fail(
+                f"Chromium ({CHROMIUM}) and chromedriver ({CHROMEDRIVER}) are required in CI"
+            )
+        pytest.skip("no Chromium or chromedriver (apt-get install chromium chromium-driver)")
+    from selenium import webdriver
+
+    options = webdriver.ChromeOptions()
+    options.binary_location = CHROMIUM
+    for flag in (
+        "--headless",
+        "--no-sandbox",
+        "--disable-gpu",
+        "--disable-quic",
+        "--no-first-run",
+        "--disable-background-networking",
+        "--disable-component-update",
+        "--disable-sync",
+        "--window-size=1280,1600",
+        f"--user-data-dir={tmp_path_factory.mktemp('chromium-profile')}",
+    ):
+        options.add_argument(flag)
+    if not javascript:
+        options.add_experimental_option(
+            "prefs", {"profile.managed_default_content_settings.javascript": 2}
+        )
+    return webdriver.Chrome(options=options, service=webdriver.ChromeService(CHROMEDRIVER))
+
+
+@pytest.fixture(scope="module")
+def browser(tmp_path_factory):
+    driver = _chrome(tmp_path_factory)
+    yield driver
+    driver.quit()
+
+
+def _visible_rows(driver) -> list[str]:
+    return driver.execute_script(
+        "return Array.from(document.querySelectorAll('tr[data-case]'))"
+        ".filter(r => !r.hidden && r.offsetParent !== null).map(r => r.dataset.case)"
+    )
+
+
+def test_the_index_lists_every_case_and_its_filters_change_the_rows(built, server, browser):
+    from selenium.webdriver.common.by import By
+    from selenium.webdriver.support.ui import Select
+
+    browser.get(server + "index.html")
+    everything = sorted(built.cases["case"])
+    assert sorted(_visible_rows(browser)) == everything
+    form = browser.find_element(By.ID, "filters")
+    assert form.is_displayed()
+
+    refuted = sorted(
+        {
+            row.case
+            for row in built.claims.itertuples()
+            for v in built.verdicts.itertuples()
+            if v.case == row.case and v.claim == row.label and v.check == row.kind
+            and v.verdict == "refuted"
+        }
+    )  # fmt: skip
+    assert refuted and len(refuted) < len(everything)
+    Select(browser.find_element(By.ID, "f-verdict")).select_by_value("refuted")
+    assert sorted(_visible_rows(browser)) == refuted
+    assert browser.find_element(By.ID, "shown").text == (
+        f"{len(refuted)} of {len(everything)} cases shown."
+    )
+    browser.find_element(By.CSS_SELECTOR, "button[type=reset]").click()
+    assert sorted(_visible_rows(browser)) == everything
+
+    browser.find_element(By.ID, "f-text").send_keys("kovalevskaya")
+    assert _visible_rows(browser) == [YEHIA_B]
+    browser.find_element(By.CSS_SELECTOR, "button[type=reset]").click()
+    browser.find_element(By.ID, "f-year-from").send_keys("2020")
+    assert _visible_rows(browser) == [HOSTILE_ID]  # the only source from 2020 on
+    browser.find_element(By.CSS_SELECTOR, "button[type=reset]").click()
+    browser.find_element(By.ID, "f-author").send_keys("yehia")
+    assert _visible_rows(browser) == [YEHIA_B]
+    browser.find_element(By.CSS_SELECTOR, "button[type=reset]").click()
+    topic = built.cases.set_index("case").loc[YEHIA_B, "topic"]
+    Select(browser.find_element(By.ID, "f-topic")).select_by_value(topic)
+    expected = sorted(built.cases[built.cases["topic"] == topic]["case"])
+    assert sorted(_visible_rows(browser)) == expected
+    assert browser.execute_script("return window.__pwned === undefined")
+
+
+def test_with_scripts_off_the_index_shows_the_full_table(built, server, tmp_path_factory):
+    driver = _chrome(tmp_path_factory, javascript=False)
+    try:
+        from selenium.webdriver.common.by import By
+
+        driver.get(server + "index.html")
+        rows = driver.find_elements(By.CSS_SELECTOR, "tr[data-case]")
+        assert sorted(r.get_attribute("data-case") for r in rows) == sorted(built.cases["case"])
+        assert all(r.is_displayed() for r in rows)
+        assert not driver.find_element(By.ID, "filters").is_displayed()  # needs the script
+    finally:
+        driver.quit()
+
+
+def test_case_pages_render_their_mathml_and_keep_a_screenshot(built, server, browser):
+    for case_id in (YEHIA_B, RENAMED, HOSTILE_ID):
+        browser.get(server + f"cases/{case_id}.html")
+        sizes = browser.execute_script(
+            "return Array.from(document.querySelectorAll('math')).map(m => {"
+            " const r = m.getBoundingClientRect(); return [r.width, r.height]; })"
+        )
+        assert len(sizes) >= 6, case_id
+        assert all(w > 0 and h > 0 for w, h in sizes), case_id
+        # MathML laid out as math: a fraction is taller than a line of text
+        assert browser.execute_script("return window.__pwned === undefined"), case_id
+    browser.get(server + f"cases/{YEHIA_B}.html")
+    heights = browser.execute_script(
+        "return Array.from(document.querySelectorAll('math mfrac'))"
+        ".map(f => f.getBoundingClientRect().height)"
+    )
+    line = browser.execute_script(
+        "return parseFloat(getComputedStyle(document.querySelector('p')).lineHeight)"
+    )
+    assert heights and max(heights) > line
+    ARTIFACTS.mkdir(exist_ok=True)
+    shot = ARTIFACTS / f"site-{YEHIA_B}.png"
+    assert browser.save_screenshot(str(shot))
+    assert shot.read_bytes().startswith(b"\x89PNG")
+    print(f"screenshot: {shot}")
+
+
+def test_links_followed_in_the_browser_lead_to_pages_that_exist(built, server, browser):
+    from selenium.webdriver.common.by import By
+
+    browser.get(server + f"cases/{ZHUKOVSKY}.html")  # the alias: redirected
+    assert browser.current_url == server + f"cases/{RENAMED}.html"
+    seen = set()
+    for start in ("index.html", f"cases/{YEHIA_B}.html", "searches.html"):
+        browser.get(server + start)
+        hrefs = {a.get_attribute("href") for a in browser.find_elements(By.CSS_SELECTOR, "a[href]")}
+        for href in sorted(h for h in hrefs if h.startswith(server)):
+            target = urljoin(href, urlparse(href).path)
+            if target in seen:
+                continue
+            seen.add(target)
+            with urllib.request.urlopen(target) as response:  # noqa: S310 - our own server
+                assert response.status == 200, target
+    assert len(seen) > 15
