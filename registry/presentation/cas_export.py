@@ -215,7 +215,7 @@ def _substituted(expr: sp.Basic, names: dict[str, str]) -> sp.Basic:
 
 def hamiltonian(case: Case) -> sp.Expr:
     """H: the case's own, or M.I^-1 M / 2 + U from its inertia and potential."""
-    given = getattr(case.system, "hamiltonian", None)
+    given = case.system.hamiltonian
     if given is not None:
         return given.expr
     m = sp.symbols("M1 M2 M3", real=True)
@@ -226,8 +226,7 @@ def hamiltonian(case: Case) -> sp.Expr:
 
 def kappa(case: Case) -> sp.Expr:
     """The bracket's parameter kappa (0, e(3), for a case that names none)."""
-    found = getattr(case.system, "kappa", None)
-    return sp.Integer(0) if found is None else found.expr
+    return case.system.kappa.expr
 
 
 def export(case: Case, language: Language) -> str:
@@ -248,7 +247,7 @@ def export(case: Case, language: Language) -> str:
     g = sp.symbols("gamma1 gamma2 gamma3", real=True)
     state = sum((a * b for a, b in zip(m, g, strict=True)), sp.Integer(0))
     lines.append(language.assign(_name("s_of_state", language), show(state)))
-    if getattr(case.system, "hamiltonian", None) is None:
+    if case.system.hamiltonian is None:
         inertia = [show(e) for e in case.system.inertia_exprs]
         lines.append(language.assign("inertia", language.listing(inertia)))
         lines.append(language.assign("potential", show(case.system.potential.expr)))

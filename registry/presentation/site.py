@@ -325,7 +325,7 @@ def _missing(value: Any) -> bool:
 def _system(case: Case) -> list[Formula]:
     """The system: H (or A, B, C and U, then H), the torque, the bracket's kappa."""
     system, shown = case.system, []
-    given = getattr(system, "hamiltonian", None)
+    given = system.hamiltonian
     if given is not None:
         shown.append(_formula(sp.Symbol("H"), given.expr, f"H = {given.text}"))
     else:
@@ -337,9 +337,9 @@ def _system(case: Case) -> list[Formula]:
     for k, mu in enumerate(system.torque):
         n = component_number(k)
         shown.append(_formula(sp.Symbol(f"mu_{n}"), mu.expr, f"mu{n} = {mu.text}"))
-    k = getattr(system, "kappa", None)
-    if k is not None and k.expr != 0:
-        shown.append(_formula(sp.Symbol("kappa"), k.expr, f"kappa = {k.text}"))
+    if system.kappa.expr != 0:
+        kappa_text = f"kappa = {system.kappa.text}"
+        shown.append(_formula(sp.Symbol("kappa"), system.kappa.expr, kappa_text))
     return shown
 
 
@@ -460,6 +460,12 @@ def _environment() -> Environment:
     return env
 
 
+def _asset(env: Environment, name: str) -> str:
+    """A file shipped beside the templates (the stylesheet, the script), unrendered."""
+    assert env.loader is not None
+    return env.loader.get_source(env, name)[0]
+
+
 def _normalised_base(base_url: str) -> str:
     """The base address with exactly one trailing slash ("" when none is given)."""
     return base_url.rstrip("/") + "/" if base_url else ""
@@ -487,8 +493,8 @@ def site_files(catalog: Catalog, base_url: str = "") -> dict[str, bytes]:
     }
     page("index.html", "index.html", **index)
     files["index.json"] = json.dumps(rows, indent=1, sort_keys=True, ensure_ascii=False) + "\n"
-    files["site.css"] = env.loader.get_source(env, "site.css")[0]
-    files["site.js"] = env.loader.get_source(env, "site.js")[0]
+    for asset in ("site.css", "site.js"):  # the loader's own files, as they are
+        files[asset] = _asset(env, asset)
 
     taken = set(views.entries)
     for entry in entries:
@@ -530,10 +536,14 @@ def site_files(catalog: Catalog, base_url: str = "") -> dict[str, bytes]:
 
     searches = []
     for s in views.searches:
-        entry = views.entries.get(s["case"])
-        ns = Namespace(entry.case.parameters, entry.case.functions) if entry else Namespace({})
+        searched = views.entries.get(s["case"])
+        ns = (
+            Namespace(searched.case.parameters, searched.case.functions)
+            if searched
+            else Namespace({})
+        )
         found = [_discovery(d, ns) for d in views.discoveries if d["search"] == s["search"]]
-        searches.append({**s, "discoveries": found, "known_case": entry is not None})
+        searches.append({**s, "discoveries": found, "known_case": searched is not None})
     page("searches.html", "searches.html", searches=searches)
 
     corrections = []
