@@ -32,12 +32,12 @@ from urllib.parse import unquote, urljoin, urlparse
 import pytest
 import sympy as sp
 from click.testing import CliRunner
-from samples import CASES, SEED, YEHIA_B, ZHUKOVSKY
 
 import registry
 from registry.cli import main
 from registry.language.casefile import parse_case_text
 from registry.presentation.site import bracket
+from tests.helpers.samples import CASES, SEED, YEHIA_B, ZHUKOVSKY
 
 ROOT = Path(__file__).resolve().parents[2]
 ARTIFACTS = ROOT / "test-artifacts"
