@@ -13,6 +13,7 @@ import pytest
 import sympy as sp
 import tomli_w
 
+import registry
 from registry.audit.case_audit import audit_case
 from registry.audit.checks import not_applicable
 from registry.audit.outcome import case_outcome
@@ -27,7 +28,7 @@ from registry.mathematics.zero_test import decide
 from registry.model import Case, IntegralSet, SearchOptions, Verdict
 from registry.presentation.audit_json import case_document
 from registry.presentation.notebook import case_html, case_latex
-from tests.helpers.samples import CASES, CLASSICAL, SEED, case_file
+from tests.helpers.samples import CASES, CLASSICAL, HAMILTONIAN, SEED, case_file
 
 M1, M2, M3 = mech.MOMENTUM
 g1, g2, g3 = mech.AXIS
@@ -380,3 +381,65 @@ def test_the_papers_corrections_say_they_do_not_apply_on_so4():
     # parameter conditions are still sought: K-e3 holds where kappa c^2 vanishes
     (conditions,) = [c for c in audit.conditions if c.target == "K-e3"]
     assert {b for b in conditions.branches} == {("c = 0",), ("kappa = 0",)}
+
+
+# ------------------------------------------- stored and distributed runs
+
+
+def local_verdicts() -> dict[tuple[str, str, str | None], str]:
+    """(case, check, claim) -> verdict of every fixture case, audited in this process."""
+    found = {}
+    for path in sorted(HAMILTONIAN.glob("*.toml")):
+        case = load_case(path)
+        for r in audit_case(case).results:
+            found[case.id, r.check, r.claim] = str(r.verdict)
+    return found
+
+
+def stored_verdicts(reg, run: int) -> dict[tuple[str, str, str | None], str]:
+    frame = reg.verdicts()
+    frame = frame[frame.run == run]
+    return {
+        (row.case, row.check, row.claim if isinstance(row.claim, str) and row.claim else None): (
+            row.verdict
+        )
+        for row in frame.itertuples()
+    }
+
+
+def test_the_fixtures_verdicts():
+    found = local_verdicts()
+    assert found["test-kovalevskaya-so4", "integral", "K"] == "verified"
+    assert found["test-kovalevskaya-so4", "integral", "K-e3"] == "refuted"
+    assert found["test-kovalevskaya-so4", "casimir", "C"] == "verified"
+    assert found["test-kovalevskaya-so4", "casimir", "C-e3"] == "refuted"
+    assert found["test-kovalevskaya-so31", "integral", "K"] == "verified"
+    assert found["test-kovalevskaya-so31", "integral", "K-e3"] == "refuted"
+    assert found["test-clebsch-kirchhoff", "integral", "F"] == "verified"
+    assert found["test-clebsch-kirchhoff", "integral", "F-sign"] == "refuted"
+    assert found["test-gyrostat-so4", "jacobi", None] == "refuted"
+    assert found["test-gyrostat-so4", "integral", "M3"] == "verified"
+    assert not any(check == "hamiltonian" for _, check, _ in found)
+    assert "inconclusive" not in found.values() and "error" not in found.values()
+
+
+def test_a_database_of_either_backend_stores_the_local_verdicts(db_target):
+    with registry.open(db_target) as reg:
+        reg.add(HAMILTONIAN)
+        report = reg.audit(jobs=0)
+        assert stored_verdicts(reg, report.run) == local_verdicts()
+        stored = reg.case("test-kovalevskaya-so4")
+        assert stored.system.hamiltonian.text == "M1**2 + M2**2 + 2*M3**2 + 2*c*gamma1"
+        assert stored.system.kappa.text == "kappa"
+        assert reg.verify_db().ok
+
+
+def test_the_audit_json_carries_h_and_kappa():
+    case = parse_case_text(KOVALEVSKAYA_SO4)
+    document = case_document(case_outcome(audit_case(case, repair=False), case))
+    assert document["system"] == {
+        "hamiltonian": "M1**2 + M2**2 + 2*M3**2 + 2*c*gamma1",
+        "kappa": "kappa",
+    }
+    old = load_case(case_file(SEED[0]))
+    assert "system" not in case_document(case_outcome(audit_case(old, ["c1"]), old))

@@ -66,6 +66,12 @@ def case_document(outcome: CaseOutcome) -> dict:
         doc["version"] = outcome.version
     if outcome.case is not None:
         doc["title"] = outcome.case.title
+        system = outcome.case.system
+        if system.hamiltonian_form or system.kappa_expr != 0:  # the forms of issue 20
+            doc["system"] = {
+                **({"hamiltonian": system.hamiltonian.text} if system.hamiltonian_form else {}),
+                "kappa": system.kappa.text,
+            }
     if outcome.error is not None:
         doc["error"] = outcome.error
     doc["checks"] = {name: str(r.verdict) for name, r in outcome.checks.items()}

@@ -9,6 +9,9 @@ CASES = Path(__file__).resolve().parents[2] / "data" / "cases"
 TEST_DATA = Path(__file__).resolve().parents[1] / "data"
 #: Classical cases whose verdicts the literature settles (tests of numeric evidence).
 CLASSICAL = TEST_DATA / "classical"
+#: Cases in the Hamiltonian form, on e(3), so(4) and so(3,1) (issue 20), derived in
+#: tests/test_hamiltonian_form.py.
+HAMILTONIAN = TEST_DATA / "hamiltonian"
 #: The seed catalog: the reference paper's cases (and one classical case) at the top of
 #: data/cases; the literature catalog lives in its sub-folders.
 SEED_FILES = sorted(CASES.glob("*.toml"))
