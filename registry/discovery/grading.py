@@ -47,7 +47,7 @@ def shift(field: Sequence[sp.Expr], weights: tuple[int, int]) -> int | None:
     return next(iter(shifts), 0)
 
 
-def _degree(expr: sp.Expr, w: Sequence[int]) -> tuple[int] | tuple[()] | None:
+def _degree(expr: sp.Expr, w: Sequence[int]) -> tuple[int, ...] | None:
     """(weighted degree,) of a weighted-homogeneous polynomial in the state, () for 0,
     None for anything else."""
     expr = sp.expand(expr)

@@ -67,9 +67,9 @@ def case_document(outcome: CaseOutcome) -> dict:
     if outcome.case is not None:
         doc["title"] = outcome.case.title
         system = outcome.case.system
-        if system.hamiltonian_form or system.kappa_expr != 0:  # the forms of issue 20
+        if system.hamiltonian is not None or system.kappa_expr != 0:  # issue 20's forms
             doc["system"] = {
-                **({"hamiltonian": system.hamiltonian.text} if system.hamiltonian_form else {}),
+                **({} if system.hamiltonian is None else {"hamiltonian": system.hamiltonian.text}),
                 "kappa": system.kappa.text,
             }
     if outcome.error is not None:
