@@ -20,8 +20,7 @@ from typing import TYPE_CHECKING, Any, Literal
 
 from .audit.case_audit import DEFAULT_BUDGET, audit_case, failed_case
 from .audit.outcome import CaseOutcome, outcomes
-from .audit.time_budget import TimeBudget
-from .audit.worker_pool import audit_in_workers, default_jobs
+from .audit.parallel import audit_in_workers
 from .discovery.search import discover, search_options
 from .discovery.survey import searched, stated_options
 from .distributed.audits import audit_on_cluster
@@ -29,6 +28,8 @@ from .distributed.scheduler import check_same_code, cluster_client, describe
 from .distributed.searches import cluster_mapper, discover_on_cluster
 from .distributed.tasks import Event
 from .errors import CaseFormatError, RegistryError, UnknownCaseError
+from .execution.local import default_jobs
+from .execution.time_budget import TimeBudget
 from .language.case_writer import corrected_case_text, derived_case_text
 from .language.casefile import load_case, parse_case_text
 from .model import Case, CaseAudit, Equation, Search, SearchOptions, Verdict, VerdictChange

@@ -29,8 +29,9 @@ import sympy as sp
 
 import registry
 from registry.audit.case_audit import audit_case
-from registry.audit.time_budget import TimeBudget
-from registry.audit.worker_pool import audit_in_workers, default_jobs
+from registry.audit.parallel import audit_in_workers
+from registry.execution.local import default_jobs
+from registry.execution.time_budget import TimeBudget
 from registry.language.printer import to_text
 from registry.mathematics import mechanics as mech
 from registry.mathematics.case_mechanics import CaseMechanics

@@ -23,7 +23,7 @@ import sympy as sp
 
 import registry
 from registry.audit.case_audit import audit_case
-from registry.audit.time_budget import BudgetExceeded, time_limit
+from registry.execution.time_budget import BudgetExceeded, time_limit
 from registry.mathematics import mechanics as mech
 
 try:

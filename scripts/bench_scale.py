@@ -50,7 +50,7 @@ from pathlib import Path
 import sympy as sp
 
 import registry
-from registry.audit.time_budget import TimeBudget
+from registry.execution.time_budget import TimeBudget
 from registry.language.printer import to_text
 from registry.mathematics import mechanics as mech
 

@@ -24,11 +24,12 @@ ALLOWED: dict[str, set[str]] = {
     "model": set(),
     "errors": set(),
     "version": set(),
+    "execution": BASE,
     "mathematics": BASE,
     "language": BASE | {"mathematics"},
-    "audit": BASE | {"mathematics", "language"},
-    "discovery": BASE | {"mathematics", "language", "audit"},
-    "distributed": BASE | {"mathematics", "language", "audit", "discovery"},
+    "audit": BASE | {"mathematics", "language", "execution"},
+    "discovery": BASE | {"mathematics", "language", "audit", "execution"},
+    "distributed": BASE | {"mathematics", "language", "audit", "discovery", "execution"},
     "store": BASE | {"language"},
 }
 #: Layers that may import anything but these.
@@ -110,6 +111,65 @@ def violations(package: Path) -> list[str]:
 
 def test_every_import_goes_in_an_allowed_direction():
     assert violations(PACKAGE) == []
+
+
+#: Modules that start processes, and the functions of ``os`` that do.
+PROCESS_MODULES = ("multiprocessing", "subprocess", "concurrent.futures")
+PROCESS_CALLS = ("fork", "forkpty", "system", "popen", "spawn", "posix_spawn", "exec")
+
+
+def process_starts(package: Path) -> list[str]:
+    """Every place outside ``execution/`` that could start a process: an import of
+    multiprocessing, subprocess or concurrent.futures, or os.fork, os.system, os.spawn*,
+    os.posix_spawn*, os.exec*, as 'file:line what'."""
+    found = []
+    for path in sorted(package.rglob("*.py")):
+        if layer_of(module_name(path, package)) == "execution":
+            continue
+        where = path.relative_to(package.parent).as_posix()
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            names = []
+            if isinstance(node, ast.Import):
+                names = [alias.name for alias in node.names]
+            elif isinstance(node, ast.ImportFrom) and not node.level:
+                names = [node.module or ""]
+            for name in names:
+                if any(name == m or name.startswith(m + ".") for m in PROCESS_MODULES):
+                    found.append(f"{where}:{node.lineno} imports {name}")
+            if (
+                isinstance(node, ast.Attribute)
+                and isinstance(node.value, ast.Name)
+                and node.value.id == "os"
+                and node.attr.startswith(PROCESS_CALLS)
+            ):
+                found.append(f"{where}:{node.lineno} uses os.{node.attr}")
+    return found
+
+
+def test_only_the_execution_layer_starts_processes():
+    assert process_starts(PACKAGE) == []
+
+
+@pytest.mark.parametrize(
+    ("text", "expected"),
+    [
+        ("import multiprocessing as mp\n", "imports multiprocessing"),
+        ("from concurrent.futures import ProcessPoolExecutor\n", "imports concurrent.futures"),
+        ("def f():\n    import subprocess\n", "imports subprocess"),
+        ("import os\npid = os.fork()\n", "uses os.fork"),
+        ("import os\nos.execv('x', [])\n", "uses os.execv"),
+    ],
+)
+def test_a_process_started_outside_the_execution_layer_is_named(tmp_path, text, expected):
+    package = tmp_path / "registry"
+    for folder in ("audit", "execution"):
+        (package / folder).mkdir(parents=True)
+        (package / folder / "__init__.py").write_text("")
+    (package / "__init__.py").write_text("")
+    (package / "audit" / "bad.py").write_text(text)
+    (package / "execution" / "fine.py").write_text(text)
+    (problem,) = process_starts(package)
+    assert problem.startswith("registry/audit/bad.py:") and problem.endswith(expected)
 
 
 def cycles(package: Path) -> list[list[str]]:
@@ -199,7 +259,7 @@ def test_every_folder_of_the_package_is_a_known_layer():
         (
             "distributed/bad.py",
             "from ..store.database import Store\n",
-            "distributed may import only audit, discovery, distributed, errors, language",
+            "distributed may import only audit, discovery, distributed, errors, execution",
         ),
     ],
 )

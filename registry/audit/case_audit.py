@@ -12,6 +12,8 @@ import time
 from collections.abc import Iterable
 from dataclasses import replace
 
+from ..execution.serving import Failure
+from ..execution.time_budget import BudgetExceeded, TimeBudget, time_limit
 from ..mathematics.case_mechanics import CaseMechanics
 from ..model import (
     Case,
@@ -26,7 +28,6 @@ from ..model import (
 from .checks import CHECKS, CheckSpec, not_applicable
 from .corrections import corrections
 from .numeric_evidence import evidence as numeric_evidence
-from .time_budget import BudgetExceeded, TimeBudget, time_limit
 
 #: Budgets used when none is given: a few seconds per check.
 DEFAULT_BUDGET = TimeBudget()
@@ -145,13 +146,43 @@ def _run(
         )
 
 
+def failed_audit(case_id: str, content_hash: str, result: CheckResult) -> CaseAudit:
+    """The one way to record a case with no audit: a single result (check ``load`` or
+    ``audit``) saying why. Every failed case audit is built here."""
+    return CaseAudit(case_id, content_hash, (result,))
+
+
 def failed_case(case_id: str, content_hash: str, exc: Exception) -> CaseAudit:
     """The audit of a case that could not even be loaded: one ``error`` result."""
-    return CaseAudit(
-        case_id,
-        content_hash,
-        (CheckResult("load", Verdict.ERROR, "exception", reason=f"{type(exc).__name__}: {exc}"),),
+    why = f"{type(exc).__name__}: {exc}"
+    return failed_audit(
+        case_id, content_hash, CheckResult("load", Verdict.ERROR, "exception", reason=why)
     )
+
+
+def killed_audit(case: Case, seconds: float) -> CaseAudit:
+    """The audit of a case whose worker overran its deadline and was killed."""
+    reason = f"worker killed after {seconds:.0f} s (case time budget exceeded)"
+    result = CheckResult("audit", Verdict.INCONCLUSIVE, "time budget", reason=reason)
+    return failed_audit(case.id, case.content_hash, result)
+
+
+def crashed_audit(case: Case, why: str) -> CaseAudit:
+    """The audit of a case whose worker died or failed."""
+    result = CheckResult("audit", Verdict.ERROR, "exception", reason=why)
+    return failed_audit(case.id, case.content_hash, result)
+
+
+def as_audit(case: Case, outcome: CaseAudit | Failure) -> CaseAudit:
+    """A case's audit from what its call gave (on local workers or on a cluster alike):
+    the audit itself, or the record of a killed, crashed or failed call."""
+    if isinstance(outcome, CaseAudit):
+        return outcome
+    if outcome.kind == "killed":
+        return killed_audit(case, outcome.seconds or 0.0)
+    if outcome.kind == "crashed":
+        return crashed_audit(case, f"worker died ({outcome.exitcode})")
+    return crashed_audit(case, outcome.reason)
 
 
 def claim_verdict(

@@ -20,21 +20,21 @@ free-parameter values where more appear.
 
 from __future__ import annotations
 
-import collections.abc
 import random
 import time
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field, replace
-from typing import Any, cast
+from typing import cast
 
 import sympy as sp
 from sympy import QQ
 from sympy.polys.rings import PolyElement, PolyRing
 
 from ..audit.case_audit import audit_case
-from ..audit.time_budget import BudgetExceeded, time_limit
-from ..audit.worker_pool import in_processes
 from ..errors import DiscoveryError
+from ..execution.local import in_processes
+from ..execution.mapping import MAPPER_GRACE, Mapper, in_order
+from ..execution.time_budget import BudgetExceeded, time_limit
 from ..language.parser import Namespace, parse_equation
 from ..language.printer import to_text
 from ..mathematics import mechanics as mech
@@ -70,19 +70,6 @@ METHOD = (
 
 #: Progress callback: (candidates done, candidates known so far, what is being done).
 Progress = Callable[[int, int, str], None]
-
-#: Runs calls elsewhere (``registry.distributed.searches``: on a Dask cluster).
-#: ``mapper(fn, items, seconds)`` yields ``(index, value)`` as the calls complete, in any
-#: order, each index once: ``value`` is ``fn(items[index])``, or an exception saying why
-#: there is none; ``seconds`` bounds each call (None: no bound). Closing the iterator
-#: stops what still runs.
-Mapper = Callable[
-    [Callable[[Any], Any], Sequence[Any], float | None],
-    collections.abc.Generator[tuple[int, Any], None, None],
-]
-#: Seconds a call given to a mapper may run past the search's budget before it is
-#: killed: the budget's own alarm, here, stops the search first.
-MAPPER_GRACE = 5.0
 
 
 @dataclass
@@ -288,27 +275,6 @@ def _each_elsewhere(state: _State, candidates, mapper: Mapper, seconds: float | 
             yield IntegralSet(when, 0), [], [why]
         else:
             yield value
-
-
-def in_order(calls: Iterator[tuple[int, Any]], count: int) -> Iterator[tuple[int, Any]]:
-    """A mapper's (index, result) pairs, which come in any order, in the order of the
-    indices 0..count-1, each as soon as those before it are in; an index the mapper
-    never returned comes as a DiscoveryError. The mapper is closed at the end (at once,
-    also when the consumer stops in the middle: the budget ran out)."""
-    arrived: dict[int, Any] = {}
-    following = 0
-    try:
-        for index, value in calls:
-            arrived[index] = value
-            while following in arrived:
-                yield following, arrived.pop(following)
-                following += 1
-        for index in range(following, count):
-            yield index, arrived.pop(index, DiscoveryError("no result came back"))
-    finally:
-        close = getattr(calls, "close", None)
-        if close is not None:
-            close()
 
 
 def _search_apart(work):

@@ -9,13 +9,14 @@ from collections.abc import Iterator, Sequence
 
 import sympy as sp
 
-from ..audit.worker_pool import in_processes
 from ..errors import DiscoveryError
+from ..execution.local import in_processes
+from ..execution.mapping import MAPPER_GRACE, Mapper, in_order
 from ..mathematics import mechanics as mech
 from ..mathematics.case_mechanics import CaseMechanics
 from ..model import Case, Claim, IntegralSet, Provenance, Search, SearchOptions
 from .grading import homogeneous_weights
-from .search import MAPPER_GRACE, Mapper, discover, in_order
+from .search import discover
 
 #: The smallest degree searched: below it no integral beyond H and |gamma|^2 can show.
 LEAST_DEGREE = 2

@@ -4,11 +4,11 @@ Each case is audited by ``audit_case`` in a child process of a Dask worker, unde
 same ``TimeBudget`` as in the local pool: every check is interrupted by SIGALRM in the
 child when its time is up, and the whole case is killed at
 ``TimeBudget.case_deadline(count_checks(case))``. Cases sharing a torque go to one
-task, largest first, as in the local pool (``worker_pool.batches``); small groups
+task, largest first, as in the local pool (``audit.parallel.batches``); small groups
 share a task, so that Dask's cost per task and a child's start stay small beside
 the work, and the tasks shrink as the run goes (``tasks.guided``), so that its end
 leaves few workers idle. A killed case, or one whose child crashed, gets exactly the result the
-local pool gives it (``worker_pool.killed``, ``worker_pool.crashed``): the verdicts
+local pool gives it (``case_audit.as_audit``): the verdicts
 do not depend on where a case was audited.
 """
 
@@ -18,11 +18,10 @@ from collections.abc import Callable, Iterator, Sequence
 from functools import partial
 from typing import TYPE_CHECKING
 
-from ..audit.case_audit import audit_case, count_checks
-from ..audit.time_budget import TimeBudget
-from ..audit.worker_pool import batches, crashed, killed
+from ..audit.case_audit import as_audit, audit_case, count_checks
+from ..audit.parallel import batches
+from ..execution.time_budget import TimeBudget
 from ..model import Case, CaseAudit
-from .children import Failure
 from .scheduler import threads
 from .tasks import Event, guided, run_calls
 
@@ -45,18 +44,6 @@ def plan(cases: Sequence[Case], n_threads: int, max_batch: int = MAX_BATCH) -> l
     return guided(groups, SHARES_PER_THREAD * max(1, n_threads), max_batch)
 
 
-def as_audit(case: Case, outcome: CaseAudit | Failure) -> CaseAudit:
-    """A case's audit from what its call gave: the audit itself, or the local pool's
-    record of a killed or crashed worker."""
-    if isinstance(outcome, CaseAudit):
-        return outcome
-    if outcome.kind == "killed":
-        return killed(case, outcome.seconds or 0.0)
-    if outcome.kind == "crashed":
-        return crashed(case, f"worker died ({outcome.exitcode})")
-    return crashed(case, outcome.reason)
-
-
 def audit_on_cluster(
     client: Client,
     cases: Sequence[Case],
@@ -67,7 +54,7 @@ def audit_on_cluster(
 ) -> Iterator[tuple[int, CaseAudit]]:
     """Audit ``cases`` on the cluster of ``client``; yield (index, audit) as each arrives.
 
-    The counterpart of ``worker_pool.audit_in_workers``, with the same results case by
+    The counterpart of ``audit.parallel.audit_in_workers``, with the same results case by
     case; ``done`` is called with each case as its audit arrives, ``on_event`` with what
     happened on the cluster (a worker lost, its cases done elsewhere).
     """

@@ -7,7 +7,7 @@ FILE.json``: what the jobs of a batch system share); ``local:N`` starts a
 ``LocalCluster`` of N worker processes (one thread each, bound to 127.0.0.1, no
 dashboard) for the duration of the command and closes it after; ``local`` alone
 starts one worker per core. Without either, the local worker pool
-(``audit/worker_pool.py``) does the work.
+(``execution/local.py``) does the work.
 
 >>> parse_scheduler("local:2")
 SchedulerAddress(text='local:2', workers=2)
@@ -31,7 +31,6 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 from urllib.parse import urlsplit
 
-from ..audit.worker_pool import default_jobs
 from ..errors import (
     DaskMissingError,
     SchedulerAddressError,
@@ -39,6 +38,7 @@ from ..errors import (
     SchedulerSecurityError,
     SchedulerUnreachableError,
 )
+from ..execution.local import default_jobs
 
 if TYPE_CHECKING:
     from distributed import Client

@@ -17,10 +17,11 @@ from __future__ import annotations
 from collections.abc import Callable, Generator, Sequence
 from typing import TYPE_CHECKING, Any
 
-from ..discovery.search import Mapper, discover
+from ..discovery.search import discover
 from ..errors import DiscoveryError
+from ..execution.mapping import Mapper
+from ..execution.serving import Failure
 from ..model import Case, Search, SearchOptions
-from .children import Failure
 from .tasks import Event, run_calls
 
 if TYPE_CHECKING:

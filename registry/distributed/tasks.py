@@ -7,7 +7,7 @@ under an integral search's candidates::
         ...  # outcome is fn(items[index]), or a Failure saying why there is none
 
 Each task is a batch of items run by one child process of a Dask worker, each call
-under its deadline (``children``: killed past it, even where SIGALRM cannot reach).
+under its deadline (``execution.children``: killed past it, even where SIGALRM cannot reach).
 
 A worker that dies, or leaves, while it holds batches takes no results with it: the
 scheduler runs those batches again on other workers, and the client, which hears of
@@ -30,7 +30,8 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 from ..errors import SchedulerError
-from .children import BatchResult, Failure, run_batch
+from ..execution.children import BatchResult, run_batch
+from ..execution.serving import Failure
 
 if TYPE_CHECKING:
     from distributed import Client, Future
@@ -171,7 +172,7 @@ def run_calls(
 
     Yields
     ------
-    ``(index, outcome)``: ``outcome`` is ``fn(items[index])``, or a ``children.Failure``.
+    ``(index, outcome)``: ``outcome`` is ``fn(items[index])``, or a ``serving.Failure``.
     Every index comes exactly once. SchedulerError if the cluster drops the tasks (its
     scheduler is gone) or its workers cannot unpickle them (the package is missing
     there). Leaving the loop early cancels what has not run, and stops what runs.

@@ -236,23 +236,6 @@ def test_the_pure_python_backend_finds_the_same():
     assert json.loads(out.stdout) == [["lam = 1"], ["lam = 2"]]
 
 
-def test_results_that_come_in_any_order_are_put_back_in_order_and_none_is_lost():
-    from registry.discovery.search import in_order
-
-    closed = []
-
-    def calls():
-        try:
-            yield from [(2, "c"), (0, "a"), (1, "b")]  # index 3 never comes back
-        finally:
-            closed.append(True)
-
-    got = list(in_order(calls(), 4))
-    assert [(i, v) for i, v in got[:3]] == [(0, "a"), (1, "b"), (2, "c")]
-    assert got[3][0] == 3 and isinstance(got[3][1], DiscoveryError)
-    assert closed == [True]
-
-
 def test_three_free_parameters_give_the_four_classical_sets_and_nothing_else():
     # moments (1, b, c), centre of mass (1, 0, z0): the spherical top (M1 + z0 M3 for
     # every z0), Lagrange with the centre on the symmetry axis, Kovalevskaya with the

@@ -13,12 +13,14 @@ import sympy as sp
 from click.testing import CliRunner
 
 import registry
-from registry.audit.case_audit import count_checks
-from registry.audit.time_budget import TimeBudget
-from registry.audit.worker_pool import audit_in_workers, batches, crashed, killed
+from registry.audit.case_audit import as_audit, count_checks
+from registry.audit.case_audit import crashed_audit as crashed
+from registry.audit.case_audit import killed_audit as killed
+from registry.audit.parallel import audit_in_workers, batches
 from registry.cli import main
-from registry.distributed.audits import MAX_BATCH, as_audit, audit_on_cluster, plan
-from registry.distributed.children import Failure
+from registry.distributed.audits import MAX_BATCH, audit_on_cluster, plan
+from registry.execution.serving import Failure
+from registry.execution.time_budget import TimeBudget
 from registry.language.casefile import load_case
 from registry.model import Expression, Verdict
 from tests.helpers.samples import slow_case

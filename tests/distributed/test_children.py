@@ -10,9 +10,10 @@ import signal
 import threading
 import time
 
-from registry.audit.time_budget import BudgetExceeded, time_limit
-from registry.distributed.children import FAILURES, Failure, run_batch
 from registry.distributed.tasks import run_calls
+from registry.execution.children import run_batch
+from registry.execution.serving import FAILURES, Failure
+from registry.execution.time_budget import BudgetExceeded, time_limit
 
 # ------------------------------------------------------- calls the workers run
 

@@ -9,7 +9,7 @@ import pytest
 import sympy as sp
 
 from registry import Verdict, audit_case, load_case
-from registry.audit.time_budget import BudgetExceeded, TimeBudget, time_limit
+from registry.execution.time_budget import BudgetExceeded, TimeBudget, time_limit
 from registry.model import Expression
 from tests.helpers.samples import CASES
 

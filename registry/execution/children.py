@@ -30,33 +30,10 @@ from dataclasses import dataclass
 from multiprocessing import Pipe
 from typing import Any
 
-from ..audit.worker_pool import die_with_parent
+from .serving import Failure, serve
 
 #: Seconds between two looks, while a child works, at whether Dask still wants the task.
 POLL = 0.5
-#: Failure kinds, and what each means.
-FAILURES = {
-    "killed": "the call overran its deadline; its child process was killed",
-    "crashed": "the child process died without answering (a signal, or an exit)",
-    "error": "the call raised an exception",
-    "lost": "the cluster could not run the call (its workers kept dying, or it failed)",
-}
-
-
-@dataclass(frozen=True)
-class Failure:
-    """Why a call has no result (``kind`` is a key of ``FAILURES``).
-
-    ``seconds`` is the deadline a killed call overran; ``exitcode`` that of a crashed
-    child (negative: the signal that ended it, as in ``multiprocessing``); ``worker``
-    the address of the Dask worker where it happened, when known.
-    """
-
-    kind: str
-    reason: str
-    seconds: float | None = None
-    exitcode: int | None = None
-    worker: str | None = None
 
 
 @dataclass(frozen=True)
@@ -67,28 +44,6 @@ class BatchResult:
     worker: str
     outcomes: list[tuple[int, Any]]
     children: int
-
-
-def _serve(fn: Callable[[Any], Any], items: Sequence[Any], conn, parent: int) -> None:
-    """The child: ``fn`` on each item in turn, each result sent as soon as it is done.
-
-    SIGALRM works here (this thread is the child's main thread); SIGTERM ends the child
-    at once, Ctrl-C is the client's; the child dies with its worker (``parent``)."""
-    die_with_parent(parent)
-    signal.pthread_sigmask(signal.SIG_SETMASK, [])
-    signal.signal(signal.SIGTERM, signal.SIG_DFL)
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-    for item in items:
-        try:
-            message = ("ok", fn(item))
-        except BaseException as exc:  # report, never hang the task
-            message = ("error", f"{type(exc).__name__}: {exc}")
-        try:
-            conn.send(message)
-        except (BrokenPipeError, ConnectionError):
-            return  # the task has stopped waiting
-        except Exception as exc:  # a result that cannot be pickled
-            conn.send(("error", f"result cannot be sent back: {type(exc).__name__}: {exc}"))
 
 
 class _Child:
@@ -105,7 +60,7 @@ class _Child:
                 # other tasks' pipes and the worker's sockets are not the child's to hold
                 os.closerange(3, keep)
                 os.closerange(keep + 1, _max_fd())
-                _serve(fn, items, writer, parent)
+                serve(writer, fn, parent, items)
                 code = 0
             finally:
                 os._exit(code)

@@ -8,8 +8,8 @@ from dataclasses import replace
 
 from registry import Verdict, audit_case, load_case
 from registry.audit.checks import CHECKS
-from registry.audit.time_budget import TimeBudget
-from registry.audit.worker_pool import _torque, audit_in_workers, batches, estimated_cost
+from registry.audit.parallel import _torque, audit_in_workers, batches, estimated_cost
+from registry.execution.time_budget import TimeBudget
 from tests.helpers.samples import CASES
 
 
@@ -90,31 +90,3 @@ def test_the_rest_of_a_killed_workers_batch_is_still_audited(monkeypatch):
     results = dict(audit_in_workers(cases, 1, TimeBudget(check=0.5, corrections=0.5, margin=0.5)))
     assert "worker killed" in results[1].results[0].reason
     assert {r.verdict for r in results[0].results} == {Verdict.VERIFIED}
-
-
-def _pid_after(seconds: float) -> tuple[float, int]:
-    import os
-
-    time.sleep(seconds)
-    return seconds, os.getpid()
-
-
-def test_in_processes_keeps_the_order_and_ends_its_processes_when_stopped():
-    import os
-
-    from registry.audit.worker_pool import in_processes
-
-    results = in_processes(_pid_after, [0.3, 0.0, 0.1, 0.0], 2)
-    first, second = next(results), next(results)
-    assert [first[0], second[0]] == [0.3, 0.0]  # the slow first item still comes first
-    pids = [first[1], second[1]]
-    assert os.getpid() not in pids
-    results.close()  # the consumer stops in the middle: the pool is ended at once
-    time.sleep(0.2)
-    for pid in set(pids):
-        try:
-            os.kill(pid, 0)
-        except ProcessLookupError:
-            continue
-        with open(f"/proc/{pid}/stat") as stat:  # a zombie waiting to be reaped is gone too
-            assert stat.read().split()[2] == "Z"

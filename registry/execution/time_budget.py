@@ -4,7 +4,7 @@ Inside a process, a check runs under ``time_limit``, an interval timer whose
 signal interrupts sympy's Python code; the check then becomes
 ``inconclusive: time budget exceeded``. Code stuck in C (a huge integer
 product in gmpy, say) cannot be interrupted that way: the audit's worker
-processes (``worker_pool``) are killed from outside when their case overruns.
+processes (``local``, ``children``) are killed from outside when their case overruns.
 """
 
 from __future__ import annotations

@@ -1,0 +1,75 @@
+"""Local worker processes (``registry/execution/local.py``): the ordered pool map, and
+killable workers whose every item comes back as a result or a ``Failure`` saying why."""
+
+from __future__ import annotations
+
+import os
+import time
+
+from registry.execution.local import default_jobs, in_processes, run_in_workers
+from registry.execution.serving import Failure
+
+
+def _pid_after(seconds: float) -> tuple[float, int]:
+    import os
+
+    time.sleep(seconds)
+    return seconds, os.getpid()
+
+
+def test_in_processes_keeps_the_order_and_ends_its_processes_when_stopped():
+    import os
+
+    results = in_processes(_pid_after, [0.3, 0.0, 0.1, 0.0], 2)
+    first, second = next(results), next(results)
+    assert [first[0], second[0]] == [0.3, 0.0]  # the slow first item still comes first
+    pids = [first[1], second[1]]
+    assert os.getpid() not in pids
+    results.close()  # the consumer stops in the middle: the pool is ended at once
+    time.sleep(0.2)
+    for pid in set(pids):
+        try:
+            os.kill(pid, 0)
+        except ProcessLookupError:
+            continue
+        with open(f"/proc/{pid}/stat") as stat:  # a zombie waiting to be reaped is gone too
+            assert stat.read().split()[2] == "Z"
+
+
+def _behave(item: str) -> object:
+    """A call that answers, raises, dies or hangs, as ``item`` says."""
+    if item == "raise":
+        raise ValueError("no")
+    if item == "die":
+        os._exit(3)
+    if item == "hang":
+        time.sleep(60)
+    return (item, os.getpid())
+
+
+def test_each_item_comes_back_as_its_result_or_the_failure_that_stopped_it():
+    items = ["a", "raise", "b", "die", "c", "hang", "d"]
+    started: list[int] = []
+    found = dict(
+        run_in_workers(
+            _behave,
+            items,
+            jobs=2,
+            seconds=lambda item: 2.0,
+            batches=[[0, 1, 2, 3, 4], [5, 6]],
+            started=started.append,
+        )
+    )
+    assert sorted(found) == list(range(len(items)))
+    for i in (0, 2, 4, 6):
+        assert found[i][0] == items[i] and found[i][1] != os.getpid()
+    assert found[1] == Failure("error", "ValueError: no")
+    assert found[3].kind == "crashed" and found[3].reason.startswith("worker died (")
+    assert found[5] == Failure("killed", "deadline exceeded", 2.0)
+    # the worker that died is replaced: what came after the crash ran elsewhere
+    assert found[4][1] != found[0][1] and found[6][1] != found[0][1]
+    assert sorted(started) == list(range(len(items)))
+
+
+def test_default_jobs_is_at_least_one():
+    assert default_jobs() >= 1
