@@ -214,7 +214,7 @@ def _solve_by_factors(equations: Sequence[sp.Expr], gens: Sequence[sp.Symbol]) -
     """``sympy.solve`` on every choice of one vanishing factor per equation, for systems
     that are not polynomial in the parameters (up to ``MAX_SPLITS`` choices, else on
     the system whole)."""
-    systems = [()]
+    systems: list[tuple[sp.Expr, ...]] = [()]
     for eq in equations:
         factors = [f for f in sp.Mul.make_args(sp.factor(eq)) if not f.is_number]
         factors = [f.base if f.is_Pow and f.exp.is_positive else f for f in factors]

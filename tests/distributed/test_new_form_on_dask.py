@@ -6,9 +6,9 @@ from __future__ import annotations
 from dataclasses import replace
 
 import registry
-from registry.audit.time_budget import TimeBudget
 from registry.discovery.search import discover, search_options
 from registry.distributed.searches import discover_on_cluster
+from registry.execution.time_budget import TimeBudget
 from registry.language.casefile import parse_case_text
 from registry.model import Verdict
 from tests.helpers.samples import HAMILTONIAN
