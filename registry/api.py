@@ -646,6 +646,14 @@ class Registry:
 
         return build_site(self.catalog(), Path(out_dir), base_url)
 
+    def serve(self, host: str = "127.0.0.1", port: int = 8001) -> None:
+        """Browse this registry (an SQLite file) live in Datasette until interrupted
+        (``presentation.live_view``; the optional extra ``serve``)."""
+        from .presentation.live_view import serve
+
+        url = self.store.engine.url
+        serve(None if self.store.server else url.database, host, port)
+
     def diff(self, run_a: int, run_b: int) -> list[VerdictChange]:
         """The verdicts that differ between two runs, on the cases both runs audited, sorted
         by case, claim (case checks first) and check. UnknownRunError for a run that

@@ -869,6 +869,20 @@ def site(output: str, base_url: str) -> None:
 
 
 @main.command()
+@click.option("--host", default="127.0.0.1", show_default=True, help="Address to listen on.")
+@click.option("--port", type=int, default=8001, show_default=True, help="Port to listen on.")
+@_user_errors
+def serve(host: str, port: int) -> None:
+    """Browse an SQLite registry live in Datasette (the optional extra 'serve'): every
+    table described, any read-only SQL, and canned queries (refuted claims, cases by
+    source, the verdicts of a case, what the searches establish). Ctrl-C stops it.
+
+    Example: registry serve --port 8001
+    """
+    _registry().serve(host, port)
+
+
+@main.command()
 @_user_errors
 def runs() -> None:
     """List the audit runs.
