@@ -85,6 +85,7 @@ READS = [
     ["runs"],
     ["corrections"],
     ["searches"],
+    ["verify-db"],
     ["export-case", "yehia-2003-kovalevskaya-b", "--claim", "I2"],
 ]
 
@@ -102,11 +103,13 @@ def test_a_reader_writes_reports_and_exports_to_files(group, tmp_path):
         ["report", "--format", "md", "-o", str(tmp_path / "report.md")],
         ["export", "--format", "csv", "-o", str(tmp_path / "tables")],
         ["export", "--bibtex", "-o", str(tmp_path / "sources.bib")],
+        ["site", "-o", str(tmp_path / "site")],
     ):
         done = invoke(reader, *command)
         assert done.exit_code == 0, (command, done.output)
     assert "zhukovsky-gyrostat" in (tmp_path / "report.md").read_text(encoding="utf-8")
     assert any((tmp_path / "tables").iterdir())
+    assert (tmp_path / "site" / "cases" / "zhukovsky-gyrostat.html").is_file()
 
 
 WRITES = [
