@@ -18,6 +18,7 @@ TOPICS = {
     "Kirchhoff equations",
     "gyroscopic torques",
     "reference paper",
+    "so(4) and so(3,1)",
 }
 
 #: case id -> (jacobi, {claim label: (integral, casimir)}). energy, c1 and hamiltonian
@@ -66,6 +67,43 @@ EXPECTED = {
     "chaplygin-1903-kirchhoff-s0": (V, {"F": (V, R)}),
     # too broad on purpose: the quartic integral needs K.gamma = 0
     "chaplygin-1903-kirchhoff-all-s": (V, {"F": (R, R)}),
+    # Kirchhoff equations as printed (system.hamiltonian, e(3))
+    "steklov-1893-kirchhoff-hamiltonian": (V, {"F": (V, R), "area": (V, V)}),
+    # wrong on purpose: one sign of the cross terms reversed
+    "steklov-1893-kirchhoff-hamiltonian-sign": (V, {"F": (R, R)}),
+    "clebsch-1871-kirchhoff-hamiltonian": (V, {"F": (V, R), "area": (V, V)}),
+    "sokolov-2001-kirchhoff-quartic": (V, {"K": (V, R), "H": (V, R), "area": (V, V)}),
+    # wrong on purpose: the cross term without its potential -b^2 gamma3^2
+    "sokolov-2001-kirchhoff-uncompensated": (V, {"K": (R, R)}),
+    "wolf-2003-e3-clebsch": (V, {"F": (V, R), "J2": (V, V)}),
+    "wolf-2003-e3-kovalevskaya-gyrostat": (V, {"K": (V, R)}),
+    "wolf-2003-e3-sokolov-linear": (V, {"K": (V, R)}),
+    # wrong on purpose: the set's condition on the linear terms dropped
+    "wolf-2003-e3-sokolov-linear-unconstrained": (V, {"K": (R, R)}),
+    "wolf-2003-e3-chaplygin": (V, {"F": (V, R)}),
+    "wolf-2003-e3-goryachev-chaplygin": (V, {"G": (V, R)}),
+    # too broad on purpose: the cubic integral needs (M, gamma) = 0
+    "wolf-2003-e3-goryachev-chaplygin-all-s": (V, {"G": (R, R)}),
+    # so(4) and so(3,1) (system.kappa)
+    "komarov-1981-so4-kovalevskaya": (V, {"K": (V, R), "J2": (V, V)}),
+    "komarov-1990-so4-kovalevskaya": (
+        V,
+        {"K": (V, R), "H": (V, R), "J1": (V, V), "J2": (V, V)},
+    ),
+    "komarov-1990-so31-kovalevskaya": (V, {"K": (V, R), "J2": (V, V)}),
+    # wrong on purpose: Kovalevskaya's e(3) integral without its kappa-correction
+    "komarov-1990-so4-kovalevskaya-undeformed": (V, {"K0": (R, R)}),
+    "komarov-2006-so4-kovalevskaya-gyrostat": (V, {"K": (V, R), "J2": (V, V)}),
+    "borisov-2001-so4-sokolov-deformation": (V, {"K": (V, R), "J1": (V, V), "J2": (V, V)}),
+    # wrong on purpose: Sokolov's e(3) integral without its kappa-term
+    "borisov-2001-so4-sokolov-undeformed": (V, {"K0": (R, R)}),
+    "manakov-1976-so4-free-body": (V, {"F": (V, R), "J1": (V, V), "J2": (V, V)}),
+    "frahm-1874-so4-free-body": (V, {"F": (V, R), "J2": (V, V)}),
+    # wrong on purpose: an inertia that is not of Frahm's form
+    "frahm-1874-so4-free-body-perturbed": (V, {"F": (R, R)}),
+    "schottky-1891-so4-clebsch": (V, {"F": (V, R), "J2": (V, V)}),
+    # wrong on purpose: Clebsch's e(3) condition on so(4)
+    "schottky-1891-so4-clebsch-e3-condition": (V, {"F": (R, R)}),
     # gyroscopic torques and the reference paper
     # wrong on purpose: Grioli's torque destroys M.gamma
     "birtea-2011-grioli-area-lost": (V, {"area": (R, R), "area-corrected": (V, V)}),
@@ -84,6 +122,8 @@ INVARIANT = {
     ("sretensky-1963-gyrostat", "K"): V,
     ("borisov-2002-goryachev-chaplygin-gyrostat", "K"): V,
     ("chaplygin-1903-kirchhoff-s0", "F"): V,
+    ("wolf-2003-e3-chaplygin", "F"): V,
+    ("wolf-2003-e3-goryachev-chaplygin", "G"): V,
 }
 
 #: The deliberately wrong claims: the parameter values under which they would hold.
@@ -127,9 +167,9 @@ def test_every_case_in_the_subfolders_is_expected_and_every_expected_case_has_a_
 
 def test_catalog_size_and_sources():
     cases = [load_case(p) for p in all_files()]
-    assert len(cases) >= 40
+    assert len(cases) >= 70
     assert len({c.id for c in cases}) == len(cases)
-    assert len({c.source.citation for c in cases}) >= 15
+    assert len({c.source.citation for c in cases}) >= 35
 
 
 @pytest.mark.parametrize("path", all_files(), ids=lambda p: p.stem)
