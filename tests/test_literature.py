@@ -134,13 +134,10 @@ HOLDS_WHEN = {
     ("birtea-2011-grioli-area-lost", "area"): (
         ("S11 = S33", "S12 = 0", "S13 = 0", "S22 = S33", "S23 = 0"),
     ),
-    ("steklov-1893-kirchhoff-hamiltonian-sign", "F"): (
-        ("nu = 0",),
-        ("a1 = a2", "nu = 0"),
-        ("a1 = a3", "a2 = a3"),
-    ),
+    ("steklov-1893-kirchhoff-hamiltonian-sign", "F"): (("nu = 0",), ("a1 = a3", "a2 = a3")),
     ("sokolov-2001-kirchhoff-uncompensated", "K"): (("b = 0",),),
-    ("wolf-2003-e3-sokolov-linear-unconstrained", "K"): (("m1 = b*n3",),),
+    # m1 = b n3; solved for b, which leaves out n3 = m1 = 0 (any b)
+    ("wolf-2003-e3-sokolov-linear-unconstrained", "K"): (("b = m1/n3",),),
     ("wolf-2003-e3-goryachev-chaplygin-all-s", "G"): (("b = 0", "m1 = 0", "m2 = 0"),),
     ("komarov-1990-so4-kovalevskaya-undeformed", "K0"): (("c = 0",), ("kappa = 0",)),
     ("borisov-2001-so4-sokolov-undeformed", "K0"): (("b = 0",), ("kappa = 0",)),
