@@ -19,7 +19,7 @@ from registry.audit.checks import not_applicable
 from registry.audit.outcome import case_outcome
 from registry.discovery.search import discover, search_options
 from registry.errors import CaseFormatError
-from registry.language.case_writer import derived_case_text
+from registry.language.case_writer import corrected_case_text, derived_case_text
 from registry.language.casefile import load_case, parse_case_text
 from registry.language.printer import to_text
 from registry.mathematics import mechanics as mech
@@ -443,3 +443,57 @@ def test_the_audit_json_carries_h_and_kappa():
     }
     old = load_case(case_file(SEED[0]))
     assert "system" not in case_document(case_outcome(audit_case(old, ["c1"]), old))
+
+
+def test_the_survey_searches_new_form_cases(tmp_path):
+    with registry.open(tmp_path / "r.sqlite") as reg:
+        reg.add(HAMILTONIAN)
+        reports = {r.search.case: r.search for r in reg.survey(jobs=0)}
+    so4 = reports["test-kovalevskaya-so4"]
+    assert so4.options.weights == (1, 1) and so4.options.degree == 4  # no grading fits
+    assert so4.decided and so4.generic.extra == 1  # Komarov's K, rediscovered
+    assert "not weighted-homogeneous" in so4.method
+    clebsch = reports["test-clebsch-kirchhoff"]
+    assert clebsch.options.weights == (1, 1) and clebsch.options.degree == 2
+    assert clebsch.generic.extra == 1 and "not weighted-homogeneous" not in clebsch.method
+
+
+def test_numeric_evidence_integrates_pi_grad_h():
+    """The drift of Komarov's K along trajectories of so(3,1) is at H's noise floor; that
+    of Kovalevskaya's e(3) integral is not: the integrator runs the general equations."""
+    audit = audit_case(load_case(HAMILTONIAN / "kovalevskaya-so31.toml"), numeric=True)
+    evidence = {e.claim: e for e in audit.evidence}
+    assert evidence["K"].runs >= 2 and not evidence["K"].contradicts
+    assert evidence["K"].drift < 1e-6
+    assert evidence["K-e3"].drift > 1e-3 and not evidence["K-e3"].contradicts
+
+
+def test_a_corrected_torque_is_written_back_in_the_hamiltonian_form(tmp_path):
+    """The paper's corrections apply to any H on e(3): Yehia's case b) written with its
+    Hamiltonian gets the paper's corrected torque, and the exported case keeps H."""
+    case = as_hamiltonian_form(load_case(case_file(SEED[0])))
+    audit = audit_case(case)
+    torque = [c for c in audit.corrections if c.kind == "torque"]
+    assert torque
+    text = corrected_case_text(case, torque[0])
+    written = parse_case_text(text)
+    assert written.system.hamiltonian.expr == case.system.hamiltonian.expr
+    assert written.system.inertia == ()
+    assert [e.text for e in written.system.torque] == list(torque[0].torque)
+    assert verdicts(audit_case(written, repair=False))["casimir", torque[0].claim] is (
+        Verdict.VERIFIED
+    )
+
+
+def test_the_inertia_form_on_so4_is_the_same_system():
+    """Moments (1/2, 1/2, 1/4) and U = 2 c gamma1 with kappa give Kovalevskaya's so(4) H:
+    the same verdicts, and there the hamiltonian check applies and holds (the paper's
+    equations with kappa M x grad U added to dgamma/dt are Pi grad H)."""
+    inertia_form = KOVALEVSKAYA_SO4.replace(
+        'hamiltonian = "M1**2 + M2**2 + 2*M3**2 + 2*c*gamma1"',
+        'inertia = ["1/2", "1/2", "1/4"]\npotential = "2*c*gamma1"',
+    )
+    first = verdicts(audit_case(parse_case_text(inertia_form), repair=False))
+    second = verdicts(audit_case(parse_case_text(KOVALEVSKAYA_SO4), repair=False))
+    assert first.pop(("hamiltonian", None)) is Verdict.VERIFIED
+    assert first == second
