@@ -12,33 +12,30 @@
 from __future__ import annotations
 
 import os
-from collections.abc import Callable, Generator, Iterable, Sequence
-from contextlib import closing
-from dataclasses import asdict, dataclass, field, replace
+from collections.abc import Callable, Iterable, Sequence
+from contextlib import AbstractContextManager
+from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Literal
+from typing import TYPE_CHECKING, Literal
 
-from .audit.case_audit import DEFAULT_BUDGET, audit_case, failed_case
-from .audit.outcome import CaseOutcome, outcomes
-from .audit.parallel import audit_in_workers
-from .discovery.search import discover, search_options
-from .discovery.survey import searched, stated_options
-from .distributed.audits import audit_on_cluster
-from .distributed.scheduler import check_same_code, cluster_client, describe
-from .distributed.searches import cluster_mapper, discover_on_cluster
-from .distributed.tasks import Event
-from .errors import CaseFormatError, RegistryError, UnknownCaseError
-from .execution.local import default_jobs
+from .audit.outcome import outcomes
+from .errors import CaseFormatError, RegistryError
 from .execution.time_budget import TimeBudget
-from .language.case_writer import corrected_case_text, derived_case_text
-from .language.casefile import load_case, parse_case_text
-from .model import Case, CaseAudit, Equation, Search, SearchOptions, Verdict, VerdictChange
-from .presentation.audit_json import audit_document
-from .presentation.search_output import search_document, statement
-from .store import conversions, frames
-from .store.database import Store, StoredCase
+from .language.casefile import load_case
+from .model import Case, Equation, Verdict, VerdictChange
+from .runs.audit_run import AuditReport, audit_run, corrected_case, run_diff, stored_run
+from .runs.interruption import interruptible
+from .runs.search_run import (  # noqa: F401 - discover_file: a search without a registry
+    DEFAULT_SEARCH_BUDGET,
+    SearchReport,
+    discover_file,
+    search_run,
+    survey_run,
+)
+from .store import frames
+from .store.database import Store
 from .store.integrity import Verification, verify
-from .version import code_version, source_digest  # noqa: F401 - source_digest: the API's
+from .version import code_version, source_digest  # noqa: F401 - the code version's names
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -48,22 +45,6 @@ if TYPE_CHECKING:
 
 #: Where the registry lives when neither --db nor REGISTRY_DB says otherwise.
 DEFAULT_DB = Path("data") / "registry.sqlite"
-
-#: Seconds an integral search may take by default (``registry discover --budget``).
-DEFAULT_SEARCH_BUDGET = 300.0
-
-
-def _reusable(found: tuple[int, CaseAudit] | None, case: Case) -> CaseAudit | None:
-    """A stored audit worth reusing: complete, with no crashed or killed check, and
-    covering every claim of the case (a search may have attached claims since)."""
-    if found is None:
-        return None
-    _, audit = found
-    if any(r.verdict is Verdict.ERROR or r.check in ("audit", "load") for r in audit.results):
-        return None
-    if {c.label for c in case.claims} - {r.claim for r in audit.results}:
-        return None
-    return audit
 
 
 def default_target() -> str:
@@ -80,55 +61,6 @@ class AddResult:
     case: str | None = None
     version: int | None = None
     error: RegistryError | None = None
-
-
-@dataclass(frozen=True)
-class SearchReport:
-    """One integral search: its outcome, its number in the registry (None when it was
-    not recorded), whether a stored search was reused, and the ids of the derived cases
-    that hold the integrals of its special sets as claims."""
-
-    search: Search
-    number: int | None = None
-    reused: bool = False
-    derived: tuple[str, ...] = ()
-    #: What happened on the Dask cluster that ran the search (workers lost, candidate
-    #: sets searched again elsewhere), one line each; empty without a scheduler.
-    events: tuple[str, ...] = ()
-
-    def document(self) -> dict:
-        """The JSON document of CASE_FORMAT.md (section Discovery) for this search."""
-        document = search_document(self.search)
-        if self.number is not None:
-            document["search"] = self.number
-            document["reused"] = self.reused
-        if self.derived:
-            document["derived_cases"] = list(self.derived)
-        if self.events:
-            document["events"] = list(self.events)
-        return document
-
-
-@dataclass(frozen=True)
-class AuditReport:
-    """One audit run: its number, the audits of its cases and the cases themselves."""
-
-    run: int
-    audits: tuple[CaseAudit, ...]
-    cases: dict[str, Case] = field(default_factory=dict)
-    versions: dict[str, int] = field(default_factory=dict)
-    #: What happened on the Dask cluster that ran the audit (workers lost, cases audited
-    #: again elsewhere), one line each, as recorded in the run's options; empty without
-    #: a scheduler.
-    events: tuple[str, ...] = ()
-
-    def outcomes(self) -> tuple[CaseOutcome, ...]:
-        """What the run found, case by case, as typed objects (what every renderer reads)."""
-        return outcomes(self.audits, self.cases, self.versions)
-
-    def document(self) -> dict:
-        """The JSON document of CASE_FORMAT.md for this run."""
-        return audit_document(self.run, self.outcomes())
 
 
 def case_files(paths: Iterable[str | os.PathLike]) -> list[Path]:
@@ -205,110 +137,16 @@ class Registry:
         the scheduler, the cluster and what happened on it (``events``: workers
         lost, cases retried elsewhere).
         """
-        self.store.require_writer("record an audit run")
-        if scheduler is None:
-            return self._audit(case_ids, fresh, jobs, budget, numeric, progress, None, None)
-        with cluster_client(scheduler) as client:
-            check_same_code(client, code_version)
-            given = scheduler if isinstance(scheduler, str) else client.scheduler.address
-            return self._audit(case_ids, fresh, jobs, budget, numeric, progress, client, given)
-
-    def _audit(
-        self,
-        case_ids: Sequence[str] | None,
-        fresh: bool,
-        jobs: int | None,
-        budget: TimeBudget | None,
-        numeric: bool,
-        progress: Callable[[str], None] | None,
-        client: Client | None,
-        scheduler: str | None,
-    ) -> AuditReport:
-        """``audit``, with ``client`` the Dask client of ``scheduler`` (or both None)."""
-        budget = budget or DEFAULT_BUDGET
-        jobs = default_jobs() if jobs is None else jobs
-        stored = self.store.case_versions(list(case_ids) if case_ids else None)
-        version = code_version()
-        options: dict[str, Any] = {
-            "cases": list(case_ids) if case_ids else None,
-            "fresh": fresh,
-            "jobs": jobs,
-            "budget": asdict(budget),
-            "numeric": numeric,
-        }
-        if client is not None:
-            options.update(jobs=None, scheduler=scheduler, cluster=describe(client), events=[])
-        run = self.store.start_run(options, version)
-        events: list[str] = []
-
-        def happened(event: Event) -> None:  # recorded at once: a later crash keeps it
-            events.append(str(event))
-            self.store.update_run_options(run, events=list(events))
-
-        audits: dict[int, CaseAudit] = {}
-        cases: dict[str, Case] = {}
-        todo: list[tuple[int, Case]] = []
-        status = "failed"
-        try:
-            for i, row in enumerate(stored):
-                try:
-                    case = row.parse()
-                except Exception as exc:  # a broken case must not stop the run
-                    audits[i] = failed_case(row.case_id, row.content_hash, exc)
-                    self.store.record_case(run, row.pk, audits[i])
-                    continue
-                cases[case.id] = case
-                prior = None if fresh else _reusable(self.store.stored_audit(row.pk, version), case)
-                if prior is not None and numeric and len(prior.evidence) < len(case.claims):
-                    prior = None  # stored without numerical evidence
-                if prior is not None:
-                    audits[i] = prior
-                    self.store.record_case(run, row.pk, prior, reused=True)
-                else:
-                    todo.append((i, case))
-            computed = self._compute(
-                [c for _, c in todo], jobs, budget, numeric, progress, client, happened
-            )
-            with closing(computed):  # stops the workers at once if recording fails
-                for k, audit in computed:
-                    i = todo[k][0]
-                    audits[i] = audit
-                    self.store.record_case(run, stored[i].pk, audit)
-            status = "complete"
-        except (KeyboardInterrupt, SystemExit):  # Ctrl-C, or SIGTERM through the CLI
-            status = "interrupted"
-            raise
-        finally:
-            self.store.finish_run(run, status)
-        ordered = tuple(audits[i] for i in sorted(audits))
-        versions = {row.case_id: row.version for row in stored}
-        return AuditReport(run, ordered, cases, versions, tuple(events))
-
-    @staticmethod
-    def _compute(
-        cases: Sequence[Case],
-        jobs: int,
-        budget: TimeBudget,
-        numeric: bool,
-        progress: Callable[[str], None] | None,
-        client: Client | None = None,
-        on_event: Callable[[Event], None] | None = None,
-    ) -> Generator[tuple[int, CaseAudit], None, None]:
-        """(index, audit) for each case: on the Dask cluster of ``client``, in workers, or
-        (jobs == 0) in this process."""
-
-        def started(case: Case) -> None:
-            if progress is not None:
-                progress(case.id)
-
-        if client is not None:
-            yield from audit_on_cluster(client, cases, budget, numeric, started, on_event)
-        elif jobs == 0:
-            for k, case in enumerate(cases):
-                started(case)
-                yield k, audit_case(case, budget=budget, numeric=numeric)
-        else:
-            yield from audit_in_workers(cases, jobs, budget, started, numeric)
+        return audit_run(
+            self.store,
+            case_ids,
+            fresh=fresh,
+            jobs=jobs,
+            budget=budget,
+            numeric=numeric,
+            progress=progress,
+            scheduler=scheduler,
+        )
 
     # --- discovering --------------------------------------------------------
 
@@ -343,20 +181,20 @@ class Registry:
         cluster instead of ``jobs`` local processes, with the same result; the report's
         ``events`` say what happened there. Only this process writes to the database.
         """
-        if record:
-            self.store.require_writer("record a search")
-        case, stored = self._search_target(target)
-        options = search_options(case, degree=degree, weights=weights, on=on, free=free)
-        reused = None if fresh else self._reused_search(case, stored, options)
-        if reused is not None:
-            return reused
-        search, events = _run_search(case, options, budget, jobs, progress, scheduler)
-        if not record:
-            return SearchReport(search, events=events)
-        if stored is None:
-            self.store.add_case(case)
-            (stored,) = [s for s in self.store.case_versions([case.id])]
-        return replace(self._recorded(stored, case, search), events=events)
+        return search_run(
+            self.store,
+            target,
+            degree=degree,
+            weights=weights,
+            on=on,
+            free=free,
+            record=record,
+            fresh=fresh,
+            budget=budget,
+            jobs=jobs,
+            progress=progress,
+            scheduler=scheduler,
+        )
 
     def survey(
         self,
@@ -376,76 +214,15 @@ class Registry:
         core), or the Dask cluster of ``scheduler`` (as for ``audit``), one task per
         search; each search is stored as it finishes, and only this process writes.
         """
-        self.store.require_writer("record the survey's searches")
-        planned = [
-            (stored, case, options)
-            for stored in self.store.case_versions(list(case_ids) if case_ids else None)
-            for case in [stored.parse()]
-            for options in stated_options(case)
-        ]
-        reports: dict[int, SearchReport] = {}
-        for i, (stored, case, options) in enumerate(planned):
-            reused = None if fresh else self._reused_search(case, stored, options)
-            if reused is not None:
-                reports[i] = reused
-        todo = [i for i in range(len(planned)) if i not in reports]
-        work = [(planned[i][1], planned[i][2]) for i in todo]
-        jobs = default_jobs() if jobs is None else jobs
-
-        def record(results: Iterable[Search]) -> None:
-            for done, (i, search) in enumerate(zip(todo, results, strict=True)):
-                if progress is not None:
-                    progress(done + 1, len(todo), search.case)
-                reports[i] = self._recorded(planned[i][0], planned[i][1], search)
-
-        if scheduler is None or not work:
-            record(searched(work, budget=budget, jobs=jobs))
-        else:
-            with cluster_client(scheduler) as client:
-                check_same_code(client, code_version)
-                record(searched(work, budget=budget, mapper=cluster_mapper(client)))
-        return [reports[i] for i in range(len(planned))]
-
-    def _reused_search(
-        self, case: Case, stored: StoredCase | None, options: SearchOptions
-    ) -> SearchReport | None:
-        """The stored search of this case version with these options by this code
-        version, or None."""
-        if stored is None:
-            return None
-        found = self.store.stored_search(stored.pk, options, code_version())
-        if found is None:
-            return None
-        number, row, rows = found
-        search = conversions.search(row, case.id, case.content_hash, rows, options.on)
-        return SearchReport(search, number, reused=True)
-
-    def _recorded(self, stored: StoredCase, case: Case, search: Search) -> SearchReport:
-        """Store a search of a stored case version, with a derived case per special set."""
-        derived = [
-            parse_case_text(derived_case_text(case, s, search.options), f"<derived from {case.id}>")
-            for s in search.special
-        ]
-        number = self.store.record_search(
-            stored.pk, search, code_version(), statement(search), derived
+        return survey_run(
+            self.store,
+            case_ids,
+            fresh=fresh,
+            budget=budget,
+            jobs=jobs,
+            progress=progress,
+            scheduler=scheduler,
         )
-        return SearchReport(search, number, derived=tuple(c.id for c in derived))
-
-    def _search_target(self, target: str | os.PathLike | Case) -> tuple[Case, StoredCase | None]:
-        """The case to search and its stored version (None when not stored)."""
-        if isinstance(target, Case):
-            case = target
-        elif Path(target).is_file():
-            case = load_case(target)
-        else:
-            (stored,) = self.store.case_versions([str(target)])
-            return stored.parse(), stored
-        try:
-            versions = self.store.case_versions([case.id], latest_only=False)
-        except UnknownCaseError:
-            return case, None
-        same = [s for s in versions if s.content_hash == case.content_hash]
-        return case, (same[-1] if same else None)
 
     def searches(self) -> pd.DataFrame:
         """One row per recorded integral search: the case, the ansatz, what exists for
@@ -477,55 +254,15 @@ class Registry:
         or journal), ``author`` (text in an author's name), ``year`` (a year or an
         inclusive range), ``topic``, ``family`` (exact), ``verdict`` (some claim has it).
         Text filters ignore case."""
-        frame = frames.cases_frame(self.store)
-        families = frames.families_frame(self.store)
-        frame = frame.merge(families, on="case", how="left")
-        frame["family"] = [f if isinstance(f, str) else "" for f in frame["family"]]
-        keep = [True] * len(frame)
-
-        def contains(values: Iterable[object], text: str) -> list[bool]:
-            return [text.lower() in str(v).lower() for v in values]
-
-        if source is not None:
-            texts = frame["citation"] + " " + frame["source_title"] + " " + frame["journal"]
-            keep = [k and c for k, c in zip(keep, contains(texts, source), strict=True)]
-        if author is not None:
-            names = [" ".join(a) if isinstance(a, list) else "" for a in frame["authors"]]
-            keep = [k and c for k, c in zip(keep, contains(names, author), strict=True)]
-        if year is not None:
-            first, last = year if isinstance(year, tuple) else (year, year)
-            years = [y if y == y and y is not None else None for y in frame["year"]]
-            keep = [
-                k and y is not None and first <= y <= last for k, y in zip(keep, years, strict=True)
-            ]
-        if topic is not None:
-            keep = [
-                k and str(t).lower() == topic.lower()
-                for k, t in zip(keep, frame["topic"], strict=True)
-            ]
-        if family is not None:
-            keep = [k and f == family for k, f in zip(keep, frame["family"], strict=True)]
-        if verdict is not None:
-            having = self._cases_with_verdict(Verdict(verdict))
-            keep = [k and c in having for k, c in zip(keep, frame["case"], strict=True)]
-        rows = [i for i, k in enumerate(keep) if k]  # a list, also when empty (no rows)
-        return frame.iloc[rows].reset_index(drop=True)
-
-    def _cases_with_verdict(self, verdict: Verdict) -> set[str]:
-        """The cases some claim of which has this overall verdict (its kind's check)."""
-        latest = frames.verdicts_frame(self.store)
-        claims = frames.claims_frame(self.store)
-        kinds = {
-            (c, label): kind
-            for c, label, kind in zip(claims["case"], claims["label"], claims["kind"], strict=True)
-        }
-        return {
-            case
-            for case, claim, check, found in zip(
-                latest["case"], latest["claim"], latest["check"], latest["verdict"], strict=True
-            )
-            if kinds.get((case, claim)) == check and found == str(verdict)
-        }
+        return frames.case_table(
+            self.store,
+            source=source,
+            author=author,
+            year=year,
+            topic=topic,
+            family=family,
+            verdict=None if verdict is None else str(Verdict(verdict)),
+        )
 
     def claims(self) -> pd.DataFrame:
         """One row per claim of the latest case versions."""
@@ -545,41 +282,14 @@ class Registry:
         ``kind`` is ``torque`` (the claim becomes a Casimir of a repaired torque) or
         ``casimir`` (the case's own torque with its derived Casimir as the claim).
         """
-        (stored,) = self.store.case_versions([case_id])
-        found = self.store.stored_audit(stored.pk)
-        if found is None:
-            raise RegistryError(f"case {case_id!r} has not been audited yet; run 'registry audit'")
-        run, audit = found
-        matches = [
-            c for c in audit.corrections if c.kind == kind and (claim is None or c.claim == claim)
-        ]
-        if not matches:
-            which = f" for claim {claim!r}" if claim else ""
-            raise RegistryError(
-                f"the newest audit of {case_id!r} found no {kind} correction{which}"
-            )
-        return corrected_case_text(stored.parse(), matches[0], run)
+        return corrected_case(self.store, case_id, claim, kind)
 
     def run_report(self, run: int) -> AuditReport:
         """A stored audit run as an AuditReport: its audits in the order they were recorded
         and the case versions they audited, parsed (a version whose text no longer parses
         is left out: it shows as a case that could not be audited). UnknownRunError for a
         run that does not exist."""
-        audits = tuple(audit for _, audit in self.store.run_results(run))
-        ids = list(dict.fromkeys(a.case for a in audits))
-        stored = self.store.case_versions(ids, latest_only=False) if ids else []
-        by_hash = {(s.case_id, s.content_hash): s for s in stored}
-        cases, versions = {}, {}
-        for audit in audits:
-            found = by_hash.get((audit.case, audit.content_hash))
-            if found is None:
-                continue
-            versions[audit.case] = found.version
-            try:
-                cases[audit.case] = found.parse()
-            except RegistryError:
-                pass
-        return AuditReport(run, audits, cases, versions)
+        return stored_run(self.store, run)
 
     # --- publishing ------------------------------------------------------
 
@@ -658,24 +368,7 @@ class Registry:
         """The verdicts that differ between two runs, on the cases both runs audited, sorted
         by case, claim (case checks first) and check. UnknownRunError for a run that
         does not exist."""
-        before, after = self._verdicts(run_a), self._verdicts(run_b)
-        common = {k[0] for k in before} & {k[0] for k in after}
-        keys = sorted(k for k in before.keys() | after.keys() if k[0] in common)
-        changes = []
-        for key in keys:
-            if before.get(key) != after.get(key):
-                case, claim, check = key
-                change = VerdictChange(case, claim or None, check, before.get(key), after.get(key))
-                changes.append(change)
-        return changes
-
-    def _verdicts(self, run: int) -> dict[tuple[str, str, str], Verdict]:
-        """(case, claim or '', check) -> verdict for every result of one run."""
-        return {
-            (case, r.claim or "", r.check): r.verdict
-            for case, audit in self.store.run_results(run)
-            for r in audit.results
-        }
+        return run_diff(self.store, run_a, run_b)
 
     def runs(self) -> pd.DataFrame:
         """One row per audit run: when, status, code and sympy versions."""
@@ -699,6 +392,33 @@ class Registry:
             return self.store.grant(level, role)
         return self.store.grant_statements(level, role)
 
+    # --- the database itself ---------------------------------------------------
+
+    @property
+    def location(self) -> str:
+        """Where the registry is: a file's path, or a server URL without its password."""
+        return self.store.location
+
+    @property
+    def upgraded_from(self) -> str | None:
+        """The schema revision the database was upgraded from on opening (None: none)."""
+        return self.store.upgraded_from
+
+    @property
+    def backup(self) -> Path | None:
+        """The copy of an SQLite file made before its schema was upgraded (None: none)."""
+        return self.store.backup
+
+    def count_cases(self, case_ids: Sequence[str] | None = None) -> int:
+        """How many cases an audit of ``case_ids`` (default: all) covers; UnknownCaseError
+        for an id the registry does not hold."""
+        return len(self.store.case_versions(list(case_ids) if case_ids else None))
+
+    def interruptible(self) -> AbstractContextManager[None]:
+        """A context in which SIGTERM and SIGINT end a run as Ctrl-C does, never in the
+        middle of a database session (``runs.interruption``)."""
+        return interruptible(self.store)
+
     def close(self) -> None:
         self.store.close()
 
@@ -707,51 +427,6 @@ class Registry:
 
     def __exit__(self, *exc: object) -> None:
         self.close()
-
-
-def discover_file(
-    path: str | os.PathLike,
-    *,
-    degree: int = 4,
-    weights: tuple[int, int] = (1, 2),
-    on: Sequence[str | Equation] = (),
-    free: Sequence[str] = (),
-    budget: float | None = DEFAULT_SEARCH_BUDGET,
-    jobs: int = 1,
-    progress: Callable[[int, int, str], None] | None = None,
-    scheduler: str | Client | None = None,
-) -> SearchReport:
-    """Search a case file without a database (``Registry.discover`` has the options)."""
-    case = load_case(path)
-    options = search_options(case, degree=degree, weights=weights, on=on, free=free)
-    search, events = _run_search(case, options, budget, jobs, progress, scheduler)
-    return SearchReport(search, events=events)
-
-
-def _run_search(
-    case: Case,
-    options: SearchOptions,
-    budget: float | None,
-    jobs: int,
-    progress: Callable[[int, int, str], None] | None,
-    scheduler: str | Client | None,
-) -> tuple[Search, tuple[str, ...]]:
-    """A search in this process, in ``jobs`` processes, or on the Dask cluster of
-    ``scheduler``; and what happened on the cluster, one line each."""
-    if scheduler is None:
-        return discover(case, options, budget=budget, jobs=jobs, progress=progress), ()
-    events: list[str] = []
-    with cluster_client(scheduler) as client:
-        check_same_code(client, code_version)
-        search = discover_on_cluster(
-            client,
-            case,
-            options,
-            budget=budget,
-            progress=progress,
-            on_event=lambda event: events.append(str(event)),
-        )
-    return search, tuple(events)
 
 
 def open_registry(target: str | os.PathLike | None = None, *, create: bool = True) -> Registry:

@@ -8,7 +8,6 @@ with status 1; ``--debug`` shows the traceback instead.
 from __future__ import annotations
 
 import json
-import signal
 import sys
 from collections import Counter
 from collections.abc import Iterator
@@ -27,7 +26,6 @@ from .errors import DatabaseMissingError, RegistryError, UnknownClaimError, prin
 from .model import Verdict
 from .presentation.search_output import search_text, statement
 from .presentation.verdict_table import disagreements, verdict_table
-from .store.database import Store
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -83,42 +81,13 @@ class _Group(click.Group):
         sys.exit(code if isinstance(code, int) else 0)
 
 
-@contextmanager
-def _interruptible(store: Store) -> Iterator[None]:
-    """SIGTERM ends an audit like Ctrl-C (its run is recorded as interrupted), but never
-    in the middle of a database session: a signal arriving there takes effect when the
-    session has ended, so that no transaction or connection is left half done."""
-    pending: list[int] = []
-
-    def stop(signum, frame):
-        if store.busy:
-            pending.append(signum)
-        else:
-            raise KeyboardInterrupt(f"signal {signum}")
-
-    def idle():
-        if pending:
-            signum = pending.pop()
-            pending.clear()
-            raise KeyboardInterrupt(f"signal {signum}")
-
-    previous = {sig: signal.signal(sig, stop) for sig in (signal.SIGTERM, signal.SIGINT)}
-    store.on_idle = idle
-    try:
-        yield
-    finally:
-        store.on_idle = None
-        for sig, handler in previous.items():
-            signal.signal(sig, handler)
-
-
 def _registry(create: bool = False) -> Registry:
     """The registry named by --db; only ``add`` creates a database that does not exist."""
     ctx = click.get_current_context()
     if "registry" not in ctx.obj:
         reg = ctx.with_resource(open_registry(ctx.obj["db"], create=create))
-        if reg.store.upgraded_from is not None:
-            click.echo(_upgraded(reg.store), err=True)
+        if reg.upgraded_from is not None:
+            click.echo(_upgraded(reg), err=True)
         ctx.obj["registry"] = reg
     return ctx.obj["registry"]
 
@@ -131,12 +100,12 @@ def _existing_registry() -> Registry | None:
         return None
 
 
-def _upgraded(store: Store) -> str:
+def _upgraded(reg: Registry) -> str:
     """What a schema upgrade did, and where the copy made before it is (an SQLite file's;
     on a database server, backing up is the administrator's job)."""
-    done = f"Upgraded database {store.location!r} from schema revision {store.upgraded_from}"
-    if store.backup is not None:
-        return f"{done}; the copy made before is {str(store.backup)!r}"
+    done = f"Upgraded database {reg.location!r} from schema revision {reg.upgraded_from}"
+    if reg.backup is not None:
+        return f"{done}; the copy made before is {str(reg.backup)!r}"
     return (
         f"{done} in one transaction; no copy was made before (back up a PostgreSQL "
         "database with pg_dump)"
@@ -286,7 +255,7 @@ def audit(
 
     scheduler = _cluster(jobs, scheduler, local="workers")
     reg = _registry()
-    total = len(reg.store.case_versions(list(case_ids) or None))
+    total = reg.count_cases(list(case_ids) or None)
     quiet = as_json or not sys.stderr.isatty()
     bar = tqdm(total=total, unit="case", file=sys.stderr, disable=quiet, leave=False)
 
@@ -296,7 +265,7 @@ def audit(
 
     budget = replace(DEFAULT_BUDGET, check=check_budget) if check_budget else DEFAULT_BUDGET
     try:
-        with _interruptible(reg.store):
+        with reg.interruptible():
             report = reg.audit(
                 case_ids or None,
                 fresh=fresh,
@@ -437,7 +406,7 @@ def discover(
         if reg is None:
             report = discover_file(target, progress=progress, **options)
         else:
-            with _interruptible(reg.store):
+            with reg.interruptible():
                 report = reg.discover(
                     target, record=record, fresh=fresh, progress=progress, **options
                 )
@@ -497,7 +466,7 @@ def survey(
     """
     scheduler = _cluster(jobs, scheduler)
     reg = _registry()
-    with _counting_bar("search") as progress, _interruptible(reg.store):
+    with _counting_bar("search") as progress, reg.interruptible():
         reports = reg.survey(
             list(case_ids) or None,
             fresh=fresh,
@@ -905,7 +874,7 @@ def verify_db() -> None:
     """
     reg = _registry()
     found = reg.verify_db()
-    click.echo(f"database {reg.store.location!r}, schema revision {found.revision}")
+    click.echo(f"database {reg.location!r}, schema revision {found.revision}")
     click.echo(", ".join(f"{n} {name}" for name, n in found.counts.items()))
     click.echo(f"engine: {found.engine}")
     for note in found.notes:

@@ -89,6 +89,57 @@ def cases_frame(store: Store) -> pd.DataFrame:
 
 
 @guarded
+def case_table(
+    store: Store,
+    *,
+    source: str | None = None,
+    author: str | None = None,
+    year: int | tuple[int, int] | None = None,
+    topic: str | None = None,
+    family: str | None = None,
+    verdict: str | None = None,
+) -> pd.DataFrame:
+    """``cases_frame`` with the torque family each case's newest audit found, filtered
+    by any of: ``source`` (text in the citation, title or journal), ``author`` (text in
+    an author's name), ``year`` (a year or an inclusive range), ``topic``, ``family``
+    (exact), ``verdict`` (the overall verdict of some claim: its kind's check). Text
+    filters ignore case."""
+    import pandas as pd  # imported here: adding cases should not pay for pandas
+
+    frame = cases_frame(store).merge(families_frame(store), on="case", how="left")
+    frame["family"] = frame["family"].map(lambda f: f if isinstance(f, str) else "")
+    keep = pd.Series(True, index=frame.index)
+
+    def contains(values: pd.Series, text: str) -> pd.Series:
+        return values.astype(str).str.lower().str.contains(text.lower(), regex=False)
+
+    if source is not None:
+        texts = frame["citation"] + " " + frame["source_title"] + " " + frame["journal"]
+        keep &= contains(texts, source)
+    if author is not None:
+        names = frame["authors"].map(lambda a: " ".join(a) if isinstance(a, list) else "")
+        keep &= contains(names, author)
+    if year is not None:
+        first, last = year if isinstance(year, tuple) else (year, year)
+        keep &= pd.to_numeric(frame["year"], errors="coerce").between(first, last)
+    if topic is not None:
+        keep &= frame["topic"].astype(str).str.lower() == topic.lower()
+    if family is not None:
+        keep &= frame["family"] == family
+    if verdict is not None:
+        keep &= frame["case"].isin(_cases_with_verdict(store, verdict))
+    return frame[keep.astype(bool)].reset_index(drop=True)
+
+
+def _cases_with_verdict(store: Store, verdict: str) -> set[str]:
+    """The cases some claim of which has this overall verdict (its kind's check)."""
+    claims = claims_frame(store)[["case", "label", "kind"]]
+    found = verdicts_frame(store).merge(
+        claims, left_on=["case", "claim"], right_on=["case", "label"]
+    )
+    return set(found.loc[(found["kind"] == found["check"]) & (found["verdict"] == verdict), "case"])
+
+
 def versions_frame(store: Store) -> pd.DataFrame:
     """One row per stored case version, oldest first for each case: case, version,
     content_hash, added_at (the version history a case's page shows)."""
