@@ -158,6 +158,7 @@ class Registry:
         weights: tuple[int, int] = (1, 2),
         on: Sequence[str | Equation] = (),
         free: Sequence[str] = (),
+        relations: bool = False,
         record: bool = False,
         fresh: bool = False,
         budget: float | None = DEFAULT_SEARCH_BUDGET,
@@ -168,7 +169,9 @@ class Registry:
         """Search a case (a case file, a stored case's id, or a ``Case``) for first
         integrals of weighted ``degree`` <= K (``weights`` of M and gamma), on the level
         set ``on`` (equations as text, like ``"s = 0"``), with the parameters ``free``
-        whose special values are sought (``registry.discovery.search.discover``).
+        whose special values are sought (``registry.discovery.search.discover``). With
+        ``relations``, Darboux polynomials (invariant relations F = 0, dF/dt = K F) are
+        sought instead, the special sets being the cofactors K that carry them.
 
         A stored case version already searched with the same options by this code version
         reuses that search unless ``fresh``. With ``record`` the search is stored (the
@@ -188,6 +191,7 @@ class Registry:
             weights=weights,
             on=on,
             free=free,
+            relations=relations,
             record=record,
             fresh=fresh,
             budget=budget,

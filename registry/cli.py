@@ -339,6 +339,11 @@ def _weights(text: str) -> tuple[int, int]:
     metavar="P,Q",
     help="Parameters whose special values are sought (the others stay generic).",
 )
+@click.option(
+    "--relations",
+    is_flag=True,
+    help="Search invariant relations F = 0 (Darboux polynomials, dF/dt = K F) instead.",
+)
 @click.option("--json", "as_json", is_flag=True, help="Print the JSON document of CASE_FORMAT.md.")
 @click.option(
     "--record",
@@ -368,6 +373,7 @@ def discover(
     weights_text: str,
     on: tuple[str, ...],
     free_text: str,
+    relations: bool,
     as_json: bool,
     record: bool,
     fresh: bool,
@@ -398,6 +404,7 @@ def discover(
         weights=weights,
         on=on,
         free=free,
+        relations=relations,
         budget=seconds,
         jobs=jobs,
         scheduler=scheduler,

@@ -427,12 +427,15 @@ class VerdictChange:
 class SearchOptions:
     """What an integral search looks for: the ansatz's largest weighted degree, the
     weights of M and of gamma, the level set (``on``), and the parameters whose special
-    values are sought (``free``; the others stay symbolic and generic)."""
+    values are sought (``free``; the others stay symbolic and generic). With
+    ``relations`` it looks for Darboux polynomials instead (dF/dt = K F, the cofactor
+    K's coefficients sought like free parameters): invariant relations F = 0."""
 
     degree: int = 4
     weights: tuple[int, int] = (1, 2)
     on: tuple[Equation, ...] = ()
     free: tuple[str, ...] = ()
+    relations: bool = False
 
     def __post_init__(self) -> None:
         if self.degree < 1:
@@ -450,7 +453,7 @@ class SearchOptions:
             "weights": {"M": self.weights[0], "gamma": self.weights[1]},
             "on": [eq.text for eq in self.on],
             "free": list(self.free),
-        }
+        } | ({"relations": True} if self.relations else {})
 
 
 @dataclass(frozen=True)
@@ -483,6 +486,8 @@ class IntegralSet:
     casimir: tuple[Verdict, ...] = ()
     #: per integral: new, or a claim rediscovered (empty where it was not decided)
     status: tuple[IntegralStatus, ...] = ()
+    #: a search for relations: the cofactor K of these Darboux polynomials (dF/dt = K F)
+    cofactor: str = ""
 
     @property
     def new(self) -> tuple[str, ...]:

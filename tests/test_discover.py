@@ -182,3 +182,23 @@ def test_registry_survey_and_searches_commands(db_target):
     assert listed.exit_code == 0, listed.output
     (row,) = listed.stdout.strip().splitlines()[1:]
     assert row.split()[:5] == ["3", "lagrange-1788-heavy-top", "2", "M=1,gamma=2", "True"]
+
+
+def test_an_invariant_relation_is_recorded_and_its_claim_verified_by_the_audit(db_target):
+    """discover --relations --record: Hess's relation becomes a derived case whose claim
+    is the relation on its own level set, which the audit verifies."""
+    hess = Path(__file__).resolve().parents[1] / "data/cases/heavy-top/hess-1890-heavy-top.toml"
+    with registry.open(db_target) as reg:
+        report = reg.discover(hess, degree=1, relations=True, record=True)
+        (derived,) = report.derived
+        frame = reg.searches()
+        assert list(frame.n_special) == [1]
+        reg.audit(jobs=0)
+        claims = reg.claims()
+        (claim,) = claims[claims.case == derived].itertuples()
+        assert claim.expression == "M1*x0 + M3*z0"
+        v = reg.verdicts()
+        verdict = v[(v.case == derived) & (v.check == "integral")].verdict
+        assert list(verdict) == ["verified"]
+        again = reg.discover(hess, degree=1, relations=True)
+        assert again.reused and again.search.options.relations

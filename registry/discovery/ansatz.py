@@ -106,6 +106,7 @@ class PolynomialSystem:
         max_size: int = MAX_SYSTEM_SIZE,
         *,
         hamiltonian: sp.Expr | None = None,
+        cofactor: sp.Expr | None = None,
     ):
         self.params = tuple(params)
         self.degree = degree
@@ -125,6 +126,16 @@ class PolynomialSystem:
         }
         rates = self.space.rates(field) if self.space.extended else field
         self.field = self._polynomial_field(rates)
+        # Darboux polynomials: X F = K F, i.e. Y F = D K F for Y = D X (D the parameter
+        # denominator cleared from the field); the cofactor's coefficients are parameters
+        # (a cofactor with parameter denominators: both sides times its denominator)
+        self.cofactor, self.cofactor_scale = self.ring.zero, self.ring.one
+        if cofactor is not None:
+            scaled = self.space.lift(cofactor) if self.space.extended else cofactor
+            numer, denom = sp.fraction(sp.together(sp.expand(scaled * self.denominator)))
+            plain = self._plain
+            self.cofactor = self.ring.from_expr(sp.expand(numer).xreplace(plain))
+            self.cofactor_scale = self.ring.from_expr(sp.expand(denom).xreplace(plain))
         self.ideal = self._groebner([*self.space.relations(), *ideal])
         self.leading = [g.LM[: self.n] for g in self.ideal]
         self._check_size(max_size)
@@ -162,6 +173,17 @@ class PolynomialSystem:
                 f"up to {equations} equations ({unknowns * equations:,} entries, more than "
                 f"the limit of {limit:,}); search at a lower --degree"
             )
+
+    def shift(self) -> int:
+        """How much the field raises the weighted degree (the weight of a cofactor)."""
+        return max(
+            (
+                self.weight_of(m) - self.weights[i]
+                for i, y in enumerate(self.field)
+                for m in y.monoms()
+            ),
+            default=0,
+        )
 
     def weight_of(self, monomial: tuple[int, ...]) -> int:
         """The weighted degree of a ring monomial (its state part)."""
@@ -202,6 +224,7 @@ class PolynomialSystem:
             numers.append(n)
             denoms.append(d)
         common = sp.lcm_list(denoms)
+        self.denominator = common
         out = []
         for n, d in zip(numers, denoms, strict=True):
             scaled = sp.expand(n * sp.cancel(common / d))
@@ -263,6 +286,8 @@ class PolynomialSystem:
                 lower = list(exps)
                 lower[i] -= 1
                 total += self.ring({(*lower, *pad): QQ(exps[i])}) * self.field[i]
+        if self.cofactor:
+            total = total * self.cofactor_scale - self.ring({(*exps, *pad): QQ(1)}) * self.cofactor
         return self.reduce(total)
 
     def coordinates(self, poly: PolyElement) -> dict[int, dict[tuple[int, ...], object]]:

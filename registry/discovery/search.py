@@ -53,7 +53,7 @@ from ..model import (
     Verdict,
 )
 from . import novelty
-from .ansatz import PolynomialSystem
+from .ansatz import PolynomialSystem, weighted_monomials
 from .grading import grading_note
 from .integrals import Analysis, Generator, analyse, products
 from .linear import GF_PRIME, PRIME, Field
@@ -84,6 +84,9 @@ class _State:
     counts: dict = field(default_factory=dict)
     known: tuple[str, ...] = ()
     claims: tuple[str, ...] = ()
+    #: relations: the cofactor K' (coefficients free), and its values on candidate sets
+    cofactor: sp.Expr | None = None
+    cofactors: dict = field(default_factory=dict)
     progress: Progress | None = None
     done: int = 0
     total: int = 0
@@ -125,6 +128,9 @@ def discover(
         )
     state = _State(options, seed, progress=progress)
     free = [case.parameters[f] for f in options.free]
+    if options.relations:
+        state.cofactor, coefficients = _cofactor(options, CaseMechanics(case), free)
+        free += coefficients
     note = grading_note(CaseMechanics(case).field, options.weights)
     elsewhere = None
     if mapper is not None:
@@ -167,6 +173,7 @@ def search_options(
     weights: tuple[int, int] = (1, 2),
     on: Sequence[str | Equation] = (),
     free: Sequence[str] = (),
+    relations: bool = False,
 ) -> SearchOptions:
     """Options for searching ``case``: level-set equations given as text (``"s = 0"``)
     are parsed in the case's own names (an ExpressionError names a bad one)."""
@@ -174,7 +181,9 @@ def search_options(
     equations = tuple(
         e if isinstance(e, Equation) else Equation(e, *parse_equation(e, ns)) for e in on
     )
-    return SearchOptions(degree, cast(tuple[int, int], tuple(weights)), equations, tuple(free))
+    return SearchOptions(
+        degree, cast(tuple[int, int], tuple(weights)), equations, tuple(free), relations
+    )
 
 
 def _search(
@@ -190,9 +199,12 @@ def _search(
     the seconds each of its calls may take)."""
     rnd = state.rnd(when)
     m = CaseMechanics(case)
-    system, params = _system(state.options, m, free)
+    cofactor = state.cofactors.get(when, state.cofactor)
+    system, params = _system(state.options, m, free, cofactor)
     _check_invariant(system, state.options)
     known, names = _known(m, system)
+    if cofactor is not None and cofactor != 0:  # Darboux polynomials: nothing is known
+        known = []
     point = {i: rnd.randrange(1, PRIME) for i in range(len(params))}
     generic = analyse(system, known, Field(GF_PRIME, params, point))
     integrals: list[sp.Expr] = []
@@ -204,7 +216,10 @@ def _search(
             _expression(system, simplest(v, generic.trivial[d], columns, fld.domain), fld)
             for v, d in generic.extras
         ]
-    found = _proven(state, case, when, integrals)
+    if cofactor is not None and cofactor != 0:
+        found = _proven_relations(state, m, when, integrals, cofactor)
+    else:
+        found = _proven(state, case, when, integrals)
     if not when and found.integrals:  # new, or the case's own claims again
         kept = [e for e in integrals if to_text(e) in found.integrals]
         found = _named(state, case, m, system, params, found, kept)
@@ -225,6 +240,8 @@ def _search(
             ordered = sorted(assignment.items(), key=lambda item: free.index(item[0]))
             sub_when = when + tuple(f"{to_text(s)} = {to_text(e)}" for s, e in ordered)
             candidates.append((sub, [p for p in free if p not in assignment], sub_when))
+            if cofactor is not None:
+                state.cofactors[sub_when] = sp.expand(cofactor.xreplace(assignment))
     state.total += len(candidates)
     special: list[IntegralSet] = []
     for g, more, undecided in _each(state, candidates, jobs, elsewhere):
@@ -284,17 +301,62 @@ def _search_apart(work):
     return g, more, state.undecided
 
 
-def _system(options: SearchOptions, m: CaseMechanics, free: list[sp.Symbol]):
-    """The polynomial system and its parameters (the free ones first)."""
+def _system(options: SearchOptions, m: CaseMechanics, free: list[sp.Symbol], cofactor=None):
+    """The polynomial system and its parameters (the free ones first); with a
+    ``cofactor``, the system of its Darboux polynomials."""
     on = [eq.expr for eq in options.on]
     present = set().union(*(sp.sympify(e).free_symbols for e in (*m.field, m.hamiltonian, *on)))
     symbolic = sorted((set(m.case.parameters.values()) - set(free)) & present, key=str)
     params = [*free, *symbolic]
     weights = (options.weights[0],) * 3 + (options.weights[1],) * 3
     system = PolynomialSystem(
-        m.field, params, weights, options.degree, on, hamiltonian=m.hamiltonian
+        m.field, params, weights, options.degree, on, hamiltonian=m.hamiltonian, cofactor=cofactor
     )
     return system, params
+
+
+def _cofactor(
+    options: SearchOptions, m: CaseMechanics, free: list[sp.Symbol]
+) -> tuple[sp.Expr, list[sp.Symbol]]:
+    """The general cofactor of Darboux polynomials: a combination, with unknown
+    coefficients K_<monomial>, of the state monomials of the weight by which the field
+    raises the weighted degree."""
+    if options.on:
+        raise DiscoveryError(
+            "--relations searches the whole phase space (its relations F = 0 are level "
+            "sets themselves); drop --on"
+        )
+    weights = (options.weights[0],) * 3 + (options.weights[1],) * 3
+    shift = _system(options, m, free)[0].shift()
+    if shift < 0:
+        raise DiscoveryError("the field lowers the weighted degree: no cofactor is polynomial")
+    coefficients, cofactor = [], sp.Integer(0)
+    for exps in weighted_monomials(shift, weights):
+        monomial = sp.Mul(*(x**e for x, e in zip(mech.STATE, exps, strict=True)))
+        k = sp.Symbol("K_" + (str(monomial).replace("**", "").replace("*", "_")), real=True)
+        if k.name in m.case.parameters:
+            raise DiscoveryError(f"the case names a parameter {k.name}, the cofactor's own name")
+        coefficients.append(k)
+        cofactor += k * monomial
+    return cofactor, coefficients
+
+
+def _proven_relations(state: _State, m: CaseMechanics, when, integrals, cofactor) -> IntegralSet:
+    """The Darboux polynomials, each proven by the zero test on dF/dt - K F (K the
+    cofactor of the field itself); one not proven is not reported, and the search is then
+    not complete."""
+    kept = []
+    for f in integrals:
+        residual = mech.time_derivative(f, m.field) - cofactor * f
+        verdict = decide({"dF/dt - K F": residual}, m.domain).verdict
+        if verdict is Verdict.VERIFIED:
+            kept.append(to_text(f))
+        else:
+            where = f" where {', '.join(when)}" if when else ""
+            state.undecided.append(
+                f"invariant relation {to_text(f)} = 0{where} found but not proven ({verdict})"
+            )
+    return IntegralSet(when, len(kept), tuple(kept), (), cofactor=to_text(sp.factor(cofactor)))
 
 
 def _known_integrals(m: CaseMechanics) -> list[tuple[str, sp.Expr]]:

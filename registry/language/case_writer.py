@@ -64,6 +64,8 @@ def derived_case_text(case: Case, found: IntegralSet, options: SearchOptions) ->
     ns = Namespace(case.parameters, case.functions)
     values = {}
     for equation in found.when:
+        if options.relations and equation.split("=")[0].strip() not in case.parameters:
+            continue  # a value of the cofactor's coefficients, not of the case's parameters
         lhs, rhs = parse_equation(equation, ns)
         values[lhs] = rhs
 
@@ -98,8 +100,14 @@ def derived_case_text(case: Case, found: IntegralSet, options: SearchOptions) ->
             "kind": "integral",
             "expression": text,
             **({"on": [e.text for e in options.on]} if options.on else {}),
+            **({"on": [f"{text} = 0"]} if options.relations else {}),
             "provenance": "discovered",
-            "notes": f"Found by registry discover ({ansatz}) on case {case.id!r}.",
+            "notes": f"Found by registry discover ({ansatz}) on case {case.id!r}"
+            + (
+                f": an invariant relation, dF/dt = ({found.cofactor}) F."
+                if options.relations
+                else "."
+            ),
         }
         for i, text in enumerate(found.integrals)
     ]

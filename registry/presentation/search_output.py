@@ -13,6 +13,8 @@ def statement(search: Search) -> str:
     ansatz = f"of weighted degree <= {o.degree} (weights M: {o.weights[0]}, gamma: {o.weights[1]}"
     ansatz += f"; on {', '.join(eq.text for eq in o.on)})" if o.on else ")"
     values = f"values of {', '.join(o.free)}" if o.free else "values of the parameters"
+    if o.relations and search.decided:
+        return _relations_statement(search, ansatz)
     if not search.decided:
         return (
             f"Nothing is established about integrals {ansatz}: " + "; ".join(search.coverage) + "."
@@ -42,6 +44,23 @@ def statement(search: Search) -> str:
     return text + " (the search is not complete: see its coverage)."
 
 
+def _relations_statement(search: Search, ansatz: str) -> str:
+    """A search for invariant relations in one sentence: the cofactors that carry them."""
+    found = [
+        f"{', '.join(f'{t} = 0' for t in s.integrals)} (cofactor {s.cofactor})"
+        for s in search.special
+    ]
+    if found:
+        text = f"Invariant relations (Darboux polynomials {ansatz}) exist exactly: " + "; ".join(
+            found
+        )
+    else:
+        text = f"No invariant relation (Darboux polynomial {ansatz}) exists beyond first integrals"
+    if search.complete:
+        return text + "; no other cofactor carries one."
+    return text + " (the search is not complete: see its coverage)."
+
+
 def status_text(status: IntegralStatus) -> str:
     """``new``, or ``= K modulo H, |gamma|^2``: what a found integral is."""
     if status.new:
@@ -56,6 +75,8 @@ def _set(entry: IntegralSet) -> dict:
         "integrals": list(entry.integrals),
         "casimir": [str(v) for v in entry.casimir],
     }
+    if entry.cofactor:
+        out["cofactor"] = entry.cofactor
     if entry.status:
         out["status"] = [
             {
@@ -81,6 +102,7 @@ def search_document(search: Search) -> dict:
         "weights": {"M": o.weights[0], "gamma": o.weights[1]},
         "on": [eq.text for eq in o.on],
         "free": list(o.free),
+        **({"relations": True} if o.relations else {}),
         "known": list(search.known),
         "claims": list(search.claims),
         "claims_complete": search.claims_complete,

@@ -72,6 +72,7 @@ def search_run(
     weights: tuple[int, int] = (1, 2),
     on: Sequence[str | Equation] = (),
     free: Sequence[str] = (),
+    relations: bool = False,
     record: bool = False,
     fresh: bool = False,
     budget: float | None = DEFAULT_SEARCH_BUDGET,
@@ -84,7 +85,9 @@ def search_run(
     if record:
         store.require_writer("record a search")
     case, stored = _search_target(store, target)
-    options = search_options(case, degree=degree, weights=weights, on=on, free=free)
+    options = search_options(
+        case, degree=degree, weights=weights, on=on, free=free, relations=relations
+    )
     reused = None if fresh else _reused_search(store, case, stored, options)
     if reused is not None:
         return reused
@@ -191,6 +194,7 @@ def discover_file(
     weights: tuple[int, int] = (1, 2),
     on: Sequence[str | Equation] = (),
     free: Sequence[str] = (),
+    relations: bool = False,
     budget: float | None = DEFAULT_SEARCH_BUDGET,
     jobs: int = 1,
     progress: Callable[[int, int, str], None] | None = None,
@@ -198,7 +202,9 @@ def discover_file(
 ) -> SearchReport:
     """Search a case file without a database (``Registry.discover`` has the options)."""
     case = load_case(path)
-    options = search_options(case, degree=degree, weights=weights, on=on, free=free)
+    options = search_options(
+        case, degree=degree, weights=weights, on=on, free=free, relations=relations
+    )
     search, events = _run_search(case, options, budget, jobs, progress, scheduler)
     return SearchReport(search, events=events)
 

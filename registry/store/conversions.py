@@ -189,6 +189,7 @@ def search(row: SearchRow, case_id: str, content_hash: str, rows, on) -> Search:
             weights=(options["weights"]["M"], options["weights"]["gamma"]),
             on=tuple(on),
             free=tuple(options["free"]),
+            relations=bool(options.get("relations", False)),
         ),
         known=tuple(row.known),
         generic=sets[0],

@@ -264,3 +264,38 @@ def test_three_free_parameters_give_the_four_classical_sets_and_nothing_else():
         )
         (text,) = integrals
         assert conserved_modulo_known(sub, text, [])
+
+
+# ------------------------------------------------------------- invariant relations
+
+
+def test_hess_invariant_relation_is_found_with_its_cofactor_under_hess_condition():
+    """Hess (1890): under his condition x0 M1 + z0 M3 = 0 is an invariant relation,
+    d/dt (x0 M1 + z0 M3) = K (x0 M1 + z0 M3) with K a multiple of M2; the search for
+    Darboux polynomials finds it as the one special cofactor, and nothing else."""
+    case = load_case(
+        Path(__file__).resolve().parents[2] / "data/cases/heavy-top/hess-1890-heavy-top.toml"
+    )
+    search = discover(case, search_options(case, degree=1, relations=True))
+    assert search.complete and search.generic.extra == 0
+    (hess,) = search.special
+    assert hess.integrals == ("M1*x0 + M3*z0",)
+    ns = Namespace(case.parameters, case.functions)
+    cofactor = parse_expression(hess.cofactor, ns)
+    assert cofactor.free_symbols & set(mech.STATE) == {mech.M2}
+    f = parse_expression(hess.integrals[0], ns)
+    field = mech.vector_field(
+        [e.expr for e in case.system.inertia], case.system.potential.expr, (0, 0, 0)
+    )
+    assert sp.simplify(mech.time_derivative(f, field) - cofactor * f) == 0
+
+
+def test_without_hess_condition_there_is_no_relation_and_first_integrals_are_not_new():
+    """The unrestricted body: no cofactor carries a Darboux polynomial of degree 1; the
+    cofactor 0 (first integrals: H, |gamma|^2, s and their level sets) is not reported."""
+    case = load_case(
+        Path(__file__).resolve().parents[2]
+        / "data/cases/heavy-top/hess-1890-heavy-top-unrestricted.toml"
+    )
+    search = discover(case, search_options(case, degree=1, relations=True))
+    assert search.complete and search.special == ()
