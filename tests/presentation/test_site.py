@@ -20,6 +20,8 @@ import json
 import os
 import re
 import shutil
+import subprocess
+import sys
 import threading
 import urllib.request
 from functools import partial
@@ -37,13 +39,15 @@ import registry
 from registry.cli import main
 from registry.language.casefile import parse_case_text
 from registry.presentation.site import bracket
-from tests.helpers.samples import CASES, SEED, YEHIA_B, ZHUKOVSKY
+from tests.helpers.samples import CASES, HAMILTONIAN, SEED, YEHIA_B, ZHUKOVSKY
 
 ROOT = Path(__file__).resolve().parents[2]
 ARTIFACTS = ROOT / "test-artifacts"
 CHROMIUM = os.environ.get("REGISTRY_CHROMIUM", "/usr/bin/chromium")
 CHROMEDRIVER = os.environ.get("REGISTRY_CHROMEDRIVER", "/usr/bin/chromedriver")
 RENAMED = "zhukovsky-1885-renamed-gyrostat"
+SO31 = "test-kovalevskaya-so31"  # Hamiltonian form, kappa = -1
+SO4 = "test-kovalevskaya-so4"  # Hamiltonian form, kappa a parameter
 HOSTILE_ID = "hostile-2024-markup"
 PAYLOAD = "<script>window.__pwned = 1</script>"
 HOSTILE = f'''id = "{HOSTILE_ID}"
@@ -88,6 +92,7 @@ def built(tmp_path_factory) -> SimpleNamespace:
     db = folder / "registry.sqlite"
     with registry.open(db) as reg:
         reg.add(*(CASES / f"{c}.toml" for c in SEED if c != ZHUKOVSKY))
+        reg.add(HAMILTONIAN / "kovalevskaya-so31.toml", HAMILTONIAN / "kovalevskaya-so4.toml")
         for name, text in ((RENAMED, _renamed_zhukovsky()), (HOSTILE_ID, HOSTILE)):
             reg.add_case(parse_case_text(text, f"{name}.toml"))
         reg.audit(jobs=0)
@@ -126,7 +131,7 @@ def test_two_builds_are_byte_identical(built):
 
 def test_every_case_has_its_permanent_page_downloads_and_alias_redirect(built):
     ids = list(built.cases["case"])
-    assert set(ids) == {*SEED, RENAMED, HOSTILE_ID} - {ZHUKOVSKY}
+    assert set(ids) == {*SEED, RENAMED, HOSTILE_ID, SO31, SO4} - {ZHUKOVSKY}
     for case_id in ids:
         for ext in ("html", "toml", "audit.json", "m", "mpl", "py"):
             assert (built.site / "cases" / f"{case_id}.{ext}").is_file(), (case_id, ext)
@@ -256,9 +261,27 @@ def test_case_page_shows_verdicts_witness_repairs_history_and_citations(built):
     assert f'<a href="{ZHUKOVSKY}.html">{ZHUKOVSKY}</a>' in renamed
 
 
-def test_bracket_names_follow_the_sign_of_kappa():
-    case = parse_case_text(HOSTILE, "h.toml")
-    assert bracket(case)[0] == "e(3)"
+def test_bracket_names_follow_the_sign_of_kappa(built):
+    assert bracket(parse_case_text(HOSTILE, "h.toml"))[0] == "e(3)"
+    index = {r["id"]: r for r in json.loads((built.site / "index.json").read_text())}
+    assert index[SO31]["bracket"] == "so(3,1)"
+    assert index[SO4]["bracket"] == "by the sign of kappa"  # kappa is a real parameter
+    assert index[YEHIA_B]["bracket"] == "e(3)"
+    page = (built.site / "cases" / f"{SO31}.html").read_text(encoding="utf-8")
+    assert "so(3,1) (kappa = -1 &lt; 0)" in page
+    assert '<code class="source">H = ' in page and '<code class="source">kappa = -1' in page
+    assert '<code class="source">A = ' not in page  # a Hamiltonian, no moments
+
+
+def test_a_build_in_another_process_is_byte_identical(built, tmp_path):
+    """Another interpreter, with another hash seed, writes the same bytes."""
+    out = tmp_path / "elsewhere"
+    env = {**os.environ, "PYTHONHASHSEED": "12345"}
+    command = [sys.executable, "-m", "registry", "--db", str(built.db), "site", "-o", str(out)]
+    subprocess.run(command, env=env, check=True, capture_output=True, timeout=600)
+    one, other = _tree(built.site), _tree(out)
+    assert one.keys() == other.keys()
+    assert [name for name in one if one[name] != other[name]] == []
 
 
 def test_cli_site_prints_the_folder_and_its_counts(built, tmp_path):
@@ -367,6 +390,8 @@ def test_the_index_lists_every_case_and_its_filters_change_the_rows(built, serve
     assert sorted(_visible_rows(browser)) == everything
 
     browser.find_element(By.ID, "f-text").send_keys("kovalevskaya")
+    assert _visible_rows(browser) == [SO31, SO4, YEHIA_B]  # by id, and titles
+    browser.find_element(By.ID, "f-text").send_keys("-b")
     assert _visible_rows(browser) == [YEHIA_B]
     browser.find_element(By.CSS_SELECTOR, "button[type=reset]").click()
     browser.find_element(By.ID, "f-year-from").send_keys("2020")
@@ -379,6 +404,9 @@ def test_the_index_lists_every_case_and_its_filters_change_the_rows(built, serve
     Select(browser.find_element(By.ID, "f-topic")).select_by_value(topic)
     expected = sorted(built.cases[built.cases["topic"] == topic]["case"])
     assert sorted(_visible_rows(browser)) == expected
+    browser.find_element(By.CSS_SELECTOR, "button[type=reset]").click()
+    Select(browser.find_element(By.ID, "f-bracket")).select_by_value("so(3,1)")
+    assert _visible_rows(browser) == [SO31]
     assert browser.execute_script("return window.__pwned === undefined")
 
 
