@@ -40,7 +40,15 @@
   form.hidden = false;
   form.addEventListener("input", update);
   form.addEventListener("change", update);
-  form.addEventListener("reset", function () { window.setTimeout(update, 0); });
+  form.addEventListener("reset", function (event) {
+    // cleared here, then filtered at once (the browser would reset after this event)
+    event.preventDefault();
+    Array.prototype.forEach.call(form.elements, function (field) {
+      if (field.tagName === "SELECT") { field.selectedIndex = 0; }
+      else if (field.tagName === "INPUT") { field.value = ""; }
+    });
+    update();
+  });
   form.addEventListener("submit", function (event) { event.preventDefault(); });
   update();
 }());
