@@ -10,31 +10,93 @@ motion symbolically, and query the verdicts with pandas::
     reg.verdicts()
 """
 
-from .api import AddResult, AuditReport, Registry, open_registry
-from .audit.case_audit import audit_case
-from .errors import (
-    CaseFormatError,
-    DatabaseFullError,
-    DatabaseLockedError,
-    DatabaseMissingError,
-    DatabasePermissionError,
-    DatabaseReadOnlyError,
-    ExpressionError,
-    NotADatabaseError,
-    Problem,
-    RegistryError,
-    SchemaTooNewError,
-    ServerDatabaseMissingError,
-    ServerUnavailableError,
-    StorageError,
-    UnknownCaseError,
-    UnknownRunError,
-)
-from .language.casefile import load_case, parse_case_text
-from .model import Case, CaseAudit, CheckResult, Claim, ClaimKind, Verdict, Witness
-from .presentation import notebook  # noqa: F401 - installs the Jupyter reprs of cases and audits
+import importlib
+from typing import TYPE_CHECKING, Any
 
-open = open_registry  # noqa: A001 - registry.open(path) reads like sqlite3.connect
+#: Where each public name lives. They are imported on first use (PEP 562), so that
+#: ``import registry`` and ``registry --help`` pay only for what they use.
+_PUBLIC = {
+    "AddResult": "api",
+    "AuditReport": "api",
+    "Registry": "api",
+    "open_registry": "api",
+    "open": "api",
+    "audit_case": "audit.case_audit",
+    "load_case": "language.casefile",
+    "parse_case_text": "language.casefile",
+    **{name: "model" for name in ("Case", "CaseAudit", "CheckResult", "Claim", "ClaimKind")},
+    **{name: "model" for name in ("Verdict", "Witness")},
+}
+#: The errors are light (no sympy): imported with their module on first use too.
+_ERRORS = (
+    "CaseFormatError",
+    "DatabaseFullError",
+    "DatabaseLockedError",
+    "DatabaseMissingError",
+    "DatabasePermissionError",
+    "DatabaseReadOnlyError",
+    "ExpressionError",
+    "NotADatabaseError",
+    "Problem",
+    "RegistryError",
+    "SchemaTooNewError",
+    "ServerDatabaseMissingError",
+    "ServerUnavailableError",
+    "StorageError",
+    "UnknownCaseError",
+    "UnknownRunError",
+)
+
+if TYPE_CHECKING:
+    from .api import AddResult, AuditReport, Registry, open_registry
+    from .api import open_registry as open  # noqa: A004 - registry.open reads like sqlite3.connect
+    from .audit.case_audit import audit_case
+    from .errors import (
+        CaseFormatError,
+        DatabaseFullError,
+        DatabaseLockedError,
+        DatabaseMissingError,
+        DatabasePermissionError,
+        DatabaseReadOnlyError,
+        ExpressionError,
+        NotADatabaseError,
+        Problem,
+        RegistryError,
+        SchemaTooNewError,
+        ServerDatabaseMissingError,
+        ServerUnavailableError,
+        StorageError,
+        UnknownCaseError,
+        UnknownRunError,
+    )
+    from .language.casefile import load_case, parse_case_text
+    from .model import Case, CaseAudit, CheckResult, Claim, ClaimKind, Verdict, Witness
+
+
+def __getattr__(name: str) -> Any:
+    """A public name (``registry.open``, ``registry.Case``, ...), or a submodule
+    (``registry.api``), imported on first use. Taking a name of the domain also
+    installs the Jupyter reprs of cases and audits (``presentation.notebook``)."""
+    if name in _ERRORS:
+        value = getattr(importlib.import_module(".errors", __name__), name)
+    elif name in _PUBLIC:
+        module = importlib.import_module(f".{_PUBLIC[name]}", __name__)
+        value = getattr(module, "open_registry" if name == "open" else name)
+        importlib.import_module(".presentation.notebook", __name__)
+    else:
+        try:
+            value = importlib.import_module(f".{name}", __name__)
+        except ModuleNotFoundError as err:
+            if err.name != f"{__name__}.{name}":
+                raise
+            raise AttributeError(f"module {__name__!r} has no attribute {name!r}") from None
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted({*globals(), *__all__})
+
 
 __all__ = [
     "AddResult",

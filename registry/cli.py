@@ -19,16 +19,19 @@ from typing import TYPE_CHECKING, Any, Literal
 
 import click
 
-from .api import DEFAULT_SEARCH_BUDGET, Registry, default_target, discover_file, open_registry
-from .audit.case_audit import DEFAULT_BUDGET
 from .distributed.scheduler import SCHEDULER_ENV, scheduler_option
 from .errors import DatabaseMissingError, RegistryError, UnknownClaimError, printable
-from .model import Verdict
-from .presentation.search_output import search_text, statement
-from .presentation.verdict_table import disagreements, verdict_table
+from .execution.time_budget import DEFAULT_BUDGET
+from .runs import DEFAULT_SEARCH_BUDGET
 
 if TYPE_CHECKING:
     import pandas as pd
+
+    from .api import Registry
+
+#: The overall verdicts of a claim (``model.Verdict``), spelled out here so that
+#: ``registry --help`` need not import sympy; tests/test_cli.py checks they agree.
+VERDICTS = ("verified", "refuted", "inconclusive", "error")
 
 
 def _report(err: Exception) -> None:
@@ -85,7 +88,9 @@ def _registry(create: bool = False) -> Registry:
     """The registry named by --db; only ``add`` creates a database that does not exist."""
     ctx = click.get_current_context()
     if "registry" not in ctx.obj:
-        reg = ctx.with_resource(open_registry(ctx.obj["db"], create=create))
+        from .api import default_target, open_registry  # only for commands that use them
+
+        reg = ctx.with_resource(open_registry(ctx.obj["db"] or default_target(), create=create))
         if reg.upgraded_from is not None:
             click.echo(_upgraded(reg), err=True)
         ctx.obj["registry"] = reg
@@ -159,7 +164,7 @@ def main(ctx: click.Context, db: str | None, debug: bool) -> None:
     Example: registry add data/cases && registry audit
     """
     ctx.ensure_object(dict)
-    ctx.obj.update(db=db or default_target(), debug=debug)
+    ctx.obj.update(db=db, debug=debug)  # None: the default (api.default_target), when opened
 
 
 @main.command()
@@ -282,7 +287,11 @@ def audit(
     if as_json:
         click.echo(json.dumps(report.document(), indent=2, ensure_ascii=False))
     else:
+        from .presentation.verdict_table import verdict_table
+
         click.echo(verdict_table(report.outcomes(), report.run))
+    from .presentation.verdict_table import disagreements
+
     contradicted = disagreements(report.outcomes())
     if strict and contradicted:
         click.echo(
@@ -411,6 +420,8 @@ def discover(
     )
     with _counting_bar("set", quiet=as_json) as progress:
         if reg is None:
+            from .api import discover_file
+
             report = discover_file(target, progress=progress, **options)
         else:
             with reg.interruptible():
@@ -422,6 +433,8 @@ def discover(
     if as_json:
         click.echo(json.dumps(report.document(), indent=2, ensure_ascii=False))
         return
+    from .presentation.search_output import search_text
+
     click.echo(search_text(report.search))
     if report.reused:
         click.echo(f"(reused stored search {report.number}; --fresh searches again)")
@@ -482,6 +495,8 @@ def survey(
             progress=progress,
             scheduler=scheduler,
         )
+    from .presentation.search_output import statement
+
     for r in reports:
         on = f" on {', '.join(e.text for e in r.search.options.on)}" if r.search.options.on else ""
         click.echo(f"{r.search.case}{on}: {statement(r.search)}")
@@ -573,7 +588,7 @@ def _years(text: str | None) -> int | tuple[int, int] | None:
 @click.option("--family", default=None, help="The torque's family (constant, affine, ...).")
 @click.option(
     "--verdict",
-    type=click.Choice([str(v) for v in Verdict]),
+    type=click.Choice(VERDICTS),
     default=None,
     help="Cases with a claim of this verdict (in its newest audit).",
 )

@@ -13,7 +13,7 @@ from collections.abc import Iterable
 from dataclasses import replace
 
 from ..execution.serving import Failure
-from ..execution.time_budget import BudgetExceeded, TimeBudget, time_limit
+from ..execution.time_budget import DEFAULT_BUDGET, BudgetExceeded, TimeBudget, time_limit
 from ..mathematics.case_mechanics import CaseMechanics
 from ..model import (
     Case,
@@ -28,9 +28,6 @@ from ..model import (
 from .checks import CHECKS, CheckSpec, not_applicable
 from .corrections import corrections
 from .numeric_evidence import evidence as numeric_evidence
-
-#: Budgets used when none is given: a few seconds per check.
-DEFAULT_BUDGET = TimeBudget()
 
 #: The case-level checks whose verdicts appear under ``checks`` in the JSON output.
 CASE_CHECKS = tuple(name for name, spec in CHECKS.items() if not spec.per_claim)

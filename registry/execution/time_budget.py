@@ -37,6 +37,10 @@ class TimeBudget:
         return self.check * n_checks + self.corrections + self.margin
 
 
+#: Budgets used when none is given: a few seconds per check.
+DEFAULT_BUDGET = TimeBudget()
+
+
 def _interrupt(signum, frame):
     raise BudgetExceeded
 

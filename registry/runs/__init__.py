@@ -5,3 +5,7 @@ reuses searches (``search_run``), and a run's interruption (``interruption``): a
 ends a run as Ctrl-C does, never in the middle of a database session. ``api.Registry``
 delegates to these; the command line talks only to ``Registry``.
 """
+
+#: Seconds an integral search may take by default (``registry discover --budget``); here,
+#: where ``registry --help`` can read it without importing the search.
+DEFAULT_SEARCH_BUDGET = 300.0

@@ -29,12 +29,10 @@ from ..presentation.search_output import search_document, statement
 from ..store import conversions
 from ..store.database import Store, StoredCase
 from ..version import code_version
+from . import DEFAULT_SEARCH_BUDGET
 
 if TYPE_CHECKING:
     from distributed import Client
-
-#: Seconds an integral search may take by default (``registry discover --budget``).
-DEFAULT_SEARCH_BUDGET = 300.0
 
 
 @dataclass(frozen=True)
