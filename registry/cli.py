@@ -393,8 +393,9 @@ def discover(
     """Search a case (a case file or a stored case's id) for first integrals.
 
     Finds every polynomial integral of weighted degree <= --degree beyond the known
-    ones (H, |gamma|^2, the torque's Casimir), and, for a family, every set of values
-    of the --free parameters where more exist. Each integral is proven by the
+    ones (H, |gamma|^2, the torque's Casimir; on so(4), so(3,1) kappa|M|^2 + |gamma|^2
+    and M.gamma), and, for a family, every set of values of the --free parameters
+    (kappa among them, if the case names it) where more exist. Each integral is proven by the
     audit's zero test; "complete" means that no other special values exist for this
     ansatz. Stored searches of the same case version and options are reused.
 
@@ -473,10 +474,13 @@ def survey(
     """Record a search of every case (or the named ones) at the degree its claims reach.
 
     \b
-    Each case is searched for polynomial integrals beyond H, |gamma|^2 and the
-    torque's Casimir:
+    Each case is searched for polynomial integrals beyond H and the bracket's
+    Casimirs (|gamma|^2 and the torque's Casimir; on so(4), so(3,1) kappa|M|^2 + |gamma|^2
+    and M.gamma):
     - up to the largest weighted degree of its claims (at least 2), with weights
-      M=1,gamma=1 for a potential of degree >= 2 in gamma, else M=1,gamma=2;
+      M=1,gamma=1 for a potential of degree >= 2 in gamma, else M=1,gamma=2 (for a
+      case that gives H or kappa, the weights that make its field homogeneous, else
+      M=1,gamma=1);
     - on the whole phase space, and on each level set its claims are stated on.
     A system that is not polynomial is recorded as not searched, with the reason.
     What a search finds becomes a claim that the next audit decides; searches
