@@ -28,14 +28,24 @@ from registry.model import (
     System,
 )
 from registry.store.database import Store
+from tests.helpers import watchdog
 from tests.helpers.databases import BACKENDS, POSTGRES, Databases
 from tests.helpers.postgres_server import PostgresServer, ServerUnavailable
 
 # Property tests draw the same examples on every run (a failure is reproducible, and CI
-# does not fail at random); HYPOTHESIS_PROFILE=explore draws new ones each run.
-settings.register_profile("repeatable", derandomize=True)
-settings.register_profile("explore", derandomize=False, max_examples=1000)
+# does not fail at random); HYPOTHESIS_PROFILE=explore draws new ones each run. No
+# wall-clock deadline per example (a busy machine would miss it): a test that bounds
+# the time of its work bounds the CPU time (tests/helpers/clocks.py).
+settings.register_profile("repeatable", derandomize=True, deadline=None)
+settings.register_profile("explore", derandomize=False, max_examples=1000, deadline=None)
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "repeatable"))
+
+
+def pytest_configure(config):
+    """Mark the processes this run starts, and watch it: what a killed run leaves
+    behind (servers, Dask processes, commands and their workers) is stopped."""
+    watchdog.start()
+
 
 C = sp.Symbol("C", positive=True)
 N = sp.Symbol("N", real=True)

@@ -27,9 +27,11 @@ def test_a_worker_stuck_where_the_timer_cannot_reach_is_killed_and_replaced(monk
         load_case(CASES / "borisov-mamaev-1997.toml"),
     ]
     budget = TimeBudget(check=0.5, corrections=0.5, margin=0.5)
-    started = time.perf_counter()
+    started = time.monotonic()
     results = dict(audit_in_workers(cases, 1, budget))
-    assert time.perf_counter() - started < 30
+    # waiting, not computing: a wall-clock bound far above the seconds this takes, and
+    # below the 120 s the stuck checks would sleep if no one killed them
+    assert time.monotonic() - started < 100
     for index, case in enumerate(cases):
         audit = results[index]
         assert audit.case == case.id

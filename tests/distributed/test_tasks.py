@@ -13,6 +13,8 @@ from pathlib import Path
 import pytest
 
 from registry.distributed.tasks import Failure, guided, pack, run_calls
+from tests.helpers.clocks import HANG
+from tests.helpers.processes import alive
 
 # ------------------------------------------------------- calls the workers run
 
@@ -22,8 +24,11 @@ def square(n: int) -> int:
 
 
 def sleep_then_mark(item: tuple[str, float]):
-    """Writes this process's id to ``item[0]``, then sleeps ``item[1]`` seconds."""
-    Path(item[0]).write_text(str(os.getpid()))
+    """Writes this process's id to ``item[0]`` (at once: written aside, then renamed),
+    then sleeps ``item[1]`` seconds."""
+    aside = Path(f"{item[0]}.{os.getpid()}.part")
+    aside.write_text(str(os.getpid()))
+    os.replace(aside, item[0])
     time.sleep(item[1])
     return item
 
@@ -41,14 +46,6 @@ def kill_my_worker(item: tuple[str, str]):
 
 
 # ------------------------------------------------------------------ helpers
-
-
-def alive(pid: int) -> bool:
-    try:
-        state = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0]
-    except OSError:
-        return False
-    return state not in ("Z", "X")
 
 
 # -------------------------------------------------------------------- tests
@@ -91,13 +88,13 @@ def test_leaving_the_loop_early_stops_the_running_child(thread_cluster, tmp_path
     items = [(str(tmp_path / "first"), 0.0), (str(marker), 120.0)]  # one worker thread
     calls = run_calls(thread_cluster, sleep_then_mark, items)
     assert next(calls) == (0, items[0])
-    deadline = time.monotonic() + 30
+    deadline = time.monotonic() + HANG
     while not marker.exists() and time.monotonic() < deadline:
         time.sleep(0.05)
-    child = int(marker.read_text())
+    child = int(marker.read_text())  # complete: the child renames it into place
     assert alive(child)
     calls.close()  # what a Ctrl-C does to the loop
-    deadline = time.monotonic() + 10
+    deadline = time.monotonic() + HANG  # far below the 120 s the child would sleep
     while alive(child) and time.monotonic() < deadline:
         time.sleep(0.05)
     assert not alive(child), "the child of a cancelled task kept running"

@@ -19,6 +19,9 @@ import dask
 import distributed  # noqa: F401 - its config defaults, before any dask.config.set
 import pytest
 
+from tests.helpers.clocks import HANG
+from tests.helpers.processes import dying_with_this_process
+
 
 @pytest.fixture
 def thread_cluster() -> Iterator[object]:
@@ -53,6 +56,12 @@ def process_cluster():
 
 
 # ------------------------------------------ a cluster of separate dask processes
+
+#: Seconds a ``dask worker`` keeps trying to reach its scheduler before it ends.
+DEATH_TIMEOUT = 60
+
+#: Seconds the scheduler and the workers may take to start on a busy machine.
+STARTUP = 2 * HANG
 
 #: The directory that holds the package under test: the workers must import the same code.
 SOURCE = str(Path(__file__).resolve().parents[2])
@@ -162,7 +171,11 @@ def dask_processes(
     def start(name: str, *args: str) -> subprocess.Popen:
         with open(where / f"{name}.log", "wb") as log:
             proc = subprocess.Popen(
-                dask_command(*args), stdout=log, stderr=subprocess.STDOUT, env=env
+                dask_command(*args),
+                stdout=log,
+                stderr=subprocess.STDOUT,
+                env=env,
+                preexec_fn=dying_with_this_process(),  # nothing outlives the test run
             )
         started.append(proc)
         return proc
@@ -177,8 +190,9 @@ def dask_processes(
             str(file),
             *(["--protocol", "tls", *secure] if tls else []),
         )
-        address = _address(file, scheduler, time.monotonic() + 60)
+        address = _address(file, scheduler, time.monotonic() + STARTUP)
         one = "--nthreads 1 --nworkers 1 --no-nanny --no-dashboard".split()
+        one += ["--death-timeout", str(DEATH_TIMEOUT)]  # no scheduler: the worker ends
         workers = [
             start(
                 f"worker-{i}",
@@ -202,7 +216,7 @@ def dask_processes(
                 require_encryption=True,
             )
         with Client(address, timeout=30, security=security) as client:
-            client.wait_for_workers(n_workers, timeout=60)
+            client.wait_for_workers(n_workers, timeout=STARTUP)
         yield DaskProcesses(address, file, scheduler, workers, where)
     finally:
         _stop(started[1:])

@@ -8,7 +8,9 @@ off: its data is thrown away. PostgreSQL refuses to run as root, so under root (
 CI) the directory belongs to an unprivileged user, ``postgres`` (which the Debian package
 creates) or, when that user is missing, one created for the purpose, and the binaries
 run as that user through ``runuser``. ``stop()`` stops the server and removes the
-directory; it is also called at exit, whatever happened before.
+directory; it is also called at exit, whatever happened before. A run that ends
+without exit handlers (SIGKILL, a CI time limit) leaves both to the test run's
+watchdog (``watchdog.py``), with which the server is registered from its start.
 
 Each test gets a database of its own (``create_database``), named by a URL of the form
 the README gives: ``postgresql+psycopg://registry@/NAME?host=/socket/dir``.
@@ -26,6 +28,8 @@ import shutil
 import subprocess
 import tempfile
 from pathlib import Path
+
+from tests.helpers import watchdog
 
 #: The cluster's superuser, which the tests connect as.
 SUPERUSER = "registry"
@@ -110,6 +114,7 @@ class PostgresServer:
         self.socket_dir = root
         self._names = itertools.count(1)
         self._running = False
+        self._watched: Path | None = None  # the registration with the run's watchdog
 
     # ------------------------------------------------------------------ lifecycle
 
@@ -132,6 +137,7 @@ class PostgresServer:
         root = Path(tempfile.mkdtemp(prefix="registry-pg-"))
         server = cls(bindir, root, owner)
         atexit.register(server.stop)
+        server._watched = watchdog.register("postgres", data=str(server.data), root=str(root))
         try:
             if owner is not None:
                 shutil.chown(root, user=owner)
@@ -188,6 +194,8 @@ class PostgresServer:
             except (OSError, subprocess.SubprocessError):
                 pass
         shutil.rmtree(self.root, ignore_errors=True)
+        watchdog.unregister(self._watched)
+        self._watched = None
 
     # ------------------------------------------------------------------ databases
 

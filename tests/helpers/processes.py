@@ -3,10 +3,12 @@ and children read from /proc, and killing a group."""
 
 from __future__ import annotations
 
+import ctypes
 import os
 import signal
 import sys
 import time
+from collections.abc import Callable
 from pathlib import Path
 
 
@@ -64,3 +66,39 @@ def busy(pid: int) -> bool:
     except OSError:
         return False
     return text[text.rindex(")") + 2 :].split()[0] == "R"
+
+
+def alive(pid: int) -> bool:
+    """Whether a process exists and is not a zombie (one that ended, not yet reaped)."""
+    try:
+        text = Path(f"/proc/{pid}/stat").read_text()
+    except OSError:
+        return False
+    return text[text.rindex(")") + 2 :].split()[0] not in ("Z", "X")
+
+
+#: prctl(2) option: the signal a process gets when the thread that started it ends.
+_PR_SET_PDEATHSIG = 1
+
+
+def dying_with_this_process() -> Callable[[], None] | None:
+    """A ``preexec_fn`` for ``subprocess.Popen`` that has the kernel SIGKILL the child
+    when this process ends, however it ends (Linux); None elsewhere.
+
+    ``prctl`` is looked up here, before the fork: the child only calls it. The signal
+    follows the thread that starts the child: start it from the main thread.
+    """
+    if not sys.platform.startswith("linux"):
+        return None
+    try:
+        prctl = ctypes.CDLL(None, use_errno=True).prctl
+    except (OSError, AttributeError):
+        return None
+    parent = os.getpid()
+
+    def preexec() -> None:
+        prctl(_PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0)
+        if os.getppid() != parent:  # the parent died before the request took effect
+            os._exit(1)
+
+    return preexec
