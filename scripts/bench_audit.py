@@ -283,6 +283,9 @@ def main() -> None:
     parser.add_argument("--sizes", type=int, nargs="*", default=[10, 100, 1000])
     parser.add_argument("--baseline-sample", type=int, default=20)
     parser.add_argument("--jobs", type=int, default=default_jobs())
+    parser.add_argument(
+        "--only-catalog", action="store_true", help="only the literature catalog (1.)"
+    )
     args = parser.parse_args()
 
     # first, while this process is cold: each side forks its processes from it; the
@@ -316,6 +319,8 @@ def main() -> None:
     )
     for key, mine, theirs in bad:
         print(f"    {key}: ours {mine}, lean {theirs}")
+    if args.only_catalog:
+        return
 
     seed = [registry.load_case(p) for p in sorted((ROOT / "data" / "cases").glob("*.toml"))]
     print(f"== seed catalog: {len(seed)} cases, {args.jobs} workers")
