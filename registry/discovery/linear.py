@@ -10,6 +10,7 @@ is at least as large as over Q; exact statements are made over Q or Q(q) only.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterable, Mapping, Sequence
 from typing import Any
 
@@ -17,6 +18,11 @@ import sympy as sp
 from sympy import GF, QQ
 from sympy.polys.domains import Domain
 from sympy.polys.matrices import DomainMatrix
+
+try:
+    import flint
+except ImportError:  # pragma: no cover - python-flint is a dependency; sympy still works
+    flint = None
 
 #: The prime of modular computations (the Mersenne prime 2**61 - 1).
 PRIME = (1 << 61) - 1
@@ -87,12 +93,85 @@ def nullspace(rows: int, cols: int, entries: Iterable[tuple[int, int, object]], 
     matrix = _matrix(rows, cols, entries, field)
     if not field.domain.is_FractionField:
         return matrix.nullspace().to_list()
-    # Over Q(p), fraction-free elimination in Z[p] (denominators cleared row by row)
-    # is an order of magnitude faster than elimination with gcds in Q(p). Each vector,
-    # divided by its last nonzero entry (its free column), is the field's own basis.
+    # Over Q(p), fraction-free elimination in Z[p] (denominators cleared row by row),
+    # with FLINT's multivariate polynomials where python-flint is there: an order of
+    # magnitude faster than elimination with gcds in Q(p), and again than sympy's own
+    # polynomials. Each vector has 1 at its free column: the reduced echelon form's
+    # kernel basis, the field's own.
     _, over_ring = matrix.clear_denoms_rowwise(convert=True)
+    if flint is not None:
+        return _nullspace_flint(over_ring, cols, field)
     basis = over_ring.nullspace().convert_to(field.domain).to_list()
     return [[v / last for v in vector] for vector in basis for last in [_last_nonzero(vector)]]
+
+
+def _nullspace_flint(matrix: DomainMatrix, cols: int, field: Field) -> list[list]:
+    """The kernel basis of a matrix over Q[p] (one vector per free column, 1 there), by
+    fraction-free Gauss-Jordan elimination over Z[p] in FLINT: a row is only ever
+    multiplied by a pivot (over its gcd with the entry removed) and divided by the
+    gcd of its entries, so that at the end each pivot row reads d x_c + sum R_f x_f = 0."""
+    ring = matrix.domain.ring
+    ctx = flint.fmpz_mpoly_ctx.get(tuple(str(s) for s in ring.symbols), "lex")
+    rows = []
+    for row in matrix.to_sdm().values():
+        scale = math.lcm(*(int(c.denominator) for p in row.values() for c in p.values()))
+        rows.append(
+            {j: ctx.from_dict({e: int(c * scale) for e, c in p.items()}) for j, p in row.items()}
+        )
+    pivots: dict[int, dict] = {}  # pivot column -> its row
+    for c in range(cols):
+        holders = [r for r in rows if c in r]
+        if not holders:
+            continue
+        pivot_row = min(holders, key=lambda r: (len(r[c]), len(r)))
+        rows = [r for r in rows if r is not pivot_row]
+        d = pivot_row[c]
+        others = [*(r for r in rows if c in r), *(r for r in pivots.values() if c in r)]
+        for r in others:
+            a = r.pop(c)
+            g = d.gcd(a)
+            p, q = d / g, a / g
+            for j in set(r) | set(pivot_row):
+                if j == c:
+                    continue
+                value = p * r[j] if j in r else ctx.constant(0)
+                if j in pivot_row:
+                    value -= q * pivot_row[j]
+                if value.is_zero():
+                    r.pop(j, None)
+                else:
+                    r[j] = value
+            _divide_content(r)
+        rows = [r for r in rows if r]
+        pivots[c] = pivot_row
+    free = [f for f in range(cols) if f not in pivots]
+    fraction = field.domain.field
+    target = fraction.ring
+
+    def element(numer, denom) -> object:
+        return fraction.new(target.from_dict(numer.to_dict()), target.from_dict(denom.to_dict()))
+
+    basis = []
+    for f in free:
+        vector = [field.zero] * cols
+        vector[f] = field.one
+        for c, row in pivots.items():
+            if f in row:
+                vector[c] = field.domain.convert(element(-row[f], row[c]))
+        basis.append(vector)
+    return basis
+
+
+def _divide_content(row: dict) -> None:
+    """Divide a row of Z[p] by the gcd of its entries (its rank is unchanged)."""
+    g = None
+    for v in row.values():
+        g = v if g is None else g.gcd(v)
+        if g.is_one():
+            return
+    if g is not None and not g.is_one():
+        for j in row:
+            row[j] = row[j] / g
 
 
 def _last_nonzero(vector: Sequence) -> object:

@@ -45,21 +45,44 @@ class Locus:
         self.undecided.extend(x for x in other.undecided if x not in self.undecided)
 
     def maximal(self) -> list[dict[sp.Symbol, sp.Expr]]:
-        """The sets not contained in another one (a set inside another is searched when
-        that one is: its search covers every special set within it)."""
-        return [
-            s
-            for i, s in enumerate(self.sets)
-            if not any(j != i and contains(t, s) for j, t in enumerate(self.sets))
-        ]
+        """The sets to search: one parametrisation of each set (one without denominators
+        where there is one), and no set that lies where another's parametrisation is
+        defined (the search of that one covers every special set within it). A set in
+        the closure of another, where that one's denominators vanish, stays."""
+        kept: list[dict[sp.Symbol, sp.Expr]] = []
+        for s in sorted(self.sets, key=lambda s: (not polynomial(s), len(s))):
+            if not any(same(t, s) for t in kept):
+                kept.append(s)
+        return [s for s in kept if not any(t is not s and contains(t, s) for t in kept)]
+
+
+def polynomial(values: dict[sp.Symbol, sp.Expr]) -> bool:
+    """Whether a parametrisation has no denominator (it is defined everywhere)."""
+    return all(sp.denom(sp.together(e)).is_number for e in values.values())
+
+
+def _holds(big: dict[sp.Symbol, sp.Expr], small: dict[sp.Symbol, sp.Expr]) -> bool:
+    """Whether big's equations hold on small's values, with big's denominators nonzero
+    there (the generic point of small lies where big's parametrisation is defined)."""
+    for s, e in big.items():
+        numer, denom = sp.fraction(sp.together(e))
+        if sp.cancel(denom.xreplace(small)) == 0:
+            return False
+        if sp.cancel((s * denom - numer).xreplace(small)) != 0:
+            return False
+    return True
+
+
+def same(a: dict[sp.Symbol, sp.Expr], b: dict[sp.Symbol, sp.Expr]) -> bool:
+    """Whether two parametrisations describe the same set (each one's equations hold
+    on the other's values)."""
+    return a == b or (len(a) == len(b) and _holds(a, b) and _holds(b, a))
 
 
 def contains(big: dict[sp.Symbol, sp.Expr], small: dict[sp.Symbol, sp.Expr]) -> bool:
-    """Whether the set ``small`` lies in the set ``big`` (and differs from it): each of
-    big's equations holds on small's values."""
-    if big == small or len(small) <= len(big):
-        return False
-    return all(sp.cancel((s - e).xreplace(small)) == 0 for s, e in big.items())
+    """Whether the set ``small`` is a smaller set within the part of ``big`` where its
+    parametrisation is defined."""
+    return len(small) > len(big) and _holds(big, small)
 
 
 def columns(rows: list[Row]) -> list[int]:

@@ -57,7 +57,7 @@ from .ansatz import PolynomialSystem, weighted_monomials
 from .grading import grading_note
 from .integrals import Analysis, Generator, analyse, products
 from .linear import GF_PRIME, PRIME, Field
-from .locus import Locus, drop_locus
+from .locus import Locus, drop_locus, polynomial, same
 from .simplest_form import simplest
 
 #: What a search says of how it works (stored with every recorded search).
@@ -87,6 +87,8 @@ class _State:
     #: relations: the cofactor K' (coefficients free), and its values on candidate sets
     cofactor: sp.Expr | None = None
     cofactors: dict = field(default_factory=dict)
+    #: candidate sets searched (or being searched), as values of the free parameters
+    searched: list[dict[sp.Symbol, sp.Expr]] = field(default_factory=list)
     progress: Progress | None = None
     done: int = 0
     total: int = 0
@@ -138,7 +140,7 @@ def discover(
         elsewhere = (mapper, seconds)
     try:
         with time_limit(budget):
-            _, state.found = _search(state, case, free, (), jobs, elsewhere)
+            _, state.found, _ = _search(state, case, free, (), jobs, elsewhere)
     except BudgetExceeded:
         state.undecided.append(
             f"time budget exceeded ({budget:g} s) after {state.done} of the "
@@ -193,10 +195,13 @@ def _search(
     when: tuple[str, ...],
     jobs: int = 1,
     elsewhere: tuple[Mapper, float | None] | None = None,
+    values: dict[sp.Symbol, sp.Expr] | None = None,
 ):
-    """(integrals of the case for generic values of ``free``, special sets found in it);
-    the candidate sets searched in ``jobs`` processes, or by ``elsewhere`` (a mapper and
-    the seconds each of its calls may take)."""
+    """(integrals of the case for generic values of ``free``, special sets found in it,
+    dimensions of the integrals of each degree); the candidate sets searched in ``jobs``
+    processes, or by ``elsewhere`` (a mapper and the seconds each of its calls may
+    take). ``values`` are those of the family's free parameters that give this case.
+    A candidate set is special when it has more integrals of some degree."""
     rnd = state.rnd(when)
     m = CaseMechanics(case)
     cofactor = state.cofactors.get(when, state.cofactor)
@@ -223,10 +228,11 @@ def _search(
     if not when and found.integrals:  # new, or the case's own claims again
         kept = [e for e in integrals if to_text(e) in found.integrals]
         found = _named(state, case, m, system, params, found, kept)
+    kernel = {d: counts[0] for d, counts in generic.counts.items()}
     if not when:  # the generic values are decided, whatever happens to the locus
         state.known, state.counts, state.generic = tuple(names), generic.counts, found
     if not free:
-        return found, []
+        return found, [], kernel
     extras = [
         Generator(system.polynomial(e), d)
         for e, (_, d) in zip(integrals, generic.extras, strict=True)
@@ -236,20 +242,42 @@ def _search(
     candidates = []
     for assignment in locus.maximal():
         sub = substituted(case, assignment)
-        if sub is not None:
-            ordered = sorted(assignment.items(), key=lambda item: free.index(item[0]))
-            sub_when = when + tuple(f"{to_text(s)} = {to_text(e)}" for s, e in ordered)
-            candidates.append((sub, [p for p in free if p not in assignment], sub_when))
-            if cofactor is not None:
-                state.cofactors[sub_when] = sp.expand(cofactor.xreplace(assignment))
+        if sub is None:
+            continue
+        composed = _composed(values or {}, assignment)
+        if any(
+            composed == seen or (same(composed, seen) and polynomial(seen))
+            for seen in state.searched
+        ):
+            continue  # reached on another path, searched there everywhere
+        state.searched.append(composed)
+        rest = [p for p in free if p not in assignment]
+        sub_when = _when(state, composed)
+        candidates.append((sub, rest, sub_when, composed))
+        if cofactor is not None:
+            state.cofactors[sub_when] = sp.expand(cofactor.xreplace(assignment))
     state.total += len(candidates)
     special: list[IntegralSet] = []
-    for g, more, undecided in _each(state, candidates, jobs, elsewhere):
-        if g.extra > generic.extra:
+    for g, more, undecided, dimensions in _each(state, candidates, jobs, elsewhere):
+        if any(dimensions.get(d, 0) > k for d, k in kernel.items()):
             special.append(g)
         special.extend(more)
         state.undecided.extend(u for u in undecided if u not in state.undecided)
-    return found, special
+    return found, special, kernel
+
+
+def _composed(values: dict, assignment: dict) -> dict[sp.Symbol, sp.Expr]:
+    """The family's free parameters' values after ``assignment`` within ``values``."""
+    out = {s: sp.cancel(e.xreplace(assignment)) for s, e in values.items()}
+    out.update(assignment)
+    return out
+
+
+def _when(state: _State, values: dict[sp.Symbol, sp.Expr]) -> tuple[str, ...]:
+    """A set's equations, in the order the free parameters were named."""
+    order = {name: i for i, name in enumerate(state.options.free)}
+    ordered = sorted(values.items(), key=lambda item: order.get(str(item[0]), len(order)))
+    return tuple(f"{to_text(s)} = {to_text(e)}" for s, e in ordered)
 
 
 def _each(state: _State, candidates, jobs: int, elsewhere=None):
@@ -259,18 +287,18 @@ def _each(state: _State, candidates, jobs: int, elsewhere=None):
         yield from _each_elsewhere(state, candidates, *elsewhere)
         return
     if jobs <= 1 or len(candidates) <= 1:
-        for sub, rest, when in candidates:
+        for sub, rest, when, values in candidates:
             if state.progress is not None:
                 state.progress(state.done, state.total, ", ".join(when))
             before = list(state.undecided)
-            g, more = _search(state, sub, rest, when)
+            g, more, dimensions = _search(state, sub, rest, when, values=values)
             state.done += 1
-            yield g, more, [u for u in state.undecided if u not in before]
+            yield g, more, [u for u in state.undecided if u not in before], dimensions
         return
     bare = replace(state, progress=None, found=[], undecided=[])
-    work = [(bare, sub, rest, when) for sub, rest, when in candidates]
+    work = [(bare, *candidate) for candidate in candidates]
     results = in_processes(_search_apart, work, jobs)
-    for result, (_, _, when) in zip(results, candidates, strict=True):
+    for result, (_, _, when, _) in zip(results, candidates, strict=True):
         if state.progress is not None:
             state.progress(state.done, state.total, ", ".join(when))
         state.done += 1
@@ -281,7 +309,7 @@ def _each_elsewhere(state: _State, candidates, mapper: Mapper, seconds: float | 
     """``_each`` through a mapper, in the candidates' order; a candidate set it could
     not search is undecided."""
     bare = replace(state, progress=None, found=[], undecided=[])
-    work = [(bare, sub, rest, when) for sub, rest, when in candidates]
+    work = [(bare, *candidate) for candidate in candidates]
     for index, value in in_order(mapper(_search_apart, work, seconds), len(work)):
         when = candidates[index][2]
         if state.progress is not None:
@@ -289,16 +317,16 @@ def _each_elsewhere(state: _State, candidates, mapper: Mapper, seconds: float | 
         state.done += 1
         if isinstance(value, BaseException):
             why = f"candidate set {', '.join(when)} not searched ({value})"
-            yield IntegralSet(when, 0), [], [why]
+            yield IntegralSet(when, 0), [], [why], {}
         else:
             yield value
 
 
 def _search_apart(work):
     """``_search`` in a worker process: what it found and what it could not decide."""
-    state, case, free, when = work
-    g, more = _search(state, case, free, when)
-    return g, more, state.undecided
+    state, case, free, when, values = work
+    g, more, dimensions = _search(state, case, free, when, values=values)
+    return g, more, state.undecided, dimensions
 
 
 def _system(options: SearchOptions, m: CaseMechanics, free: list[sp.Symbol], cofactor=None):
@@ -481,26 +509,28 @@ def substituted(case: Case, values: dict[sp.Symbol, sp.Expr]) -> Case | None:
 
     def put(e: Expression) -> Expression:
         new = sp.sympify(e.expr).xreplace(values)
+        if new.has(sp.zoo, sp.nan, sp.oo):
+            raise _Undefined
         return Expression(to_text(new), new)
 
-    inertia = tuple(put(e) for e in case.system.inertia)  # none in the Hamiltonian form
-    if any(e.expr.has(sp.zoo, sp.nan, sp.oo) or sp.simplify(e.expr) == 0 for e in inertia):
-        return None
-    given = case.system.hamiltonian
-    system = replace(
-        case.system,
-        inertia=inertia,
-        potential=put(case.system.potential),
-        torque=(
-            put(case.system.torque[0]),
-            put(case.system.torque[1]),
-            put(case.system.torque[2]),
-        ),
-        hamiltonian=None if given is None else put(given),
-        kappa=put(case.system.kappa),
-    )
-    energy = system.potential if system.hamiltonian is None else system.hamiltonian
-    if any(e.expr.has(sp.zoo, sp.nan, sp.oo) for e in (energy, *system.torque, system.kappa)):
+    try:
+        inertia = tuple(put(e) for e in case.system.inertia)  # none in the Hamiltonian form
+        if any(sp.simplify(e.expr) == 0 for e in inertia):
+            return None
+        given = case.system.hamiltonian
+        system = replace(
+            case.system,
+            inertia=inertia,
+            potential=put(case.system.potential),
+            torque=(
+                put(case.system.torque[0]),
+                put(case.system.torque[1]),
+                put(case.system.torque[2]),
+            ),
+            hamiltonian=None if given is None else put(given),
+            kappa=put(case.system.kappa),
+        )
+    except _Undefined:  # a value where a denominator vanishes
         return None
     kept = {n: s for n, s in case.parameters.items() if s not in values}
     return replace(
@@ -510,6 +540,10 @@ def substituted(case: Case, values: dict[sp.Symbol, sp.Expr]) -> Case | None:
         parameters=kept,
         assumptions={n: a for n, a in case.assumptions.items() if n in kept},
     )
+
+
+class _Undefined(Exception):
+    """A parameter value where an expression of the case is undefined."""
 
 
 def _proven(state: _State, case: Case, when, integrals: Sequence[sp.Expr]) -> IntegralSet:

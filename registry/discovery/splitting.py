@@ -104,6 +104,7 @@ class _Splitter:
         self.ctx = region.context
         self.rnd = rnd
         self.factors: dict[str, list[Poly]] = {}
+        self.nowhere_zero: dict[str, bool] = {}
         self.out = Split()
         self.symbols = [sp.Symbol(n) for n in region.names]
 
@@ -119,13 +120,20 @@ class _Splitter:
         return hit
 
     def is_unit(self, h: Poly, branch: Branch) -> bool:
-        """Whether the irreducible ``h`` cannot vanish on the branch."""
+        """Whether the irreducible ``h`` cannot vanish on the branch: a constant, a factor
+        assumed nonzero there, a condition on the symbolic parameters alone (which stay
+        generic), or a polynomial with no real zero where the assumptions hold."""
         if h.is_constant() or str(h) in branch.units:
             return True
         degrees = h.degrees()
         if not any(degrees[: self.region.free]):
-            return True  # a condition on the symbolic parameters, which stay generic
-        return self._one_signed(h)
+            return True
+        key = str(h)
+        hit = self.nowhere_zero.get(key)
+        if hit is None:
+            hit = self._one_signed(h) or self._no_real_point(h)
+            self.nowhere_zero[key] = hit
+        return hit
 
     def _one_signed(self, h: Poly) -> bool:
         """h > 0 or h < 0 wherever the assumptions hold: coefficients of one sign, a
@@ -390,8 +398,7 @@ class _Splitter:
     def emit(self, branch: Branch) -> None:
         """A candidate set: the solved parameters' values (or undecided)."""
         if branch.pending is not None:
-            if not self._no_real_point(branch.pending):
-                self.out.undecided.append(self.describe(branch, [branch.pending]))
+            self.out.undecided.append(self.describe(branch, [branch.pending]))
             return
         values = self.values(branch)
         if values not in self.out.sets:
@@ -429,7 +436,7 @@ class _Splitter:
             r = h.resultant(g, self.region.names[i])
             if r.is_zero():
                 continue
-            if all(self.is_unit(f, branch) or self._no_real_point(f) for f in self.factor(r)):
+            if all(self.is_unit(f, branch) for f in self.factor(r)):
                 return True
         return False
 
@@ -493,19 +500,31 @@ class _Splitter:
         return total
 
     def _no_real_point(self, poly: Poly) -> bool:
-        """Whether a polynomial in one variable has no real root (allowed by the
-        assumptions); False when it cannot tell."""
+        """Whether an irreducible polynomial has no real zero where the assumptions hold:
+        one in a single parameter by its real roots, one quadratic in a parameter (with a
+        leading coefficient of one sign) by a discriminant negative everywhere. False
+        when it cannot tell."""
         used = [i for i, d in enumerate(poly.degrees()) if d]
-        if len(used) != 1:
-            return False
-        (i,) = used
-        x = self.symbols[i]
-        roots = sp.Poly(self.expr(poly), x).real_roots()
-        if i in self.region.positive:
-            roots = [r for r in roots if r > 0]
-        elif i in self.region.nonzero:
-            roots = [r for r in roots if r != 0]
-        return not roots
+        if len(used) == 1:
+            (i,) = used
+            x = self.symbols[i]
+            roots = sp.Poly(self.expr(poly), x).real_roots()
+            if i in self.region.positive:
+                roots = [r for r in roots if r > 0]
+            elif i in self.region.nonzero:
+                roots = [r for r in roots if r != 0]
+            return not roots
+        for i in used:
+            if poly.degrees()[i] != 2:
+                continue
+            parts = _coefficients(poly, i)
+            a, b = parts[2], parts.get(1, self.ctx.constant(0))
+            c = parts.get(0, self.ctx.constant(0))
+            if self._sign(a) is None:
+                continue
+            if self._sign(b * b - 4 * a * c) is False:
+                return True
+        return False
 
 
 def _divides(h: Poly, v: Poly) -> bool:

@@ -7,6 +7,7 @@ import random
 
 import sympy as sp
 from sympy import QQ
+from sympy.polys.matrices import DomainMatrix
 
 from registry.discovery.linear import GF_PRIME, Field, Span, nullspace, rank
 
@@ -55,3 +56,27 @@ def test_span_reduces_to_canonical_residues():
     assert span.add([QQ(0), QQ(1), QQ(1)])
     assert span.dim == 2
     assert span.reduce([QQ(1), QQ(2), QQ(1)]) == [0, 0, 0]
+
+
+def test_kernels_over_q_of_p_are_the_reduced_echelon_basis_of_sympy():
+    a, b = sp.symbols("a b")
+    fld = Field(QQ.frac_field(a, b), (a, b), {})
+    rnd = random.Random(5)
+    pool = [sp.Integer(0), sp.Integer(1), a, b - 1, a * b / 2, (a + 1) / (b + 2), a**2 - b]
+    for _ in range(15):
+        rows, cols = rnd.randint(1, 5), rnd.randint(1, 6)
+        dense = [[rnd.choice(pool) for _ in range(cols)] for _ in range(rows)]
+        entries = [
+            (i, j, fld.domain.from_sympy(v))
+            for i, row in enumerate(dense)
+            for j, v in enumerate(row)
+        ]
+        basis = nullspace(rows, cols, entries, fld)
+        # sympy's over the field itself, each vector scaled to 1 at its free column
+        matrix = DomainMatrix(
+            [[fld.domain.from_sympy(v) for v in row] for row in dense], (rows, cols), fld.domain
+        )
+        expected = [
+            [x / next(y for y in reversed(v) if y) for x in v] for v in matrix.nullspace().to_list()
+        ]
+        assert basis == expected

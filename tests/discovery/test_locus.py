@@ -94,3 +94,15 @@ def test_a_set_inside_another_is_left_to_its_search():
     locus = Locus([{lam: 1}, {lam: 1, z: 0}, {z: lam}, {z: 1, lam: 1}])
     assert contains({z: lam}, {z: 1, lam: 1}) and not contains({lam: 1}, {lam: 1})
     assert locus.maximal() == [{lam: 1}, {z: lam}]
+
+
+def test_a_set_where_another_parametrisation_is_undefined_stays():
+    # z (lam - 1) = x: the parametrisation z = x/(lam - 1) misses its part lam = 1, x = 0
+    x = sp.Symbol("x")
+    big, small = {z: x / (lam - 1)}, {lam: 1, x: 0}
+    assert not contains(big, small)
+    assert contains(big, {lam: 2, x: 0, z: 0})  # inside, where it is defined
+    assert not contains(big, {lam: 2, x: 0})  # z free there: not inside
+    assert Locus([big, small]).maximal() == [small, big]  # polynomial ones first
+    # two parametrisations of one set: the one without denominators is searched
+    assert Locus([{x: z * (lam - 1)}, big]).maximal() == [{x: z * (lam - 1)}]

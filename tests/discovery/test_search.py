@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import json
 import os
+import random
 import subprocess
 import sys
 from dataclasses import replace
@@ -21,9 +22,10 @@ from pathlib import Path
 import pytest
 import sympy as sp
 
+from registry.discovery.locus import same
 from registry.discovery.search import discover, search_options, substituted
 from registry.errors import DiscoveryError
-from registry.language.casefile import load_case
+from registry.language.casefile import load_case, parse_case_text
 from registry.language.parser import Namespace, parse_expression
 from registry.mathematics import mechanics as mech
 from registry.model import Verdict
@@ -236,6 +238,27 @@ def test_the_pure_python_backend_finds_the_same():
     assert json.loads(out.stdout) == [["lam = 1"], ["lam = 2"]]
 
 
+def values_of(case, when) -> dict[sp.Symbol, sp.Expr]:
+    """A special set's equations ("b = c", ...) as values of the parameters."""
+    ns = Namespace(case.parameters, case.functions)
+    return {
+        case.parameters[lhs]: parse_expression(rhs, ns)
+        for lhs, rhs in (w.split(" = ") for w in when)
+    }
+
+
+def all_conserved(name: str, found, on=()) -> None:
+    """Every integral reported is conserved where it is reported (checked here)."""
+    case = family(name)
+    for special in found.special:
+        sub = substituted(case, values_of(case, special.when))
+        for text in special.integrals:
+            assert conserved_modulo_known(sub, text, [], on), (special.when, text)
+
+
+# --- several free parameters ----------------------------------------------------------
+
+
 def test_three_free_parameters_give_the_four_classical_sets_and_nothing_else():
     # moments (1, b, c), centre of mass (1, 0, z0): the spherical top (M1 + z0 M3 for
     # every z0), Lagrange with the centre on the symmetry axis, Kovalevskaya with the
@@ -252,18 +275,99 @@ def test_three_free_parameters_give_the_four_classical_sets_and_nothing_else():
     }
     assert sets[("b = 1", "c = 1")] == ("M1 + M3*z0",)
     assert sets[("b = c", "z0 = 0")] == ("M1",)
-    case = family("heavy-top-b-c-z0")
-    for when, integrals in sets.items():
-        values = dict(w.split(" = ") for w in when)
-        sub = substituted(
-            case,
-            {
-                case.parameters[k]: sp.Rational(v) if v[0].isdigit() else case.parameters[v]
-                for k, v in values.items()
-            },
-        )
-        (text,) = integrals
-        assert conserved_modulo_known(sub, text, [])
+    all_conserved("heavy-top-b-c-z0", found)
+
+
+def test_a_family_with_its_special_sets_planted_by_a_change_of_parameters():
+    # the (b, c, z0) top written in new parameters: b = p q**k, c = q, z0 = w + m q
+    # (p, q > 0): its special sets are the preimages of the four classical ones
+    rnd = random.Random()
+    k, m = rnd.randint(1, 3), rnd.choice([-3, -2, -1, 1, 2, 3])
+    text = (FAMILIES / "heavy-top-b-c-z0.toml").read_text()
+    text = text.replace('b = "positive"', 'p = "positive"').replace(
+        'c = "positive"', 'q = "positive"'
+    )
+    text = text.replace('z0 = "real"', 'w = "real"').replace(
+        'id = "family-heavy-top-b-c-z0"', 'id = "family-planted"'
+    )
+    text = text.replace('inertia = ["1", "b", "c"]', f'inertia = ["1", "p*q**{k}", "q"]')
+    text = text.replace(
+        'potential = "gamma1 + z0*gamma3"', f'potential = "gamma1 + (w + {m}*q)*gamma3"'
+    )
+    case = parse_case_text(text, "planted.toml")
+    found = discover(case, search_options(case, degree=4, free=("p", "q", "w")), budget=120)
+    assert found.complete, (k, m, found.coverage)
+    p, q, w = (case.parameters[n] for n in ("p", "q", "w"))
+    expected = [
+        {p: 1, q: 1},
+        {p: q ** (1 - k), w: -m * q},
+        {p: sp.Rational(1, 2), q: 1},
+        {p: 2**k, q: sp.Rational(1, 2), w: -sp.Rational(m, 2)},
+    ]
+    got = [values_of(case, s.when) for s in found.special]
+    assert len(got) == 4, (k, m, [s.when for s in found.special])
+    for values in expected:
+        assert any(same(values, g) for g in got), (k, m, values, got)
+
+
+def clebsch(case) -> sp.Expr:
+    """Clebsch's condition (1871) for H = (M1**2 + M2**2/B + M3**2/C)/2 + sum b_i gamma_i**2/2:
+    (b2 - b3)/a1 + (b3 - b1)/a2 + (b1 - b2)/a3 = 0 with a = (1, 1/B, 1/C)."""
+    B, C, b1, b2, b3 = (case.parameters[n] for n in ("B", "C", "b1", "b2", "b3"))
+    return (b2 - b3) + B * (b3 - b1) + C * (b1 - b2)
+
+
+def test_five_free_parameters_at_degree_two_give_clebsch_and_the_axial_cases():
+    found = search(
+        "kirchhoff-diagonal", degree=2, weights=(1, 1), free=("B", "C", "b1", "b2", "b3")
+    )
+    assert found.complete and found.generic.extra == 0
+    case = family("kirchhoff-diagonal")
+    sets = where(found)
+    # Clebsch's hypersurface, one equation, with its quadratic integral
+    (hypersurface,) = [w for w in sets if len(w) == 1]
+    assert sp.cancel(clebsch(case).xreplace(values_of(case, hypersurface))) == 0
+    # the axially symmetric ones (Lagrange's kind): M_i where the other two moments and
+    # the other two potential coefficients are equal
+    assert sets[("B = 1", "b1 = b2")] == ("M3",)
+    assert sets[("B = C", "b3 = b2")] == ("M1",)
+    assert sets[("C = 1", "b3 = b1")] == ("M2",)
+    # every set lies on Clebsch's hypersurface (quadratic integrals need it)
+    for when in sets:
+        assert sp.cancel(clebsch(case).xreplace(values_of(case, when))) == 0, when
+    all_conserved("kirchhoff-diagonal", found)
+
+
+@pytest.mark.slow  # about 20 s of computing on two cores (over a minute when busy)
+def test_five_free_parameters_on_s_zero_at_degree_four_add_chaplygins_case():
+    found = search(
+        "kirchhoff-diagonal",
+        degree=4,
+        weights=(1, 1),
+        free=("B", "C", "b1", "b2", "b3"),
+        on=("s = 0",),
+        budget=900,
+    )
+    assert found.complete and found.generic.extra == 0
+    case = family("kirchhoff-diagonal")
+    B, C, b1, b2, b3 = (case.parameters[n] for n in ("B", "C", "b1", "b2", "b3"))
+    # Chaplygin (1902): two moments twice the third (Kovalevskaya's ratio) and the
+    # potential c (gamma_i**2 - gamma_j**2) in the plane of the equal ones (up to |gamma|**2)
+    chaplygin = {
+        (1, sp.Rational(1, 2)): b1 + b2 - 2 * b3,
+        (sp.Rational(1, 2), 1): b1 + b3 - 2 * b2,
+        (2, 2): b2 + b3 - 2 * b1,
+    }
+    quartic = {}
+    for special in found.special:
+        values = values_of(case, special.when)
+        if sp.cancel(clebsch(case).xreplace(values)) != 0:
+            quartic[(values[B], values[C])] = values
+    assert set(quartic) == set(chaplygin)
+    for moments, condition in chaplygin.items():
+        values = quartic[moments]
+        assert len(values) == 3 and sp.cancel(condition.xreplace(values)) == 0
+    all_conserved("kirchhoff-diagonal", found, on=[mech.s])
 
 
 # ------------------------------------------------------------- invariant relations
