@@ -32,7 +32,7 @@ from sympy.polys.rings import PolyElement, PolyRing
 
 from ..audit.case_audit import audit_case
 from ..errors import DiscoveryError
-from ..execution.local import in_processes
+from ..execution.local import local_mapper
 from ..execution.mapping import MAPPER_GRACE, Mapper, in_order
 from ..execution.time_budget import BudgetExceeded, time_limit
 from ..language.parser import Namespace, parse_equation
@@ -295,14 +295,7 @@ def _each(state: _State, candidates, jobs: int, elsewhere=None):
             state.done += 1
             yield g, more, [u for u in state.undecided if u not in before], dimensions
         return
-    bare = replace(state, progress=None, found=[], undecided=[])
-    work = [(bare, *candidate) for candidate in candidates]
-    results = in_processes(_search_apart, work, jobs)
-    for result, (_, _, when, _) in zip(results, candidates, strict=True):
-        if state.progress is not None:
-            state.progress(state.done, state.total, ", ".join(when))
-        state.done += 1
-        yield result
+    yield from _each_elsewhere(state, candidates, local_mapper(jobs), None)
 
 
 def _each_elsewhere(state: _State, candidates, mapper: Mapper, seconds: float | None):

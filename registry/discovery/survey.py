@@ -10,7 +10,7 @@ from collections.abc import Iterator, Sequence
 import sympy as sp
 
 from ..errors import DiscoveryError
-from ..execution.local import in_processes
+from ..execution.local import local_mapper
 from ..execution.mapping import MAPPER_GRACE, Mapper, in_order
 from ..mathematics import mechanics as mech
 from ..mathematics.case_mechanics import CaseMechanics
@@ -78,7 +78,7 @@ def searched(
     if jobs <= 1 or len(work) <= 1:
         yield from (_searched(item, budget) for item in work)
         return
-    yield from in_processes(_searched_apart, [(item, budget) for item in work], jobs)
+    yield from _mapped(work, budget, local_mapper(jobs))
 
 
 def _mapped(
@@ -90,7 +90,7 @@ def _mapped(
     for index, outcome in in_order(calls, len(work)):
         if isinstance(outcome, BaseException):  # the cluster gave no result for it
             case, options = work[index]
-            outcome = not_searched(case, options, f"no result from the cluster: {outcome}")
+            outcome = not_searched(case, options, f"no result came back: {outcome}")
         yield outcome
 
 

@@ -1,12 +1,12 @@
 """Running calls in worker processes of this machine that can be killed.
 
-Two ways. ``in_processes`` is an ordered map over a process pool, for work that bounds
-itself (a search under its own alarm). ``run_in_workers`` keeps long-lived workers
-(forked where the platform allows, so sympy is not imported again, and its caches stay
-warm from item to item), gives each a batch of items, and waits on their pipes with a
-deadline per item: a worker that overruns it (stuck in C code, where the in-process
-timer cannot interrupt it) is killed, the item becomes ``Failure("killed")``, and a new
-worker takes the rest of the batch. Every worker dies with this process.
+``run_in_workers`` keeps long-lived workers (forked where the platform allows, so sympy
+is not imported again, and its caches stay warm from item to item), gives each a batch
+of items, and waits on their pipes with a deadline per item: a worker that overruns it
+(stuck in C code, where the in-process timer cannot interrupt it) is killed, the item
+becomes ``Failure("killed")``, and a new worker takes the rest of the batch. Every
+worker dies with this process. ``local_mapper`` offers them as a ``mapping.Mapper``,
+the interface the Dask cluster's mapper has too.
 """
 
 from __future__ import annotations
@@ -14,11 +14,13 @@ from __future__ import annotations
 import multiprocessing as mp
 import os
 import time
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Callable, Generator, Iterator, Sequence
 from multiprocessing.connection import wait
 from typing import Any
 
-from .serving import Failure, die_with_parent, serve
+from ..errors import DiscoveryError
+from .mapping import Mapper
+from .serving import Failure, serve
 
 
 def default_jobs() -> int:
@@ -34,20 +36,6 @@ def _context() -> Any:
     return mp.get_context("fork" if "fork" in methods else "spawn")
 
 
-def in_processes(fn: Callable[[Any], Any], items: Sequence[Any], jobs: int) -> Iterator[Any]:
-    """``fn(item)`` for each item in up to ``jobs`` worker processes, results in the
-    items' order; the processes die with this one, and are ended at once when the
-    consumer stops (a budget ran out in the middle)."""
-    pool = _context().Pool(
-        min(jobs, len(items)), initializer=die_with_parent, initargs=(os.getpid(),)
-    )
-    try:
-        yield from pool.imap(fn, items)
-    finally:
-        pool.terminate()
-        pool.join()
-
-
 class _Worker:
     """A long-lived worker process serving batches (``serving.serve``)."""
 
@@ -60,14 +48,17 @@ class _Worker:
         self.deadline = 0.0  # for the item it is doing now
         self.seconds = 0.0
 
-    def give(self, batch: list[int], items: Sequence[Any], seconds: Callable[[Any], float]):
+    def give(
+        self, batch: list[int], items: Sequence[Any], seconds: Callable[[Any], float | None]
+    ) -> None:
         self.conn.send([items[i] for i in batch])
         self.batch = list(batch)
         self.start_clock(items, seconds)
 
-    def start_clock(self, items: Sequence[Any], seconds: Callable[[Any], float]) -> None:
-        """Start the deadline of the next item of its batch."""
-        self.seconds = seconds(items[self.batch[0]])
+    def start_clock(self, items: Sequence[Any], seconds: Callable[[Any], float | None]) -> None:
+        """Start the deadline of the next item of its batch (none: no deadline)."""
+        limit = seconds(items[self.batch[0]])
+        self.seconds = float("inf") if limit is None else limit
         self.deadline = time.monotonic() + self.seconds
 
     def stop(self, kill: bool = False) -> None:
@@ -89,7 +80,7 @@ def run_in_workers(
     fn: Callable[[Any], Any],
     items: Sequence[Any],
     jobs: int,
-    seconds: Callable[[Any], float],
+    seconds: Callable[[Any], float | None],
     batches: Sequence[Sequence[int]] | None = None,
     started: Callable[[int], None] | None = None,
 ) -> Iterator[tuple[int, Any]]:
@@ -131,7 +122,8 @@ def run_in_workers(
             if not busy:
                 return
             soonest = min(w.deadline for w in busy)
-            ready = wait([w.conn for w in busy], timeout=max(0.0, soonest - time.monotonic()))
+            left = None if soonest == float("inf") else max(0.0, soonest - time.monotonic())
+            ready = wait([w.conn for w in busy], timeout=left)
             for k, w in enumerate(workers):
                 if not w.batch:
                     continue
@@ -156,3 +148,24 @@ def run_in_workers(
     finally:
         for w in workers:
             w.stop(kill=bool(w.batch))
+
+
+def local_mapper(jobs: int) -> Mapper:
+    """A ``mapping.Mapper`` over up to ``jobs`` local worker processes, the counterpart
+    of ``distributed.searches.cluster_mapper``: each call killed past ``seconds`` (None:
+    it bounds itself), a call without a result coming back as a DiscoveryError saying
+    why."""
+
+    def mapper(
+        fn: Callable[[Any], Any], items: Sequence[Any], seconds: float | None
+    ) -> Generator[tuple[int, Any], None, None]:
+        calls = run_in_workers(fn, items, jobs, seconds=lambda _: seconds)
+        try:
+            for index, outcome in calls:
+                if isinstance(outcome, Failure):
+                    outcome = DiscoveryError(f"{outcome.kind}: {outcome.reason}")
+                yield index, outcome
+        finally:
+            calls.close()  # type: ignore[attr-defined]
+
+    return mapper

@@ -1,4 +1,4 @@
-"""Local worker processes (``registry/execution/local.py``): the ordered pool map, and
+"""Local worker processes (``registry/execution/local.py``): the local mapper, and
 killable workers whose every item comes back as a result or a ``Failure`` saying why."""
 
 from __future__ import annotations
@@ -6,7 +6,9 @@ from __future__ import annotations
 import os
 import time
 
-from registry.execution.local import default_jobs, in_processes, run_in_workers
+from registry.errors import DiscoveryError
+from registry.execution.local import default_jobs, local_mapper, run_in_workers
+from registry.execution.mapping import in_order
 from registry.execution.serving import Failure
 from tests.helpers.clocks import HANG
 from tests.helpers.processes import alive
@@ -19,21 +21,21 @@ def _pid_after(seconds: float) -> tuple[float, int]:
     return seconds, os.getpid()
 
 
-def test_in_processes_keeps_the_order_and_ends_its_processes_when_stopped():
+def test_the_local_mapper_keeps_the_order_and_ends_its_processes_when_stopped():
     import os
 
-    results = in_processes(_pid_after, [0.3, 0.0, 0.1, 0.0], 2)
-    first, second = next(results), next(results)
+    results = in_order(local_mapper(2)(_pid_after, [0.3, 0.0, 0.1, 0.0], None), 4)
+    (_, first), (_, second) = next(results), next(results)
     assert [first[0], second[0]] == [0.3, 0.0]  # the slow first item still comes first
     pids = [first[1], second[1]]
     assert os.getpid() not in pids
-    results.close()  # the consumer stops in the middle: the pool is ended at once
-    # (an idle pool left running would keep its processes: waiting for them to end, with
+    results.close()  # the consumer stops in the middle: the workers are ended at once
+    # (an idle worker left running would keep its processes: waiting for them to end, with
     # a zombie waiting to be reaped counted as gone, tells the two apart on a busy machine)
     deadline = time.monotonic() + HANG
     while (left := [p for p in set(pids) if alive(p)]) and time.monotonic() < deadline:
         time.sleep(0.05)
-    assert left == [], "the pool's processes outlived the stopped map"
+    assert left == [], "the workers outlived the stopped map"
 
 
 def _behave(item: str) -> object:
@@ -73,3 +75,10 @@ def test_each_item_comes_back_as_its_result_or_the_failure_that_stopped_it():
 
 def test_default_jobs_is_at_least_one():
     assert default_jobs() >= 1
+
+
+def test_the_local_mapper_names_a_call_without_a_result():
+    found = dict(local_mapper(2)(_behave, ["a", "die", "hang"], 1.0))
+    assert found[0][0] == "a"
+    assert isinstance(found[1], DiscoveryError) and str(found[1]).startswith("crashed: ")
+    assert str(found[2]) == "killed: deadline exceeded"
