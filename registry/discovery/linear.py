@@ -22,7 +22,7 @@ from sympy.polys.matrices import DomainMatrix
 try:
     import flint
 except ImportError:  # pragma: no cover - python-flint is a dependency; sympy still works
-    flint = None
+    flint = None  # type: ignore[assignment]
 
 #: The prime of modular computations (the Mersenne prime 2**61 - 1).
 PRIME = (1 << 61) - 1
