@@ -90,13 +90,16 @@ class Formula:
 
     mathml: Markup | None
     text: str
+    #: The same formula inline in a sentence (a level set, a parameter condition).
+    inline: Markup | None = None
 
 
 def _formula(lhs: sp.Basic | None, expr: sp.Basic, text: str) -> Formula:
     """``lhs = expr`` (or ``expr``) as MathML, with its text."""
     shown = expr if lhs is None else equation(lhs, expr)
     try:
-        return Formula(Markup(mathml(shown, display=True)), text)
+        block, inline = mathml(shown, display=True), mathml(shown)  # printed once (cached)
+        return Formula(Markup(block), text, Markup(inline))
     except (ValueError, TypeError, RecursionError):
         return Formula(None, text)
 
