@@ -468,3 +468,22 @@ def test_links_followed_in_the_browser_lead_to_pages_that_exist(built, server, b
             with urllib.request.urlopen(target) as response:  # noqa: S310 - our own server
                 assert response.status == 200, target
     assert len(seen) > 15
+
+
+def test_any_backend_gives_the_same_site(db_target, tmp_path):
+    """The seed cases on this module's backend (SQLite, then PostgreSQL) and on an SQLite
+    file give the same files and the same index (times of adding and of each check aside,
+    which differ between two audits)."""
+    trees = []
+    for target in (db_target, tmp_path / "reference.sqlite"):
+        with registry.open(target) as reg:
+            reg.add(*(CASES / f"{c}.toml" for c in SEED))
+            reg.audit(jobs=0)
+            reg.site(tmp_path / str(len(trees)))
+        trees.append(_tree(tmp_path / str(len(trees))))
+    assert trees[0].keys() == trees[1].keys()
+    assert trees[0]["index.json"] == trees[1]["index.json"]
+    for case_id in SEED:
+        for ext in ("toml", "py", "m", "mpl"):
+            name = f"cases/{case_id}.{ext}"
+            assert trees[0][name] == trees[1][name], name
