@@ -75,6 +75,7 @@ EXPECTED = {
     "sokolov-2001-kirchhoff-quartic": (V, {"K": (V, R), "H": (V, R), "area": (V, V)}),
     # wrong on purpose: the cross term without its potential -b^2 gamma3^2
     "sokolov-2001-kirchhoff-uncompensated": (V, {"K": (R, R)}),
+    "sokolov-2002-goryachev-chaplygin-deformed": (V, {"G": (V, R), "area": (V, V)}),
     "wolf-2003-e3-clebsch": (V, {"F": (V, R), "J2": (V, V)}),
     "wolf-2003-e3-kovalevskaya-gyrostat": (V, {"K": (V, R)}),
     "wolf-2003-e3-sokolov-linear": (V, {"K": (V, R)}),
@@ -123,6 +124,7 @@ INVARIANT = {
     ("borisov-2002-goryachev-chaplygin-gyrostat", "K"): V,
     ("chaplygin-1903-kirchhoff-s0", "F"): V,
     ("wolf-2003-e3-chaplygin", "F"): V,
+    ("sokolov-2002-goryachev-chaplygin-deformed", "G"): V,
     ("wolf-2003-e3-goryachev-chaplygin", "G"): V,
 }
 
