@@ -8,7 +8,8 @@ site is built twice (byte-identical) and served from 127.0.0.1 by ``http.server`
 In the browser (Debian's ``chromium`` and ``chromedriver``, driven by Selenium): the index
 and case pages load, every MathML formula renders with a non-zero size, the filters change
 the visible rows (and with scripts off the full table shows), an alias page redirects,
-links clicked lead to pages that exist, and no injected script runs. A screenshot of a
+a crawl from the index reaches every page of the site and finds no broken link (each
+link's target fetched from the server, each anchor found), and no injected script runs. A screenshot of a
 case page is kept in ``test-artifacts/`` (ignored by git; its path is printed). Every
 internal link of every page is checked on the files (hrefs and srcs resolve). Under
 ``REGISTRY_CI`` a missing Chromium fails these tests instead of skipping them.
@@ -29,7 +30,7 @@ from html.parser import HTMLParser
 from http.server import SimpleHTTPRequestHandler, ThreadingHTTPServer
 from pathlib import Path
 from types import SimpleNamespace
-from urllib.parse import unquote, urljoin, urlparse
+from urllib.parse import unquote, urlparse
 
 import pytest
 import sympy as sp
@@ -451,23 +452,42 @@ def test_case_pages_render_their_mathml_and_keep_a_screenshot(built, server, bro
     print(f"screenshot: {shot}")
 
 
-def test_links_followed_in_the_browser_lead_to_pages_that_exist(built, server, browser):
+def test_the_browser_reaches_every_page_from_the_index_and_no_link_is_broken(
+    built, server, browser
+):
+    """A crawl in the browser: every page reachable from the index is loaded, has one
+    h1 and a language, and every link on it (pages, downloads, anchors) is served."""
     from selenium.webdriver.common.by import By
 
     browser.get(server + f"cases/{ZHUKOVSKY}.html")  # the alias: redirected
     assert browser.current_url == server + f"cases/{RENAMED}.html"
-    seen = set()
-    for start in ("index.html", f"cases/{YEHIA_B}.html", "searches.html"):
-        browser.get(server + start)
-        hrefs = {a.get_attribute("href") for a in browser.find_elements(By.CSS_SELECTOR, "a[href]")}
-        for href in sorted(h for h in hrefs if h.startswith(server)):
-            target = urljoin(href, urlparse(href).path)
-            if target in seen:
-                continue
-            seen.add(target)
-            with urllib.request.urlopen(target) as response:  # noqa: S310 - our own server
-                assert response.status == 200, target
-    assert len(seen) > 15
+    pages, queue, served = set(), [server + "index.html"], set()
+    while queue:
+        page = queue.pop()
+        if page in pages:
+            continue
+        pages.add(page)
+        browser.get(page)
+        assert browser.current_url == page, page  # no redirect, no error page
+        assert len(browser.find_elements(By.TAG_NAME, "h1")) == 1, page
+        assert browser.find_element(By.TAG_NAME, "html").get_attribute("lang") == "en"
+        links = {a.get_attribute("href") for a in browser.find_elements(By.CSS_SELECTOR, "a[href]")}
+        for href in sorted(h for h in links if h.startswith(server)):
+            target, _, fragment = href.partition("#")
+            if fragment and target == page:
+                assert browser.find_elements(By.ID, fragment), href
+            if target not in served:
+                with urllib.request.urlopen(target) as response:  # noqa: S310 - our server
+                    assert response.status == 200, target
+                served.add(target)
+            if target.endswith(".html") and not target.endswith(f"/{ZHUKOVSKY}.html"):
+                queue.append(target)
+    on_disk = {
+        server + p.relative_to(built.site).as_posix()
+        for p in built.site.rglob("*.html")
+        if p.name != f"{ZHUKOVSKY}.html"  # the redirect, checked above
+    }
+    assert pages == on_disk  # every page is reachable, and every reachable page exists
 
 
 def test_any_backend_gives_the_same_site(db_target, tmp_path):
