@@ -9,8 +9,9 @@ In the browser (Debian's ``chromium`` and ``chromedriver``, driven by Selenium):
 and case pages load, every MathML formula renders with a non-zero size, the filters change
 the visible rows (and with scripts off the full table shows), an alias page redirects,
 a crawl from the index reaches every page of the site and finds no broken link (each
-link's target fetched from the server, each anchor found), and no injected script runs. A screenshot of a
-case page is kept in ``test-artifacts/`` (ignored by git; its path is printed). Every
+link's target fetched from the server, each anchor found), and no injected script runs.
+A screenshot of a case page is kept in ``test-artifacts/`` (ignored by git; its path is
+printed). Every
 internal link of every page is checked on the files (hrefs and srcs resolve). Under
 ``REGISTRY_CI`` a missing Chromium fails these tests instead of skipping them.
 """
