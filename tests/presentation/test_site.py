@@ -1,18 +1,19 @@
 """The static site (``registry site``), tested on the files and in a real headless Chromium.
 
 One database is built per module: the three seed cases, a renamed case (its old id is an
-alias), and a hostile case whose title, notes, citation, DOI, URL and topic carry markup
-and quotes; audited in this process, with a recorded search of Zhukovsky's gyrostat. The
-site is built twice (byte-identical) and served from 127.0.0.1 by ``http.server``.
+alias), two cases in Hamiltonian form (so(3,1), and kappa a parameter), and a hostile case
+whose title, notes, citation, DOI, URL and topic carry markup and quotes; audited in this
+process, with a recorded search of Zhukovsky's gyrostat. The site is built twice
+(byte-identical, and once more in another process) and served from 127.0.0.1 by
+``http.server``.
 
 In the browser (Debian's ``chromium`` and ``chromedriver``, driven by Selenium): the index
 and case pages load, every MathML formula renders with a non-zero size, the filters change
-the visible rows (and with scripts off the full table shows), an alias page redirects,
-a crawl from the index reaches every page of the site and finds no broken link (each
-link's target fetched from the server, each anchor found), and no injected script runs.
-A screenshot of a case page is kept in ``test-artifacts/`` (ignored by git; its path is
-printed). Every
-internal link of every page is checked on the files (hrefs and srcs resolve). Under
+the visible rows (and with scripts off the full table shows), an alias page redirects, a
+crawl from the index reaches every page of the site and finds no broken link (each link's
+target fetched from the server, each anchor found), and no injected script runs. A
+screenshot of a case page is kept in ``test-artifacts/`` (ignored by git; its path is
+printed). Every internal link of every page is also checked on the files. Under
 ``REGISTRY_CI`` a missing Chromium fails these tests instead of skipping them.
 """
 
