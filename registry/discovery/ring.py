@@ -64,6 +64,19 @@ class Adjoined:
     bound: int | None
 
 
+def _polynomial(expr: sp.Expr) -> bool:
+    """Whether ``expr`` is visibly polynomial in the state (no state in a denominator, a
+    root or a function): the common case, which needs no ring beyond the state's."""
+    state = set(mech.STATE)
+    for node in sp.preorder_traversal(expr):
+        if isinstance(node, sp.Pow):
+            if not (node.exp.is_Integer and node.exp >= 0) and node.base.free_symbols & state:
+                return False
+        elif isinstance(node, (sp.Function, sp.Derivative)) and node.free_symbols & state:
+            return False
+    return True
+
+
 def _primitive(poly: sp.Expr) -> sp.Expr:
     """A state polynomial up to a constant factor: primitive, leading coefficient positive."""
     p = sp.Poly(sp.expand(poly), *mech.STATE)
@@ -85,7 +98,7 @@ class SystemRing:
         for e in prepared:
             self._collect(e)
         bounds: dict[sp.Symbol, int] = {}
-        for e in bound_from:
+        for e in bound_from if (self.roots or self.inverses) else ():
             lifted = self.lift(e)
             for symbol in [*self.inverses.values(), *(r for _, r in self.roots.values())]:
                 degree = sp.Poly(lifted, symbol).degree() if lifted.has(symbol) else 0
@@ -114,6 +127,8 @@ class SystemRing:
 
     def _collect(self, expr: sp.Expr) -> None:
         """Record the radicands and denominator factors of ``expr``."""
+        if _polynomial(expr):
+            return
         for node in sp.preorder_traversal(expr):
             if isinstance(node, sp.Pow) and not node.exp.is_Integer:
                 self._root_of(node)
