@@ -18,9 +18,11 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import sympy as sp
 from sympy import QQ
+from sympy.polys.orderings import ProductOrder, grevlex
 from sympy.polys.rings import PolyElement, PolyRing
 
 from ..errors import DiscoveryError
@@ -119,11 +121,21 @@ class PolynomialSystem:
         self.n = len(self.variables)
         self.weights = self.space.weights
         self.bounds = self.space.bounds
-        names = [str(v) for v in self.variables] + [str(p) for p in self.params]
-        self.ring = PolyRing(names, QQ, "grevlex")
-        self._plain = {
-            g: sp.Symbol(n) for g, n in zip((*self.variables, *self.params), names, strict=True)
-        }
+        self._plain = {g: sp.Symbol(str(g)) for g in (*self.variables, *self.params)}
+        # the level set's basis over Q(p); a leading coefficient c(p) that is not constant
+        # is divided by through a parameter iota = 1/c(p) of its own (``divisors``)
+        self.contents: list[sp.Expr] = []
+        basis = self._basis([*self.space.relations(), *ideal])
+        self.divisors: dict[sp.Symbol, sp.Expr] = {}
+        monic = [self._monic(numer, lead) for numer, lead in basis]
+        self.params = (*self.params, *self.divisors)
+        self._plain.update({i: sp.Symbol(str(i)) for i in self.divisors})
+        names = [str(v) for v in (*self.variables, *self.params)]
+        order: Any = "grevlex"
+        if self.divisors:  # the state's grevlex first: iota's degree must not lead
+            n = self.n
+            order = ProductOrder((grevlex, lambda m: m[:n]), (grevlex, lambda m: m[n:]))
+        self.ring = PolyRing(names, QQ, order)
         rates = self.space.rates(field) if self.space.extended else field
         self.field = self._polynomial_field(rates)
         # Darboux polynomials: X F = K F, i.e. Y F = D K F for Y = D X (D the parameter
@@ -136,7 +148,7 @@ class PolynomialSystem:
             plain = self._plain
             self.cofactor = self.ring.from_expr(sp.expand(numer).xreplace(plain))
             self.cofactor_scale = self.ring.from_expr(sp.expand(denom).xreplace(plain))
-        self.ideal = self._groebner([*self.space.relations(), *ideal])
+        self.ideal = [self.ring.from_expr(g) for g in monic]
         self.leading = [g.LM[: self.n] for g in self.ideal]
         self._check_size(max_size)
         # (a monomial of weight 0, in inverse variables only, counts with degree 1)
@@ -237,7 +249,9 @@ class PolynomialSystem:
                 ) from None
         return out
 
-    def _groebner(self, ideal: Sequence[sp.Expr]) -> list[PolyElement]:
+    def _basis(self, ideal: Sequence[sp.Expr]) -> list[tuple[sp.Expr, sp.Expr]]:
+        """A Groebner basis of the level set (and the ring's relations) over Q(p), each
+        element as (numerator, leading coefficient), in plain symbols."""
         if not ideal:
             return []
         polys = []
@@ -250,24 +264,54 @@ class PolynomialSystem:
             polys.append(sp.expand(numer).xreplace(self._plain))
         state = [self._plain[v] for v in self.variables]
         params = [self._plain[p] for p in self.params]
+        plain = {v: k for k, v in self._plain.items()}
+        for g in polys:  # a parameter factor common to an equation's terms is divided out
+            content = sp.factor(sp.Poly(g, *state).content()) if g != 0 else sp.Integer(1)
+            if content.free_symbols:
+                c = content.xreplace(plain)
+                if c not in self.contents:
+                    self.contents.append(c)
         domain = QQ.frac_field(*params) if params else QQ
         basis = sp.groebner(polys, *state, order="grevlex", domain=domain)
         out = []
         for g in basis.exprs:
-            g = sp.together(g)
-            numer, denom = sp.fraction(g)
+            numer, _ = sp.fraction(sp.together(g))
             poly = sp.Poly(sp.expand(numer), *state)
-            lead = poly.LC()
-            if lead.free_symbols:
-                raise NotPolynomialError(
-                    "the level set's Groebner basis has a leading coefficient that depends "
-                    f"on the parameters ({lead}); discovery supports level sets whose basis "
-                    "does not"
-                )
-            out.append(self.ring.from_expr(sp.expand(numer / lead)))
+            out.append((poly.as_expr(), poly.LC(order="grevlex")))
         return out
 
+    def _monic(self, numer: sp.Expr, lead: sp.Expr) -> sp.Expr:
+        """A basis element divided by its leading coefficient: by the number, or, for a
+        coefficient c(p) that depends on the parameters, times a parameter iota standing
+        for 1/c(p) (the search then holds where c(p) != 0; ``divisors``)."""
+        if not lead.free_symbols:
+            return sp.expand(numer / lead)
+        plain = {v: k for k, v in self._plain.items()}
+        c = sp.factor(lead.xreplace(plain))
+        iota = next((i for i, d in self.divisors.items() if d == c), None)
+        if iota is None:
+            iota = sp.Symbol(f"ring_iota{len(self.divisors) + 1}")
+            self.divisors[iota] = c
+        state = [self._plain[v] for v in self.variables]
+        poly = sp.Poly(numer, *state)
+        head = sp.Mul(
+            *(x**e for x, e in zip(state, poly.LM(order="grevlex").exponents, strict=True))
+        )
+        rest = sp.expand(numer - lead * head)
+        return sp.expand(head + sp.Symbol(str(iota)) * rest)
+
     # --------------------------------------------------------------- algebra
+
+    @property
+    def divided_by(self) -> list[sp.Expr]:
+        """The parameter polynomials c(p) the level set's basis divides by: the search
+        holds where none vanishes."""
+        return list(dict.fromkeys([*self.contents, *self.divisors.values()]))
+
+    @property
+    def inverses(self) -> dict[int, sp.Expr]:
+        """Parameter index -> c(p), for each parameter that stands for 1/c(p)."""
+        return {self.params.index(i): c for i, c in self.divisors.items()}
 
     def reduce(self, poly: PolyElement) -> PolyElement:
         """The normal form of ``poly`` modulo the level set's ideal."""

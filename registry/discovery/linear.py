@@ -39,7 +39,13 @@ class Field:
     QQ(q); ``point`` maps parameter indices to the rational values substituted for
     them, and the other parameters are the symbols of the fraction field."""
 
-    def __init__(self, domain: Domain, params: Sequence[sp.Symbol], point: Mapping[int, object]):
+    def __init__(
+        self,
+        domain: Domain,
+        params: Sequence[sp.Symbol],
+        point: Mapping[int, object],
+        inverses: Mapping[int, sp.Expr] | None = None,
+    ):
         self.domain = domain
         self.params = tuple(params)
         self.point = {i: self.number(v) for i, v in point.items()}
@@ -47,6 +53,14 @@ class Field:
         self.zero = domain.zero
         self.one = domain.one
         self._cache: dict[tuple, object] = {}
+        # a parameter that stands for 1/c(p) (a level set divided by c) takes that value
+        for i, c in (inverses or {}).items():
+            value = self.one / self.evaluate(sp.Poly(c, *self.params).as_dict())
+            if i in self.point:
+                self.point[i] = value
+            else:
+                self.symbolic[i] = value
+        self._cache.clear()
 
     @property
     def exact(self) -> bool:

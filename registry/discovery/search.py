@@ -205,16 +205,16 @@ def _search(
     rnd = state.rnd(when)
     m = CaseMechanics(case)
     cofactor = state.cofactors.get(when, state.cofactor)
-    system, params = _system(state.options, m, free, cofactor)
+    system, params = _system(state.options, m, free, cofactor, values)
     _check_invariant(system, state.options)
     known, names = _known(m, system)
     if cofactor is not None and cofactor != 0:  # Darboux polynomials: nothing is known
         known = []
     point = {i: rnd.randrange(1, PRIME) for i in range(len(params))}
-    generic = analyse(system, known, Field(GF_PRIME, params, point))
+    generic = analyse(system, known, Field(GF_PRIME, params, point, system.inverses))
     integrals: list[sp.Expr] = []
     if generic.extra:  # extra integrals for generic values (or an unlucky point)
-        fld = Field(QQ.frac_field(*params) if params else QQ, params, {})
+        fld = Field(QQ.frac_field(*params) if params else QQ, params, {}, system.inverses)
         generic = analyse(system, known, fld, to_poly=lambda v: _ring_poly(system, v, fld))
         columns = [e for e, _ in system.columns]
         integrals = [
@@ -231,8 +231,16 @@ def _search(
     kernel = {d: counts[0] for d, counts in generic.counts.items()}
     if not when:  # the generic values are decided, whatever happens to the locus
         state.known, state.counts, state.generic = tuple(names), generic.counts, found
+    divided = _divided(state, case, system, when)
+    divided = _divided(state, case, system, when, values, kernel)
     if not free:
-        return found, [], kernel
+        return found, divided, kernel
+    if system.divided_by:
+        state.undecided.append(
+            f"the level set's basis divides by {', '.join(map(to_text, system.divided_by))}"
+            ": special values of the free parameters on it are not sought"
+        )
+        return found, divided, kernel
     extras = [
         Generator(system.polynomial(e), d)
         for e, (_, d) in zip(integrals, generic.extras, strict=True)
@@ -322,10 +330,14 @@ def _search_apart(work):
     return g, more, state.undecided, dimensions
 
 
-def _system(options: SearchOptions, m: CaseMechanics, free: list[sp.Symbol], cofactor=None):
-    """The polynomial system and its parameters (the free ones first); with a
-    ``cofactor``, the system of its Darboux polynomials."""
-    on = [eq.expr for eq in options.on]
+def _system(
+    options: SearchOptions, m: CaseMechanics, free: list[sp.Symbol], cofactor=None, values=None
+):
+    """The polynomial system and its parameters (the free ones first, then the symbolic
+    ones, then those standing for 1/c(p) where the level set's basis divides by c(p));
+    with a ``cofactor``, the system of its Darboux polynomials; ``values`` are the
+    parameter values of the set searched, put in the level set's equations."""
+    on = [sp.sympify(eq.expr).xreplace(values or {}) for eq in options.on]
     present = set().union(*(sp.sympify(e).free_symbols for e in (*m.field, m.hamiltonian, *on)))
     symbolic = sorted((set(m.case.parameters.values()) - set(free)) & present, key=str)
     params = [*free, *symbolic]
@@ -333,7 +345,48 @@ def _system(options: SearchOptions, m: CaseMechanics, free: list[sp.Symbol], cof
     system = PolynomialSystem(
         m.field, params, weights, options.degree, on, hamiltonian=m.hamiltonian, cofactor=cofactor
     )
-    return system, params
+    return system, list(system.params)
+
+
+def _divided(
+    state: _State, case: Case, system: PolynomialSystem, when, values, kernel
+) -> list[IntegralSet]:
+    """Where the level set's basis divides by c(p), the search above holds for c != 0;
+    c = 0 is searched as a case of its own (where the assumptions allow it), and is
+    special when it has more integrals. A c that no parameter can be solved for
+    rationally leaves that part undecided."""
+    special: list[IntegralSet] = []
+    for c in system.divided_by:
+        solved = None
+        for p in sorted(c.free_symbols, key=str):
+            poly = sp.Poly(sp.numer(sp.together(c)), p)
+            if poly.degree() == 1:
+                solved = {p: sp.cancel(-poly.nth(0) / poly.nth(1))}
+                break
+        if solved is None:
+            state.undecided.append(
+                f"the level set's basis divides by {to_text(c)}; where it vanishes is not searched"
+            )
+            continue
+        sub = substituted(case, solved)
+        if sub is None:  # the assumptions exclude c = 0
+            continue
+        composed = _composed(values or {}, solved)
+        sub_when = _when(state, composed)
+        if state.cofactor is not None:
+            base = state.cofactors.get(when, state.cofactor)
+            state.cofactors[sub_when] = sp.expand(base.xreplace(solved))
+        free = [f for f in _free_symbols(state, case) if f not in solved]
+        g, more, dimensions = _search(state, sub, free, sub_when, values=composed)
+        if any(dimensions.get(d, 0) > k for d, k in kernel.items()):
+            special.append(g)
+        special.extend(more)
+    return special
+
+
+def _free_symbols(state: _State, case: Case) -> list[sp.Symbol]:
+    """The free parameters of the search that ``case`` still declares."""
+    return [case.parameters[f] for f in state.options.free if f in case.parameters]
 
 
 def _cofactor(
@@ -573,7 +626,7 @@ def _named(state: _State, case: Case, m, system, params, found: IntegralSet, exp
     claims = _verified_claims(case, system)
     state.claims = tuple(k.name for k in claims)
     trivial = [k for name, expr in _known_integrals(m) if (k := novelty.known(system, name, expr))]
-    fld = Field(QQ.frac_field(*params) if params else QQ, params, {})
+    fld = Field(QQ.frac_field(*params) if params else QQ, params, {}, system.inverses)
     status = novelty.statuses(system, fld, trivial, claims, exprs)
     return replace(found, status=tuple(status))
 
@@ -610,12 +663,18 @@ def _verified_claims(case: Case, system: PolynomialSystem) -> list[novelty.Known
 
 def _check_invariant(system: PolynomialSystem, options: SearchOptions) -> None:
     """The level set must be kept by the flow, or an integral on it means nothing."""
+    inverse = {sp.Symbol(str(i)): 1 / c for i, c in system.divisors.items()}
     for g in system.ideal:
-        rate = sum(
-            (g.diff(system.ring.gens[i]) * system.field[i] for i in range(system.n)),
-            system.ring.zero,
+        rate = system.reduce(
+            sum(
+                (g.diff(system.ring.gens[i]) * system.field[i] for i in range(system.n)),
+                system.ring.zero,
+            )
         )
-        if system.reduce(rate):
+        if rate and inverse:  # 1/c(p) put back for the parameter iota that stands for it
+            rest = sp.numer(sp.together(system.expression(rate).xreplace(inverse)))
+            rate = system.polynomial(rest) if sp.expand(rest) != 0 else system.ring.zero
+        if rate:
             equations = ", ".join(eq.text for eq in options.on)
             raise DiscoveryError(
                 f"the flow does not keep the level set {equations} invariant (the time "

@@ -85,3 +85,23 @@ def test_an_arbitrary_function_family_is_refused_with_the_reason():
     assert "arbitrary function(s) U" in search.coverage[0]
     with pytest.raises(NotInRingError, match="transcendental function cos"):
         SystemRing([sp.cos(mech.gamma3)], (1, 1, 1, 2, 2, 2))
+
+
+def test_hess_level_set_whose_basis_divides_by_a_parameter_is_searched():
+    """Hess's relation x0 M1 + z0 M3 = 0: its basis divides by x0, which the case
+    declares nonzero; the level set is searched (and is invariant under Hess's
+    condition), where it was refused before."""
+    case = load_case(CASES / "heavy-top" / "hess-1890-heavy-top.toml")
+    search = discover(case, search_options(case, degree=2, on=["x0*M1 + z0*M3 = 0"]))
+    assert search.decided and search.complete
+
+
+def test_a_level_set_dividing_by_a_parameter_is_split_into_both_cases():
+    """a*M3 = 0 with a real: a != 0 is M3 = 0 (Lagrange's top there: nothing beyond the
+    known integrals), a = 0 the free symmetric top, searched as a case of its own on the
+    whole phase space, where M3 is extra (|M|^2 = 2 H + (1 - 1/c3) M3^2 is not)."""
+    case = load_case(FAMILIES / "lagrange-a-real.toml")
+    search = discover(case, search_options(case, degree=2, on=["a*M3 = 0"]))
+    assert search.complete and search.generic.extra == 0
+    (free_top,) = search.special
+    assert free_top.when == ("a = 0",) and free_top.integrals == ("M3",)
