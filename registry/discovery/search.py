@@ -231,7 +231,6 @@ def _search(
     kernel = {d: counts[0] for d, counts in generic.counts.items()}
     if not when:  # the generic values are decided, whatever happens to the locus
         state.known, state.counts, state.generic = tuple(names), generic.counts, found
-    divided = _divided(state, case, system, when)
     divided = _divided(state, case, system, when, values, kernel)
     if not free:
         return found, divided, kernel
