@@ -6,7 +6,8 @@ work's own CPU time. The block is also interrupted when it overruns (a profiling
 which counts this process's CPU time), so that a guard that no longer works fails the
 test instead of hanging it. Waiting (a sleep, a blocked read, another process) uses no
 CPU time: such a bound stays on the wall clock, an order of magnitude above the
-expected time (``HANG``), so that only a real hang exceeds it.
+expected time (``HANG``), so that only a real hang exceeds it, and where the wait might
+never end, the test stops waiting (``within``).
 """
 
 from __future__ import annotations
@@ -14,10 +15,13 @@ from __future__ import annotations
 import signal
 import threading
 import time
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from contextlib import contextmanager
+from typing import Any, TypeVar
 
 import pytest
+
+T = TypeVar("T")
 
 #: Seconds of wall clock after which waiting for something counts as a hang.
 HANG = 60.0
@@ -55,3 +59,28 @@ def cpu_bound(seconds: float) -> Iterator[CpuTime]:
             signal.signal(signal.SIGPROF, previous)
         used.seconds = time.process_time() - started
     assert used.seconds < seconds, f"the work used {used.seconds:.2f} s of CPU time"
+
+
+def within(seconds: float, fn: Callable[[], T]) -> T:
+    """``fn()``, or the test fails once ``seconds`` of wall clock have passed (a hang).
+
+    For work that waits on other processes (a cluster, a pool), where this process's CPU
+    time says nothing: ``fn`` runs in a daemon thread, left behind if it never returns.
+    """
+    outcome: list[tuple[bool, Any]] = []
+
+    def run() -> None:
+        try:
+            outcome.append((True, fn()))
+        except BaseException as exc:  # handed to the test's thread
+            outcome.append((False, exc))
+
+    thread = threading.Thread(target=run, name="bounded-wait", daemon=True)
+    thread.start()
+    thread.join(seconds)
+    if thread.is_alive():
+        pytest.fail(f"still waiting after {seconds:g} s of wall clock: a hang")
+    done, value = outcome[0]
+    if not done:
+        raise value
+    return value
