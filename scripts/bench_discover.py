@@ -17,6 +17,19 @@ Then the general bracket (issue 20), timed the same way:
    the catalog has no case of that family yet, Kovalevskaya's top on so(4) at degree 6
    stands in (same ansatz, a quartic extra integral), and the line says so.
 
+Then classification scale (issue 21), with several free parameters:
+
+6. moments (1, b, c), centre of mass (1, 0, z0), free b, c, z0, degree 4 (target < 60 s,
+   complete: the four classical sets);
+7. diagonal Kirchhoff, moments (1, B, C) and potential (b1 g1^2 + b2 g2^2 + b3 g3^2)/2,
+   five free parameters, degree 2 at weights M = 1, gamma = 1 (Clebsch's condition);
+8. the same at degree 4 on s = 0 (Chaplygin's case besides); 7 and 8 target < 10 min.
+
+Each is timed in one process, in two local processes (--jobs 2) and on a Dask cluster
+of two local worker processes started once (local:2, the cluster's start not counted),
+and as a ratio to search 1 timed in the same run (the machine is shared: ratios are
+what compares across runs).
+
 Each is timed in this process after one warm-up search (imports and sympy's caches
 are not what is measured), proofs of the reported integrals included. The naive
 baseline builds the whole system with sympy expressions and matrices (no blocks),
@@ -25,7 +38,7 @@ determinant of a random projection computed symbolically, and the integrals ther
 with sympy's nullspace. It runs in a child process with a time cap: past it the
 ratio printed is a lower bound.
 
-Usage: python scripts/bench_discover.py [--repeat 5] [--baseline-cap 300]
+Usage: python scripts/bench_discover.py [--repeat 5] [--baseline-cap 300] [--only-scale]
 Nothing here is asserted by the tests: machines are shared and noisy.
 """
 
@@ -224,12 +237,64 @@ def general_bracket(repeat: int) -> None:
         print(f"  {text[:120]}{'...' if len(text) > 120 else ''}")
 
 
+SCALE = [
+    ("(b, c, z0), degree 4", "heavy-top-b-c-z0", dict(degree=4, free=["b", "c", "z0"]), 60.0),
+    (
+        "5 parameters, degree 2",
+        "kirchhoff-diagonal",
+        dict(degree=2, weights=(1, 1), free=["B", "C", "b1", "b2", "b3"]),
+        600.0,
+    ),
+    (
+        "5 parameters, degree 4 on s = 0",
+        "kirchhoff-diagonal",
+        dict(degree=4, weights=(1, 1), on=["s = 0"], free=["B", "C", "b1", "b2", "b3"]),
+        600.0,
+    ),
+]
+
+
+def once(name: str, options: dict, **how) -> tuple[float, object]:
+    """Seconds of one search (``how``: jobs, scheduler) and its result."""
+    started = time.perf_counter()
+    report = discover_file(FAMILIES / f"{name}.toml", budget=1800, **options, **how)
+    return time.perf_counter() - started, report.search
+
+
+def scale(repeat: int) -> None:
+    """Searches 6-8: one process, two processes, a local Dask cluster of two workers."""
+    from registry.distributed.scheduler import cluster_client
+
+    reference, _ = ours_timed("heavy-top-lam", dict(degree=4, free=["lam"]), repeat)
+    print(f"reference (search 1, 1 parameter, degree 4): {reference:.3f} s")
+    with cluster_client("local:2") as client:
+        once("heavy-top-lam", dict(degree=4, free=["lam"]), scheduler=client)  # warm workers
+        for label, name, options, target in SCALE:
+            one, search = once(name, options)
+            two, search2 = once(name, options, jobs=2)
+            dask, search3 = once(name, options, scheduler=client)
+            found = "; ".join(", ".join(s.when) for s in search.special)
+            same = search.special == search2.special == search3.special
+            print(
+                f"{label}: {one:.2f} s (target < {target:g} s; {one / reference:.0f}x search 1), "
+                f"complete {search.complete}, {len(search.special)} special sets: {found}"
+            )
+            print(
+                f"  --jobs 2: {two:.2f} s (speed-up {one / two:.2f}); local:2 Dask: "
+                f"{dask:.2f} s (speed-up {one / dask:.2f}); same result: {same}"
+            )
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeat", type=int, default=5)
     parser.add_argument("--baseline-cap", type=float, default=300.0)
     parser.add_argument("--only-general", action="store_true", help="only searches 4 and 5")
+    parser.add_argument("--only-scale", action="store_true", help="only searches 6 to 8")
     args = parser.parse_args()
+    if args.only_scale:
+        scale(args.repeat)
+        return
     general_bracket(args.repeat)
     if args.only_general:
         return
@@ -251,6 +316,7 @@ def main() -> None:
                 f"  naive sympy did not finish within {args.baseline_cap:.0f} s: "
                 f"ratio > {seconds / ours:.0f}x"
             )
+    scale(args.repeat)
 
 
 if __name__ == "__main__":

@@ -140,7 +140,7 @@ def discover(
         elsewhere = (mapper, seconds)
     try:
         with time_limit(budget):
-            _, state.found, _ = _search(state, case, free, (), jobs, elsewhere)
+            _, state.found = _search(state, case, free, jobs, elsewhere)
     except BudgetExceeded:
         state.undecided.append(
             f"time budget exceeded ({budget:g} s) after {state.done} of the "
@@ -192,16 +192,62 @@ def _search(
     state: _State,
     case: Case,
     free: list[sp.Symbol],
-    when: tuple[str, ...],
     jobs: int = 1,
     elsewhere: tuple[Mapper, float | None] | None = None,
-    values: dict[sp.Symbol, sp.Expr] | None = None,
 ):
-    """(integrals of the case for generic values of ``free``, special sets found in it,
-    dimensions of the integrals of each degree); the candidate sets searched in ``jobs``
-    processes, or by ``elsewhere`` (a mapper and the seconds each of its calls may
-    take). ``values`` are those of the family's free parameters that give this case.
-    A candidate set is special when it has more integrals of some degree."""
+    """(integrals of the family for generic values of ``free``, the special sets).
+
+    The candidate sets are searched level by level: those of the family's locus, then
+    those within them, and so on, each level's sets in ``jobs`` processes or by
+    ``elsewhere`` (a mapper and the seconds each of its calls may take). A set reached
+    on two paths is searched once (the searched sets are kept here, for every level),
+    and a set is special when it has more integrals of some degree than the set it was
+    found in."""
+    found, kernel, candidates = _step(state, case, free, (), {})
+    queue = [(c, kernel) for c in _fresh(state, candidates)]
+    special: list[IntegralSet] = []
+    while queue:
+        state.total += len(queue)
+        results = _each(state, [c for c, _ in queue], jobs, elsewhere)
+        following = []
+        for (_, parent), (g, dimensions, inner, undecided, cofactors) in zip(
+            queue, results, strict=True
+        ):
+            state.undecided.extend(u for u in undecided if u not in state.undecided)
+            state.cofactors.update(cofactors)
+            if any(dimensions.get(d, 0) > k for d, k in parent.items()):
+                special.append(g)
+            following.extend((c, dimensions) for c in _fresh(state, inner))
+        queue = following
+    return found, special
+
+
+def _fresh(state: _State, candidates: list) -> list:
+    """The candidate sets not searched yet (none reached on another path where that
+    path's parametrisation covers it everywhere), now marked as searched."""
+    out = []
+    for candidate in candidates:
+        composed = candidate[3]
+        if any(
+            composed == seen or (same(composed, seen) and polynomial(seen))
+            for seen in state.searched
+        ):
+            continue
+        state.searched.append(composed)
+        out.append(candidate)
+    return out
+
+
+def _step(
+    state: _State,
+    case: Case,
+    free: list[sp.Symbol],
+    when: tuple[str, ...],
+    values: dict[sp.Symbol, sp.Expr],
+):
+    """One set searched: (its integrals for generic values of ``free``, the dimensions
+    of its integrals of each degree, the candidate sets within it). ``values`` are the
+    family's free parameters' values that give this case."""
     rnd = state.rnd(when)
     m = CaseMechanics(case)
     cofactor = state.cofactors.get(when, state.cofactor)
@@ -231,46 +277,33 @@ def _search(
     kernel = {d: counts[0] for d, counts in generic.counts.items()}
     if not when:  # the generic values are decided, whatever happens to the locus
         state.known, state.counts, state.generic = tuple(names), generic.counts, found
-    divided = _divided(state, case, system, when, values, kernel)
+    divided = _divided(state, case, system, when, values)
     if not free:
-        return found, divided, kernel
+        return found, kernel, divided
     if system.divided_by:
         state.undecided.append(
             f"the level set's basis divides by {', '.join(map(to_text, system.divided_by))}"
             ": special values of the free parameters on it are not sought"
         )
-        return found, divided, kernel
+        return found, kernel, divided
     extras = [
         Generator(system.polynomial(e), d)
         for e, (_, d) in zip(integrals, generic.extras, strict=True)
     ]
     general = m.hamiltonian_form or m.kappa != 0
     locus = _locus(state, system, params, len(free), generic, known, extras, rnd, general)
-    candidates = []
+    candidates = divided
     for assignment in locus.maximal():
         sub = substituted(case, assignment)
         if sub is None:
             continue
-        composed = _composed(values or {}, assignment)
-        if any(
-            composed == seen or (same(composed, seen) and polynomial(seen))
-            for seen in state.searched
-        ):
-            continue  # reached on another path, searched there everywhere
-        state.searched.append(composed)
+        composed = _composed(values, assignment)
         rest = [p for p in free if p not in assignment]
         sub_when = _when(state, composed)
         candidates.append((sub, rest, sub_when, composed))
         if cofactor is not None:
             state.cofactors[sub_when] = sp.expand(cofactor.xreplace(assignment))
-    state.total += len(candidates)
-    special: list[IntegralSet] = []
-    for g, more, undecided, dimensions in _each(state, candidates, jobs, elsewhere):
-        if any(dimensions.get(d, 0) > k for d, k in kernel.items()):
-            special.append(g)
-        special.extend(more)
-        state.undecided.extend(u for u in undecided if u not in state.undecided)
-    return found, special, kernel
+    return found, kernel, candidates
 
 
 def _composed(values: dict, assignment: dict) -> dict[sp.Symbol, sp.Expr]:
@@ -288,8 +321,9 @@ def _when(state: _State, values: dict[sp.Symbol, sp.Expr]) -> tuple[str, ...]:
 
 
 def _each(state: _State, candidates, jobs: int, elsewhere=None):
-    """Search each candidate set, in this process, in ``jobs`` processes or through the
-    mapper of ``elsewhere``; results come in the candidates' order in every case."""
+    """Search each candidate set (``_step``), in this process, in ``jobs`` processes or
+    through the mapper of ``elsewhere``: (integrals, dimensions, sets within, undecided,
+    cofactors of the sets within), in the candidates' order in every case."""
     if elsewhere is not None and candidates:
         yield from _each_elsewhere(state, candidates, *elsewhere)
         return
@@ -298,9 +332,9 @@ def _each(state: _State, candidates, jobs: int, elsewhere=None):
             if state.progress is not None:
                 state.progress(state.done, state.total, ", ".join(when))
             before = list(state.undecided)
-            g, more, dimensions = _search(state, sub, rest, when, values=values)
+            g, dimensions, inner = _step(state, sub, rest, when, values)
             state.done += 1
-            yield g, more, [u for u in state.undecided if u not in before], dimensions
+            yield g, dimensions, inner, [u for u in state.undecided if u not in before], {}
         return
     yield from _each_elsewhere(state, candidates, local_mapper(jobs), None)
 
@@ -308,25 +342,27 @@ def _each(state: _State, candidates, jobs: int, elsewhere=None):
 def _each_elsewhere(state: _State, candidates, mapper: Mapper, seconds: float | None):
     """``_each`` through a mapper, in the candidates' order; a candidate set it could
     not search is undecided."""
-    bare = replace(state, progress=None, found=[], undecided=[])
+    bare = replace(state, progress=None, found=[], undecided=[], searched=[])
     work = [(bare, *candidate) for candidate in candidates]
-    for index, value in in_order(mapper(_search_apart, work, seconds), len(work)):
+    for index, value in in_order(mapper(_step_apart, work, seconds), len(work)):
         when = candidates[index][2]
         if state.progress is not None:
             state.progress(state.done, state.total, ", ".join(when))
         state.done += 1
         if isinstance(value, BaseException):
             why = f"candidate set {', '.join(when)} not searched ({value})"
-            yield IntegralSet(when, 0), [], [why], {}
+            yield IntegralSet(when, 0), {}, [], [why], {}
         else:
             yield value
 
 
-def _search_apart(work):
-    """``_search`` in a worker process: what it found and what it could not decide."""
+def _step_apart(work):
+    """``_step`` in a worker process, with what it could not decide and the cofactors
+    of the sets within (the worker's state is a copy)."""
     state, case, free, when, values = work
-    g, more, dimensions = _search(state, case, free, when, values=values)
-    return g, more, state.undecided, dimensions
+    g, dimensions, inner = _step(state, case, free, when, values)
+    cofactors = {c[2]: state.cofactors[c[2]] for c in inner if c[2] in state.cofactors}
+    return g, dimensions, inner, state.undecided, cofactors
 
 
 def _system(
@@ -347,14 +383,12 @@ def _system(
     return system, list(system.params)
 
 
-def _divided(
-    state: _State, case: Case, system: PolynomialSystem, when, values, kernel
-) -> list[IntegralSet]:
+def _divided(state: _State, case: Case, system: PolynomialSystem, when, values) -> list:
     """Where the level set's basis divides by c(p), the search above holds for c != 0;
-    c = 0 is searched as a case of its own (where the assumptions allow it), and is
-    special when it has more integrals. A c that no parameter can be solved for
-    rationally leaves that part undecided."""
-    special: list[IntegralSet] = []
+    c = 0 is a candidate set of its own (where the assumptions allow it), searched at
+    the next level and special when it has more integrals. A c that no parameter can
+    be solved for rationally leaves that part undecided."""
+    candidates = []
     for c in system.divided_by:
         solved = None
         for p in sorted(c.free_symbols, key=str):
@@ -376,11 +410,8 @@ def _divided(
             base = state.cofactors.get(when, state.cofactor)
             state.cofactors[sub_when] = sp.expand(base.xreplace(solved))
         free = [f for f in _free_symbols(state, case) if f not in solved]
-        g, more, dimensions = _search(state, sub, free, sub_when, values=composed)
-        if any(dimensions.get(d, 0) > k for d, k in kernel.items()):
-            special.append(g)
-        special.extend(more)
-    return special
+        candidates.append((sub, free, sub_when, composed))
+    return candidates
 
 
 def _free_symbols(state: _State, case: Case) -> list[sp.Symbol]:
