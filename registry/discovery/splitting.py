@@ -441,6 +441,13 @@ class _Splitter:
         return False
 
     def _full_at_points(self, branch: Branch, equations: list[Poly]) -> bool:
+        """``_full_at_points_exactly``; False (undecided) where sympy cannot do it."""
+        try:
+            return self._full_at_points_exactly(branch, equations)
+        except (NotImplementedError, ValueError, sp.PolynomialError, sp.CoercionFailed):
+            return False  # sympy could not do the algebra: undecided, never assumed
+
+    def _full_at_points_exactly(self, branch: Branch, equations: list[Poly]) -> bool:
         """Whether the rows keep the rank ``need`` at every allowed point of the finite
         set the equations define, decided exactly over each number field Q(alpha):
         the lex Groebner basis in shape position (x = f(t), r(t) = 0), one irreducible
