@@ -365,8 +365,8 @@ def _drift_png(case: Case, label: str) -> bytes:
         return _palette_png(drift_plot(case, label, Path(scratch) / "drift.png").read_bytes())
 
 
-def _palette_png(png: bytes, colours: int = 64) -> bytes:
-    """A line plot's PNG with an adaptive palette of ``colours`` (a third of the bytes;
+def _palette_png(png: bytes, colours: int = 16) -> bytes:
+    """A line plot's PNG with an adaptive palette of ``colours`` (a fifth of the bytes;
     a report embeds several and stays small)."""
     from PIL import Image  # matplotlib's own dependency
 

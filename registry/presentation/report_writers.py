@@ -202,8 +202,10 @@ class HtmlWriter(Writer):
     def formula(self, math: Math, display: bool = False) -> str:
         if math.expr is None:
             return self.math(math.latex)
+        # a displayed formula shows its text below it; an inline one keeps it annotated
+        note = None if display else math.text
         try:
-            return mathml(math.expr, display=display, annotation=math.text, encoding="text/plain")
+            return mathml(math.expr, display=display, annotation=note, encoding="text/plain")
         except ValueError:
             return self.code(math.text or "")
 
