@@ -239,12 +239,24 @@ def audit(
     recomputes them. A check that runs out of time is inconclusive.
 
     \b
-    Numerical evidence (--numeric, --strict) follows three rules:
+    Numerical evidence (--numeric, --strict) follows these rules; the verdicts
+    never change because of the numbers:
     - the drift of I is compared with the claim's integral verdict, whatever its
       kind: a true integral claimed as a Casimir (integral verified, casimir
       refuted) has a flat drift, and that agrees;
     - trajectories start on the set where the symbols decided, the claim's 'on'
       equations and nothing else (no |gamma| = 1 added);
+    - drifts are relative to the size of the terms of the expression at the
+      start (the sum of their absolute values): a relation that vanishes on its
+      set, sampled at large momenta, is judged by the size of its terms;
+    - on a level set the flow is proven to keep (invariant verified), each
+      trajectory is projected back onto the set after every step (Gauss-Newton
+      on the 'on' equations), so a repelling set does not throw it off; the
+      departure (largest relative residual of the equations) is recorded;
+    - a trajectory whose departure exceeds 1e-8 has left the set and is not
+      compared; if none stayed, numeric.reason says so, and nothing is
+      contradicted: --strict fails only where the numbers contradict the symbols
+      on trajectories that stayed on the set;
     - where the numbers stand on a smaller set (one instance of a family's
       functions, said in the output), a flat drift cannot contradict a refutation.
 

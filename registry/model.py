@@ -367,7 +367,10 @@ class Evidence:
     trajectories, that of H (the noise floor), how many runs, and whether the numbers
     contradict the symbolic verdict they were compared with (``compared_with``: always
     the ``integral`` check, since a drift speaks of conservation only). ``narrowed``
-    says why the trajectories stand on a smaller set than the claim's, if they do."""
+    says why the trajectories stand on a smaller set than the claim's, if they do. On a
+    level set, ``departure`` is the largest relative residual of its equations where the
+    drift was measured, ``projected`` whether the trajectories were projected back onto
+    it, and ``reason`` why the drift was not compared (they left the set), if it was not."""
 
     claim: str
     drift: float
@@ -377,6 +380,9 @@ class Evidence:
     note: str = ""
     compared_with: str = "integral"
     narrowed: str = ""
+    departure: float | None = None
+    projected: bool = False
+    reason: str = ""
 
     def as_dict(self) -> dict:
         return {
@@ -386,6 +392,9 @@ class Evidence:
             "agrees": not self.contradicts,
             "compared_with": self.compared_with,
             **({"narrowed": self.narrowed} if self.narrowed else {}),
+            **({"departure": self.departure} if self.departure is not None else {}),
+            **({"projected": True} if self.projected else {}),
+            **({"reason": self.reason} if self.reason else {}),
             **({"note": self.note} if self.note else {}),
         }
 

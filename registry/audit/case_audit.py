@@ -76,9 +76,10 @@ def audit_case(
 
 def _with_evidence(audit: CaseAudit, m: CaseMechanics, seconds: float | None) -> CaseAudit:
     integral = {r.claim: r.verdict for r in audit.results if r.check == "integral" and r.claim}
+    invariant = {r.claim: r.verdict for r in audit.results if r.check == "invariant" and r.claim}
     try:
         with time_limit(seconds):
-            found = numeric_evidence(m, integral)
+            found = numeric_evidence(m, integral, invariant=invariant)
     except BudgetExceeded:
         found = tuple(
             Evidence(c.label, math.nan, math.nan, 0, note="time budget exceeded")

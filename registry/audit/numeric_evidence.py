@@ -1,22 +1,41 @@
 """Numerical evidence: integrate the equations of motion and watch each claimed integral.
 
-Independent of the symbolic verdicts: for every claim, system (2.2) is
-integrated with scipy's DOP853 at tight tolerances, from seeded random initial
-conditions on exactly the set where the symbolic check decided (the claim's
-``on`` equations, nothing added) and for seeded random parameter values
-respecting their assumptions. The largest relative drift of I along the runs is
-compared with that of H, which is conserved for every torque and so measures
-the integrator's own noise floor.
+Independent of the symbolic verdicts: for every claim, the case's equations of motion
+(``CaseMechanics.field``: system (2.2), or Pi grad H) are integrated with scipy's DOP853
+at tight tolerances, from seeded random initial conditions on exactly the set where the
+symbolic check decided (the claim's ``on`` equations, nothing added) and for seeded
+random parameter values respecting their assumptions. The largest relative drift of I
+along the runs is compared with that of H, which is conserved for every torque and so
+measures the integrator's own noise floor.
+
+Drifts are relative to the size of the terms of the expression at the start point (the
+sum of the absolute values of the terms of its expanded form), the scale of its rounding
+error: a quantity that vanishes on its set (an invariant relation such as Hess's
+x0 M1 + z0 M3 = 0, sampled at large momenta) is judged against the size of its terms,
+not against 1.
+
+On a level set the trajectories must stay on the set for the drift to speak of the
+claim. Where the symbolic ``invariant`` check proved that the flow keeps the set, each
+trajectory is projected back onto it (Gauss-Newton steps x -= J^+ g(x) on the set's
+equations g) after each accepted step of the integrator, so that rounding errors
+growing along a repelling direction are removed as they appear. Elsewhere (the
+set not proven invariant, or a projection that does not converge) the trajectory is
+integrated as it is. Either way its *departure*, the largest relative residual of the
+set's equations where I is measured, is tracked: a trajectory whose departure exceeds
+``DEPARTURE_TOL`` has left the set, and its drift measures how fast it left, not whether
+the claim holds on it, so it is not compared (``reason`` says so when no trajectory
+stayed).
 
 The rules of the comparison:
 
 * The drift says whether I is *conserved*, so it is compared with the claim's
   ``integral`` verdict, whatever the claim's kind: a true integral claimed as a
   Casimir is ``integral: verified, casimir: refuted``, and a flat drift agrees.
-* A drift far above the floor contradicts ``verified``; a drift at the floor
-  contradicts ``refuted``, unless the numbers stand on a smaller set than the
-  claim's (one instance of a family's arbitrary functions): a refutation may
+* A drift far above the floor (and above the departure) contradicts ``verified``; a
+  drift at the floor contradicts ``refuted``, unless the numbers stand on a smaller set
+  than the claim's (one instance of a family's arbitrary functions): a refutation may
   hold elsewhere on the claim's set, so a flat drift there proves nothing.
+* Only trajectories that stayed on the claim's set are compared.
 * An ``inconclusive`` verdict is never contradicted.
 """
 
@@ -25,6 +44,7 @@ from __future__ import annotations
 import math
 import random
 import warnings
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -41,17 +61,31 @@ T_END = 5.0
 RTOL = 1e-11
 ATOL = 1e-12
 RUNS = 3
+#: Output points of a trajectory integrated as it is (a projected one is measured at
+#: each of its steps).
+SEGMENTS = 200
 #: A drift this many times above H's floor contradicts "verified"; one within
 #: FLOOR_FACTOR of the floor contradicts "refuted".
 DISAGREE_FACTOR = 1e3
 FLOOR_FACTOR = 10.0
 #: The smallest floor used in those comparisons (double precision noise).
 MIN_FLOOR = 1e-13
+#: A trajectory whose relative residual of the set's equations exceeds this has left the
+#: set (a thousand times the integrator's relative tolerance).
+DEPARTURE_TOL = 1e-8
+#: Gauss-Newton steps of one projection, and the residual at which it stops early.
+NEWTON_STEPS = 6
+PROJECTED = 1e-15
+#: Expressions with more terms than this once expanded are scaled by their own terms.
+MAX_TERMS = 5000
 
 
 @dataclass(frozen=True)
 class Drift:
-    """Largest relative drift of the claim's I and of H over ``runs`` trajectories."""
+    """Largest relative drift of the claim's I and of H over ``runs`` trajectories; on a
+    level set, the largest relative residual of its equations where I was measured
+    (``departure``), whether the trajectories were projected onto it, and why the drift is
+    not compared (``reason``: the trajectories left the set), if it is not."""
 
     claim: str
     drift: float
@@ -60,21 +94,32 @@ class Drift:
     note: str = ""
 
     narrowed: str = ""  # why the numbers stand on a smaller set than the claim's
+    departure: float = math.nan  # nan: the claim has no level set
+    projected: bool = False
+    reason: str = ""
 
     def contradicts(self, integral: Verdict | str) -> bool:
         """True when the numbers disagree with the claim's ``integral`` verdict (rules in
         the module docstring)."""
-        if self.runs == 0:
+        if self.runs == 0 or self.reason:
             return False
         floor = max(self.floor, MIN_FLOOR)
         if Verdict(integral) is Verdict.VERIFIED:
-            return self.drift > DISAGREE_FACTOR * floor
+            departure = self.departure if math.isfinite(self.departure) else 0.0
+            return self.drift > DISAGREE_FACTOR * max(floor, departure)
         if Verdict(integral) is Verdict.REFUTED and not self.narrowed:
             return self.drift <= FLOOR_FACTOR * floor
         return False
 
     def as_dict(self) -> dict:
-        return {"drift": self.drift, "floor": self.floor, "runs": self.runs, "note": self.note}
+        out = {"drift": self.drift, "floor": self.floor, "runs": self.runs, "note": self.note}
+        if math.isfinite(self.departure):
+            out["departure"] = self.departure
+        if self.projected:
+            out["projected"] = True
+        if self.reason:
+            out["reason"] = self.reason
+        return out
 
 
 def narrowing(m: CaseMechanics) -> str:
@@ -85,40 +130,181 @@ def narrowing(m: CaseMechanics) -> str:
     return ""
 
 
+@dataclass(frozen=True)
+class _Compiled:
+    """The vector field, H, I and the set's equations of one start's parameter values, as
+    numpy functions of the state, with the term lists that give their scales."""
+
+    field: Callable
+    h: Callable
+    i: Callable
+    h_terms: Callable
+    i_terms: Callable
+    g: Callable | None
+    g_terms: Callable | None
+    jacobian: Callable | None
+
+    def scale(self, terms: Callable, y: np.ndarray) -> float:
+        """The sum of the absolute values of the terms at ``y`` (1 where all vanish)."""
+        total = float(np.sum(np.abs(np.asarray(terms(y), dtype=float))))
+        return total if total > 0 and math.isfinite(total) else 1.0
+
+    def residual(self, y: np.ndarray) -> float:
+        """The largest relative residual of the set's equations at ``y``: |g_j(y)| over
+        the sum of the absolute values of g_j's terms there."""
+        if self.g is None or self.g_terms is None:
+            return 0.0
+        values = np.abs(np.asarray(self.g(y), dtype=float))
+        sizes = [float(np.sum(np.abs(np.asarray(t, dtype=float)))) for t in self.g_terms(y)]
+        worst = 0.0
+        for value, size in zip(values, sizes, strict=True):
+            if value == 0:
+                continue
+            worst = max(worst, value / size if size > 0 else math.inf)
+        return worst if math.isfinite(worst) else math.inf
+
+    def project(self, y: np.ndarray) -> np.ndarray | None:
+        """``y`` moved onto the set by Gauss-Newton steps (the least-squares correction of
+        the linearised equations), or None when they do not bring it within
+        ``DEPARTURE_TOL``."""
+        assert self.g is not None and self.jacobian is not None
+        for _ in range(NEWTON_STEPS):
+            if self.residual(y) <= PROJECTED:
+                return y
+            g = np.asarray(self.g(y), dtype=float)
+            jac = np.asarray(self.jacobian(y), dtype=float)
+            if not (np.all(np.isfinite(g)) and np.all(np.isfinite(jac))):
+                return None
+            step = np.linalg.lstsq(jac, g, rcond=None)[0]
+            y = y - step
+        return y if self.residual(y) <= DEPARTURE_TOL else None
+
+
+@dataclass(frozen=True)
+class _Run:
+    """One trajectory: times, H and I along it, the departure from the set at each time,
+    and whether it was projected."""
+
+    t: np.ndarray
+    h: np.ndarray
+    i: np.ndarray
+    departure: float
+    projected: bool
+    scale_h: float
+    scale_i: float
+
+    @property
+    def drift(self) -> float:
+        return float(np.max(np.abs(self.i - self.i[0]))) / self.scale_i
+
+    @property
+    def floor(self) -> float:
+        return float(np.max(np.abs(self.h - self.h[0]))) / self.scale_h
+
+
 def _setup(m: CaseMechanics, claim: Claim, rng: random.Random):
     """Where to start (the set where the symbolic check decided), the concrete functions
-    of a family, and the vector field, H and I ready to evaluate."""
+    of a family, and the vector field, H, I and the set's equations ready to evaluate."""
     funcs = concrete_functions(m.case.functions, rng)
-    exprs = [*m.field, m.hamiltonian, claim.expression.expr]
+    exprs = [*m.field, m.hamiltonian, claim.expression.expr, *(eq.expr for eq in claim.on)]
     exprs = [substitute_functions(e, funcs).subs(mech.s, mech.S_VALUE) for e in exprs]
     return m.claim_domain(claim), funcs, exprs
 
 
-def claim_drift(m: CaseMechanics, claim: Claim, seed: int = 0, runs: int = RUNS) -> Drift:
-    """Integrate from ``runs`` random points of the claim's level set; measure the drifts."""
+def _terms(expr: sp.Expr) -> list[sp.Expr]:
+    """The terms of ``expr`` expanded (``expr`` itself when that gives too many)."""
+    expanded = sp.expand(expr)
+    terms = list(sp.Add.make_args(expanded))
+    return terms if len(terms) <= MAX_TERMS else [expr]
+
+
+def _compile(exprs: list[sp.Expr], project: bool) -> _Compiled:
+    """numpy functions of the state for the field, H, I and the set's equations (their
+    Jacobian where the trajectories are projected)."""
+    _only_numeric(exprs)
+    field, h, i, on = exprs[:6], exprs[6], exprs[7], exprs[8:]
+
+    def fn(e):
+        return sp.lambdify([mech.STATE], e, modules="numpy")
+
+    g = g_terms = jacobian = None
+    if on:
+        g = fn(on)
+        g_terms = fn([_terms(e) for e in on])
+        if project:
+            jacobian = fn([[sp.diff(e, v) for v in mech.STATE] for e in on])
+    return _Compiled(fn(field), fn(h), fn(i), fn(_terms(h)), fn(_terms(i)), g, g_terms, jacobian)
+
+
+def claim_drift(
+    m: CaseMechanics,
+    claim: Claim,
+    seed: int = 0,
+    runs: int = RUNS,
+    invariant: Verdict | None = None,
+    starts: Sequence[Mapping[sp.Symbol, sp.Expr]] | None = None,
+) -> Drift:
+    """Integrate from ``runs`` random points of the claim's level set (or from the exact
+    points ``starts``, parameters included); measure the drifts and the departure from
+    the set. Trajectories are projected back onto the set where ``invariant`` is
+    ``verified`` (the flow keeps it)."""
     rng = random.Random(seed)
     domain, funcs, exprs = _setup(m, claim, rng)
-    drifts: list[float] = []
-    floors: list[float] = []
+    project = bool(claim.on) and invariant is not None and Verdict(invariant) is Verdict.VERIFIED
+    done: list[_Run] = []
     notes: list[str] = []
+    points = iter(starts) if starts is not None else None
     attempts = 0
-    while len(drifts) < runs and attempts < 4 * runs:
+    while len(done) < runs and attempts < 4 * runs:
         attempts += 1
-        point = sample_point(domain, rng, funcs)
-        if point is None:
-            continue
+        if points is not None:
+            point = next(points, None)
+            if point is None:
+                break
+        else:
+            point = sample_point(domain, rng, funcs)
+            if point is None:
+                continue
         params = {p: point[p] for p in m.domain.parameters}
-        run = _integrate([e.xreplace(params) for e in exprs], [float(point[v]) for v in mech.STATE])
+        compiled = _compile([e.xreplace(params) for e in exprs], project)
+        run = _solve(compiled, [float(point[v]) for v in mech.STATE], T_END, project)
         if isinstance(run, str):
             notes.append(run)
             continue
-        drifts.append(run[0])
-        floors.append(run[1])
-    narrowed = narrowing(m)
-    if not drifts:
+        done.append(run)
+    return _summary(claim, done, notes, narrowing(m), on_set=bool(claim.on))
+
+
+def _summary(claim: Claim, done: list[_Run], notes: list[str], narrowed: str, on_set: bool):
+    """The Drift of the runs that stayed on the set (all of them where none did, with the
+    reason the drift is not compared)."""
+    if not done:
         why = notes[0] if notes else "found no start point on the claim's set"
         return Drift(claim.label, math.nan, math.nan, 0, why, narrowed)
-    return Drift(claim.label, max(drifts), max(floors), len(drifts), narrowed=narrowed)
+    stayed = [r for r in done if r.departure <= DEPARTURE_TOL]
+    reason = ""
+    note = ""
+    if not stayed:
+        worst = max(r.departure for r in done)
+        reason = (
+            f"every trajectory left the claim's set (relative residual of its equations "
+            f"up to {worst:.1e}, above {DEPARTURE_TOL:.0e}): the drift measures how fast "
+            "it left, not whether the claim holds on it"
+        )
+        stayed = done
+    elif len(stayed) < len(done):
+        note = f"{len(done) - len(stayed)} of {len(done)} trajectories left the set; not compared"
+    return Drift(
+        claim.label,
+        max(r.drift for r in stayed),
+        max(r.floor for r in stayed),
+        len(stayed),
+        note,
+        narrowed,
+        departure=max(r.departure for r in stayed) if on_set else math.nan,
+        projected=any(r.projected for r in stayed),
+        reason=reason,
+    )
 
 
 @dataclass(frozen=True)
@@ -132,35 +318,32 @@ class Trajectory:
     start: dict[str, float]
 
 
-def trajectory(m: CaseMechanics, claim: Claim, seed: int = 0, t_end: float = T_END) -> Trajectory:
+def trajectory(
+    m: CaseMechanics,
+    claim: Claim,
+    seed: int = 0,
+    t_end: float = T_END,
+    invariant: Verdict | None = None,
+) -> Trajectory:
     """The first trajectory ``claim_drift`` would integrate (same seed, same start), in full.
 
     Raises ValueError when no trajectory could be integrated.
     """
     rng = random.Random(seed)
     domain, funcs, exprs = _setup(m, claim, rng)
+    project = bool(claim.on) and invariant is not None and Verdict(invariant) is Verdict.VERIFIED
     for _ in range(4 * RUNS):
         point = sample_point(domain, rng, funcs)
         if point is None:
             continue
         params = {p: point[p] for p in m.domain.parameters}
         y0 = [float(point[v]) for v in mech.STATE]
-        run = _solve([e.xreplace(params) for e in exprs], y0, t_end)
+        run = _solve(_compile([e.xreplace(params) for e in exprs], project), y0, t_end, project)
         if isinstance(run, str):
             continue
-        t, hs, is_ = run
         start = {str(k): float(v) for k, v in point.items()}
-        return Trajectory(claim.label, t, is_ - is_[0], hs - hs[0], start)
+        return Trajectory(claim.label, run.t, run.i - run.i[0], run.h - run.h[0], start)
     raise ValueError(f"no trajectory could be integrated for claim {claim.label!r}")
-
-
-def _integrate(exprs: list[sp.Expr], y0: list[float]) -> tuple[float, float] | str:
-    """(drift of I, drift of H) along one trajectory, or why it failed."""
-    run = _solve(exprs, y0, T_END)
-    if isinstance(run, str):
-        return run
-    _, hs, is_ = run
-    return _relative(is_), _relative(hs)
 
 
 def _only_numeric(exprs: list[sp.Expr]) -> None:
@@ -176,46 +359,72 @@ def _only_numeric(exprs: list[sp.Expr]) -> None:
                 raise ValueError(f"unexpected function {type(f).__name__} in {e}")
 
 
-def _solve(exprs: list[sp.Expr], y0: list[float], t_end: float):
-    """(times, H, I) along the trajectory from y0, or why it failed."""
-    from scipy.integrate import solve_ivp  # only here: the audit starts faster without scipy
+def _solve(c: _Compiled, y0: list[float], t_end: float, project: bool) -> _Run | str:
+    """H, I and the departure from the set along the trajectory from y0, or why it failed.
 
-    _only_numeric(exprs)
-    field = sp.lambdify([mech.STATE], exprs[:6], modules="numpy")
-    h = sp.lambdify([mech.STATE], exprs[6], modules="numpy")
-    i = sp.lambdify([mech.STATE], exprs[7], modules="numpy")
+    Where ``project``, the integrator is stepped by hand and each accepted step is
+    projected back onto the set before the next (H, I and the departure measured at each
+    step); a point where the projection does not converge (a singular point of the set)
+    sends the trajectory back to be integrated as it is. Otherwise the values are taken
+    at ``SEGMENTS`` + 1 equally spaced times.
+    """
+    from scipy.integrate import DOP853, solve_ivp  # only here: the audit starts faster
+
+    def fun(t, y):
+        return np.asarray(c.field(y), dtype=float)
+
     with warnings.catch_warnings(), np.errstate(all="ignore"):
         warnings.simplefilter("ignore")
+        start = np.asarray(y0, dtype=float)
+        if project:
+            moved = c.project(start)
+            project = moved is not None
+            start = moved if moved is not None else start
         try:
-            sol = solve_ivp(
-                lambda t, y: np.asarray(field(y), dtype=float),
-                (0.0, t_end),
-                y0,
-                method="DOP853",
-                rtol=RTOL,
-                atol=ATOL,
-                t_eval=np.linspace(0.0, t_end, 201),
-            )
+            if project:
+                times, states = [0.0], [start]
+                solver = DOP853(fun, 0.0, start, t_end, rtol=RTOL, atol=ATOL)
+                while solver.status == "running":
+                    message = solver.step()
+                    if solver.status == "failed" or not np.all(np.isfinite(solver.y)):
+                        return f"integration failed: {message or 'not finite'}"
+                    moved = c.project(solver.y)
+                    if moved is None:
+                        return _solve(c, y0, t_end, project=False)
+                    solver.y, solver.f = moved, fun(solver.t, moved)
+                    times.append(solver.t)
+                    states.append(moved)
+                t = np.asarray(times)
+            else:
+                t = np.linspace(0.0, t_end, SEGMENTS + 1)
+                sol = solve_ivp(fun, (0.0, t_end), start, "DOP853", t, rtol=RTOL, atol=ATOL)
+                if not sol.success or not np.all(np.isfinite(sol.y)):
+                    return f"integration failed: {sol.message}"
+                states = list(sol.y.T)
         except (ValueError, ZeroDivisionError, OverflowError, TypeError) as exc:
             return f"integration failed: {exc}"
-        if not sol.success or not np.all(np.isfinite(sol.y)):
-            return f"integration failed: {sol.message}"
-        hs = np.array([h(y) for y in sol.y.T], dtype=float)
-        is_ = np.array([i(y) for y in sol.y.T], dtype=float)
+        hs = np.array([c.h(y) for y in states], dtype=float)
+        is_ = np.array([c.i(y) for y in states], dtype=float)
+        departure = float(max(c.residual(y) for y in states))
+        scale_h, scale_i = c.scale(c.h_terms, states[0]), c.scale(c.i_terms, states[0])
     if not (np.all(np.isfinite(hs)) and np.all(np.isfinite(is_))):
         return "the trajectory reached a singular set"
-    return sol.t, hs, is_
+    return _Run(t, hs, is_, departure, project, scale_h, scale_i)
 
 
-def _relative(values: np.ndarray) -> float:
-    return float(np.max(np.abs(values - values[0])) / max(1.0, abs(values[0])))
-
-
-def evidence(m: CaseMechanics, integral: dict[str, Verdict], seed: int = 0) -> tuple[Evidence, ...]:
-    """Evidence for every claim, compared with its ``integral`` verdict (label -> verdict)."""
+def evidence(
+    m: CaseMechanics,
+    integral: Mapping[str, Verdict],
+    seed: int = 0,
+    invariant: Mapping[str, Verdict] | None = None,
+) -> tuple[Evidence, ...]:
+    """Evidence for every claim, compared with its ``integral`` verdict (label -> verdict);
+    on a level set whose ``invariant`` verdict is ``verified``, the trajectories are
+    projected back onto it."""
+    invariant = invariant or {}
     out = []
     for claim in m.case.claims:
-        d = claim_drift(m, claim, seed=seed)
+        d = claim_drift(m, claim, seed=seed, invariant=invariant.get(claim.label))
         verdict = integral.get(claim.label, Verdict.INCONCLUSIVE)
         out.append(
             Evidence(
@@ -223,10 +432,13 @@ def evidence(m: CaseMechanics, integral: dict[str, Verdict], seed: int = 0) -> t
                 d.drift,
                 d.floor,
                 d.runs,
-                d.contradicts(verdict),
+                bool(d.contradicts(verdict)),
                 d.note,
                 compared_with="integral",
                 narrowed=d.narrowed,
+                departure=float(d.departure) if math.isfinite(d.departure) else None,
+                projected=d.projected,
+                reason=d.reason,
             )
         )
     return tuple(out)

@@ -253,11 +253,19 @@ def _evidence(w: Writer, found: Evidence | None) -> None:
         w.para(f"Numeric evidence: no trajectory could be integrated ({found.note}).")
         return
     agrees = "CONTRADICTS" if found.contradicts else "agrees with"
+    if found.reason:
+        agrees = "not compared with"
     where = (
         f" Trajectories on a smaller set than the claim's: {found.narrowed}."
         if found.narrowed
         else ""
     )
+    departure = found.departure
+    if departure is not None:
+        how = "projected back onto the claim's set after each step" if found.projected else "free"
+        where += f" Trajectories {how}; largest relative residual of its equations {departure:.3g}."
+    if found.reason:
+        where += f" Not compared: {found.reason}."
     w.para(
         f"Numeric evidence ({found.runs} trajectories): largest relative drift of I "
         f"{drift:.3g}, of H {floor:.3g}; {agrees} the "

@@ -65,6 +65,8 @@ def verdict_table(outcomes: Sequence[CaseOutcome], run: int | None = None) -> st
                     f"{claim.checks[compared].verdict} but the drift of I is {found.drift:.2e} "
                     f"against {found.floor:.2e} for H",
                 )
+            if found is not None and found.reason:
+                notes.append(f"{case.case_id}/{claim.label}: numbers not compared: {found.reason}")
             for prop, result in claim.checks.items():
                 if result.verdict in _UNDECIDED:
                     notes.append(

@@ -335,6 +335,9 @@ def evidence_row(run_id: int, case_pk: int, claim_id: int, found: Evidence) -> E
         note=found.note,
         compared_with=found.compared_with,
         narrowed=found.narrowed,
+        departure=found.departure,
+        projected=found.projected,
+        reason=found.reason,
     )
 
 
@@ -349,6 +352,9 @@ def evidence(row: EvidenceRow, label: str) -> Evidence:
         row.note,
         row.compared_with,
         row.narrowed,
+        row.departure,
+        row.projected,
+        row.reason,
     )
 
 

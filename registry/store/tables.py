@@ -32,7 +32,7 @@ from sqlalchemy.orm import DeclarativeBase, Mapped, mapped_column
 from sqlalchemy.types import TypeDecorator
 
 #: Version of the table layout, kept in the ``meta`` table (the Alembic revision, as a number).
-SCHEMA_VERSION = 5
+SCHEMA_VERSION = 6
 
 #: The states of an audit run; every run starts as ``running``.
 RUN_STATUSES = ("running", "complete", "failed", "interrupted")
@@ -239,6 +239,12 @@ class EvidenceRow(Base):
     # trajectories stand on a smaller set than the claim's, if they do
     compared_with: Mapped[str] = mapped_column(Text, default="integral", server_default="integral")
     narrowed: Mapped[str] = mapped_column(Text, default="", server_default="")
+    # on a level set: the largest relative residual of its equations where the drift was
+    # measured, whether the trajectories were projected back onto it, and why the drift
+    # was not compared with the verdict (the trajectories left the set), if it was not
+    departure: Mapped[float | None] = mapped_column(Float)
+    projected: Mapped[bool] = mapped_column(Boolean, default=False, server_default=false())
+    reason: Mapped[str] = mapped_column(Text, default="", server_default="")
 
 
 class SearchRow(Base):

@@ -10,11 +10,19 @@ from click.testing import CliRunner
 import registry
 from registry import Verdict, load_case
 from registry.audit import numeric_evidence
-from registry.audit.numeric_evidence import DISAGREE_FACTOR, Drift, claim_drift
+from registry.audit.numeric_evidence import (
+    DEPARTURE_TOL,
+    DISAGREE_FACTOR,
+    RUNS,
+    Drift,
+    claim_drift,
+)
+from registry.audit.time_budget import TimeBudget
 from registry.cli import main
 from registry.mathematics import mechanics as mech
 from registry.mathematics.case_mechanics import CaseMechanics
-from tests.helpers.samples import CASES, CLASSICAL
+from registry.mathematics.sampling import sample_points
+from tests.helpers.samples import CASES, CLASSICAL, LEVEL_SETS
 
 
 def test_yehia_b_I2_drifts_orders_of_magnitude_above_h():
@@ -45,7 +53,7 @@ def test_true_claims_stay_at_the_noise_floor(case_id):
 
 
 def test_a_planted_disagreement_is_reported_and_fails_strict(tmp_path, monkeypatch):
-    def lying(m, claim, seed=0, runs=3):  # a "verified" claim that drifts
+    def lying(m, claim, seed=0, runs=3, **_):  # a "verified" claim that drifts
         return Drift(claim.label, 1.0, 1e-12, runs)
 
     monkeypatch.setattr(numeric_evidence, "claim_drift", lying)
@@ -232,3 +240,108 @@ def test_strict_audit_of_the_classical_catalog_passes_with_every_claim_decided(t
     for c in claims:
         assert c["numeric"]["agrees"] and c["numeric"]["compared_with"] == "integral", c
         assert c["numeric"]["runs"] >= 2, c
+
+
+# --- on a level set: departure, projection, scale (issue "numbers that respect invariant
+# relations") ----------------------------------------------------------------------------
+
+
+def level_set_case(name: str) -> registry.Case:
+    return load_case(LEVEL_SETS / f"{name}.toml")
+
+
+def test_a_repelling_invariant_set_is_integrated_on_the_set_and_true_claims_stay_flat():
+    case = level_set_case("repelling-s0")
+    audit = registry.audit_case(case, numeric=True, budget=None)
+    for label in ("s", "H"):
+        for check in ("integral", "invariant"):
+            assert audit.result(check, label).verdict is V, (check, label)
+    assert audit.result("casimir", "s").verdict is V
+    found = {e.claim: e for e in audit.evidence}
+    for label in ("s", "H"):
+        e = found[label]
+        assert e.projected and e.runs == RUNS and not e.reason, e
+        assert e.departure < 1e-13, e  # back on the set after each step
+        assert e.drift < 1e-9 and not e.contradicts, e
+    # the same trajectories left alone leave the set: their drift of s is the departure
+    # itself, far above the floor, and is not compared with the verdict
+    left = claim_drift(CaseMechanics(case), case.claim("s"))
+    assert not left.projected and left.departure > DEPARTURE_TOL
+    assert left.drift > DISAGREE_FACTOR * left.floor
+    assert left.reason.startswith("every trajectory left the claim's set")
+    assert not left.contradicts(V)
+
+
+def test_a_false_claim_on_a_repelling_set_is_refuted_and_drifts_on_the_set():
+    case = level_set_case("repelling-s0")
+    audit = registry.audit_case(case, numeric=True, budget=None)
+    assert audit.result("integral", "M3-false").verdict is R
+    assert audit.result("invariant", "M3-false").verdict is V
+    (e,) = [e for e in audit.evidence if e.claim == "M3-false"]
+    assert e.projected and e.departure < 1e-13 and not e.reason
+    assert e.drift > DISAGREE_FACTOR * e.floor and not e.contradicts, e
+
+
+def test_an_attracting_invariant_set_keeps_its_trajectories_as_it_is():
+    case = level_set_case("attracting-s0")
+    m = CaseMechanics(case)
+    for label in ("s", "H"):
+        d = claim_drift(m, case.claim(label))  # not projected: nothing leaves
+        assert not d.projected and d.runs == RUNS and not d.reason
+        assert d.departure < DEPARTURE_TOL and d.drift < 1e-9
+        assert not d.contradicts(V)
+    d = claim_drift(m, case.claim("M3-false"))
+    assert d.drift > DISAGREE_FACTOR * d.floor and not d.contradicts(R)
+
+
+def test_strict_passes_on_repelling_and_attracting_sets_with_the_reason_in_the_json(tmp_path):
+    db = tmp_path / "r.sqlite"
+    with registry.open(db) as reg:  # audited without a clock (a busy machine), then reused
+        reg.add(LEVEL_SETS)
+        reg.audit(jobs=0, numeric=True, budget=TimeBudget(check=600.0, corrections=600.0))
+    result = CliRunner().invoke(main, ["--db", str(db), "audit", "--strict", "--json"])
+    assert result.exit_code == 0, result.output
+    document = json.loads(result.stdout)
+    numbers = {
+        (case["case"], c["label"]): c["numeric"]
+        for case in document["cases"]
+        for c in case["claims"]
+    }
+    assert all(n["agrees"] for n in numbers.values()), numbers
+    assert numbers["repelling-s0", "s"]["projected"] is True
+    assert numbers["repelling-s0", "s"]["departure"] < 1e-13
+    with registry.open(db) as reg:  # stored: the same evidence comes back from the database
+        (audit,) = [a for _, a in reg.store.run_results(1) if a.case == "repelling-s0"]
+    stored = {e.claim: e for e in audit.evidence}
+    assert stored["s"].projected and stored["s"].departure < 1e-13 and not stored["s"].reason
+
+
+def _large_momenta(m, claim, factor, count=3):
+    """Exact points of the claim's set (homogeneous in M) with the momenta scaled up."""
+    points = []
+    for p in sample_points(m.claim_domain(claim), count, seed=1):
+        q = {**p, **{v: p[v] * factor for v in mech.MOMENTUM}}
+        q[mech.s] = sp.expand(mech.S_VALUE.xreplace(q))
+        points.append(q)
+    return points
+
+
+def test_hess_relation_sampled_at_large_momenta_is_judged_by_the_size_of_its_terms():
+    case = load_case(CASES / "heavy-top" / "hess-1890-heavy-top.toml")
+    m = CaseMechanics(case)
+    claim = case.claim("hess")
+    starts = _large_momenta(m, claim, 150)
+    assert max(abs(p[v]) for p in starts for v in mech.MOMENTUM) > 100
+    d = claim_drift(m, claim, invariant=V, starts=starts)
+    assert d.projected and d.runs == 3 and d.departure < 1e-13
+    assert d.drift < 1e-12 and not d.contradicts(V), d  # x0 M1 + z0 M3 vanishes: 0 / 0 terms
+    # without Hess's condition on the centre of mass the set is not kept and the relation
+    # is refuted: the trajectories are never projected, and the numbers agree
+    loose = load_case(CASES / "heavy-top" / "hess-1890-heavy-top-unrestricted.toml")
+    audit = registry.audit_case(loose, numeric=True, budget=None)
+    assert audit.result("integral", "hess").verdict is R
+    assert audit.result("invariant", "hess").verdict is R
+    (e,) = audit.evidence
+    assert not e.projected and not e.contradicts, e  # the set is not kept: never projected
+    assert e.reason.startswith("every trajectory left the claim's set"), e  # so not compared
+    assert e.as_dict()["reason"] == e.reason and e.as_dict()["departure"] > DEPARTURE_TOL

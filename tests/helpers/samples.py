@@ -12,6 +12,8 @@ CLASSICAL = TEST_DATA / "classical"
 #: Cases in the Hamiltonian form, on e(3), so(4) and so(3,1) (issue 20), derived in
 #: tests/test_hamiltonian_form.py.
 HAMILTONIAN = TEST_DATA / "hamiltonian"
+#: Level sets kept by the flow, one repelling and one attracting (numeric evidence).
+LEVEL_SETS = TEST_DATA / "level-sets"
 #: The seed catalog: the reference paper's cases (and one classical case) at the top of
 #: data/cases; the literature catalog lives in its sub-folders.
 SEED_FILES = sorted(CASES.glob("*.toml"))

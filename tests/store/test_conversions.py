@@ -34,6 +34,10 @@ def test_evidence_round_trips_and_nan_is_null():
     found = Evidence("I1", 1e-3, 2e-14, 3, contradicts=True, note="n", narrowed="one instance")
     row = conversions.evidence_row(1, 2, 3, found)
     assert conversions.evidence(row, "I1") == found
+    on_set = Evidence("s", 1e-15, 2e-14, 3, departure=1e-16, projected=True)
+    assert conversions.evidence(conversions.evidence_row(1, 2, 3, on_set), "s") == on_set
+    left = Evidence("s", 9.2, 2e-14, 3, departure=0.3, reason="every trajectory left")
+    assert conversions.evidence(conversions.evidence_row(1, 2, 3, left), "s") == left
     missing = Evidence("I1", math.nan, math.nan, 0, note="no start point")
     row = conversions.evidence_row(1, 2, 3, missing)
     assert row.drift is None and row.floor is None

@@ -113,7 +113,7 @@ def upgraded(table: str, row: dict) -> dict:
 
 
 def test_revisions_form_one_chain_ending_at_the_schema_version():
-    assert migrate.known_revisions() == ["0001", "0002", "0003", "0004", "0005"]
+    assert migrate.known_revisions() == ["0001", "0002", "0003", "0004", "0005", "0006"]
     assert int(migrate.head()) == SCHEMA_VERSION
 
 
@@ -222,7 +222,7 @@ def test_a_newer_revision_is_refused_with_a_clear_message(db_target):
         conn.execute(text("UPDATE alembic_version SET version_num = '0099'"))
     expected = (
         f"database {str(path)!r} has schema revision 0099, newer than this registry "
-        "supports (revision 0005); upgrade the registry package to open it"
+        "supports (revision 0006); upgrade the registry package to open it"
     )
     with pytest.raises(SchemaTooNewError) as info:
         Store(path)
