@@ -17,8 +17,8 @@ from registry.audit.numeric_evidence import (
     Drift,
     claim_drift,
 )
-from registry.audit.time_budget import TimeBudget
 from registry.cli import main
+from registry.execution.time_budget import TimeBudget
 from registry.mathematics import mechanics as mech
 from registry.mathematics.case_mechanics import CaseMechanics
 from registry.mathematics.sampling import sample_points
