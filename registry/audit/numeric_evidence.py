@@ -9,10 +9,10 @@ along the runs is compared with that of H, which is conserved for every torque a
 measures the integrator's own noise floor.
 
 Drifts are relative to the size of the terms of the expression at the start point (the
-sum of the absolute values of the terms of its expanded form), the scale of its rounding
-error: a quantity that vanishes on its set (an invariant relation such as Hess's
-x0 M1 + z0 M3 = 0, sampled at large momenta) is judged against the size of its terms,
-not against 1.
+sum of the absolute values of the terms of its expanded form, or |grad I| |x| where that
+is larger), the scale of its rounding error: a quantity that vanishes on its set (an
+invariant relation such as Hess's x0 M1 + z0 M3 = 0, sampled at large momenta) is judged
+against the size of its terms, not against 1.
 
 On a level set the trajectories must stay on the set for the drift to speak of the
 claim. Where the symbolic ``invariant`` check proved that the flow keeps the set, each
@@ -144,22 +144,32 @@ class _Compiled:
     g_terms: Callable | None
     jacobian: Callable | None
 
-    def scale(self, terms: Callable, y: np.ndarray) -> float:
-        """The sum of the absolute values of the terms at ``y`` (1 where all vanish)."""
+    def scale(self, f: Callable, terms: Callable, y: np.ndarray) -> float:
+        """The size of ``f`` at ``y`` for its rounding error: the larger of the sum of the
+        absolute values of its terms and |grad f| |y| (what a relative change of the state
+        changes it by; the scale of a one-term relation such as M2 = 0 at M2 = 0), 1
+        where both vanish."""
         total = float(np.sum(np.abs(np.asarray(terms(y), dtype=float))))
-        return total if total > 0 and math.isfinite(total) else 1.0
+        size = max(total, _gradient_norm(f, y) * float(np.linalg.norm(y)))
+        return size if size > 0 and math.isfinite(size) else 1.0
 
     def residual(self, y: np.ndarray) -> float:
         """The largest relative residual of the set's equations at ``y``: |g_j(y)| over
-        the sum of the absolute values of g_j's terms there."""
-        if self.g is None or self.g_terms is None:
+        the larger of the sum of the absolute values of g_j's terms and |grad g_j| |y|
+        (|g_j| / |grad g_j| is the distance to its zero set to first order)."""
+        if self.g is None or self.g_terms is None or self.jacobian is None:
             return 0.0
         values = np.abs(np.asarray(self.g(y), dtype=float))
-        sizes = [float(np.sum(np.abs(np.asarray(t, dtype=float)))) for t in self.g_terms(y)]
+        rows = np.asarray(self.jacobian(y), dtype=float).reshape(len(values), -1)
+        norm = float(np.linalg.norm(y))
         worst = 0.0
-        for value, size in zip(values, sizes, strict=True):
+        for value, terms, row in zip(values, self.g_terms(y), rows, strict=True):
             if value == 0:
                 continue
+            size = max(
+                float(np.sum(np.abs(np.asarray(terms, dtype=float)))),
+                float(np.linalg.norm(row)) * norm,
+            )
             worst = max(worst, value / size if size > 0 else math.inf)
         return worst if math.isfinite(worst) else math.inf
 
@@ -218,9 +228,21 @@ def _terms(expr: sp.Expr) -> list[sp.Expr]:
     return terms if len(terms) <= MAX_TERMS else [expr]
 
 
-def _compile(exprs: list[sp.Expr], project: bool) -> _Compiled:
-    """numpy functions of the state for the field, H, I and the set's equations (their
-    Jacobian where the trajectories are projected)."""
+def _gradient_norm(f: Callable, y: np.ndarray) -> float:
+    """|grad f(y)| by central differences (a scale, not a value: six digits suffice)."""
+    step = 1e-6 * max(1.0, float(np.linalg.norm(y)))
+    grad = []
+    for k in range(len(y)):
+        e = np.zeros_like(y)
+        e[k] = step
+        grad.append((float(f(y + e)) - float(f(y - e))) / (2 * step))
+    norm = float(np.linalg.norm(grad))
+    return norm if math.isfinite(norm) else 0.0
+
+
+def _compile(exprs: list[sp.Expr]) -> _Compiled:
+    """numpy functions of the state for the field, H, I and the set's equations with
+    their Jacobian."""
     _only_numeric(exprs)
     field, h, i, on = exprs[:6], exprs[6], exprs[7], exprs[8:]
 
@@ -231,8 +253,7 @@ def _compile(exprs: list[sp.Expr], project: bool) -> _Compiled:
     if on:
         g = fn(on)
         g_terms = fn([_terms(e) for e in on])
-        if project:
-            jacobian = fn([[sp.diff(e, v) for v in mech.STATE] for e in on])
+        jacobian = fn([[sp.diff(e, v) for v in mech.STATE] for e in on])
     return _Compiled(fn(field), fn(h), fn(i), fn(_terms(h)), fn(_terms(i)), g, g_terms, jacobian)
 
 
@@ -266,7 +287,7 @@ def claim_drift(
             if point is None:
                 continue
         params = {p: point[p] for p in m.domain.parameters}
-        compiled = _compile([e.xreplace(params) for e in exprs], project)
+        compiled = _compile([e.xreplace(params) for e in exprs])
         run = _solve(compiled, [float(point[v]) for v in mech.STATE], T_END, project)
         if isinstance(run, str):
             notes.append(run)
@@ -338,7 +359,7 @@ def trajectory(
             continue
         params = {p: point[p] for p in m.domain.parameters}
         y0 = [float(point[v]) for v in mech.STATE]
-        run = _solve(_compile([e.xreplace(params) for e in exprs], project), y0, t_end, project)
+        run = _solve(_compile([e.xreplace(params) for e in exprs]), y0, t_end, project)
         if isinstance(run, str):
             continue
         start = {str(k): float(v) for k, v in point.items()}
@@ -406,7 +427,8 @@ def _solve(c: _Compiled, y0: list[float], t_end: float, project: bool) -> _Run |
         hs = np.array([c.h(y) for y in states], dtype=float)
         is_ = np.array([c.i(y) for y in states], dtype=float)
         departure = float(max(c.residual(y) for y in states))
-        scale_h, scale_i = c.scale(c.h_terms, states[0]), c.scale(c.i_terms, states[0])
+        scale_h = c.scale(c.h, c.h_terms, states[0])
+        scale_i = c.scale(c.i, c.i_terms, states[0])
     if not (np.all(np.isfinite(hs)) and np.all(np.isfinite(is_))):
         return "the trajectory reached a singular set"
     return _Run(t, hs, is_, departure, project, scale_h, scale_i)
