@@ -10,6 +10,7 @@ from registry import Verdict, audit_case, load_case
 from registry.audit.checks import CHECKS
 from registry.audit.parallel import _torque, audit_in_workers, batches, estimated_cost
 from registry.execution.time_budget import TimeBudget
+from tests.helpers.clocks import HANG
 from tests.helpers.samples import CASES
 
 
@@ -45,9 +46,12 @@ def test_workers_give_the_same_verdicts_as_in_process():
         load_case(CASES / f"{n}.toml")
         for n in ("zhukovsky-gyrostat", "affine-nonsymmetric", "borisov-mamaev-1997")
     ]
-    parallel = dict(audit_in_workers(cases, 2, TimeBudget()))
+    # the same work on both sides: budgets no busy machine reaches (a correction search
+    # cut off by a wall-clock budget in one and not the other would tell nothing)
+    budget = TimeBudget(check=HANG, corrections=5 * HANG, margin=HANG)
+    parallel = dict(audit_in_workers(cases, 2, budget))
     for index, case in enumerate(cases):
-        here = audit_case(case)
+        here = audit_case(case, budget=budget)
         there = parallel[index]
         assert [(r.check, r.claim, r.verdict) for r in there.results] == [
             (r.check, r.claim, r.verdict) for r in here.results
@@ -89,6 +93,9 @@ def test_the_rest_of_a_killed_workers_batch_is_still_audited(monkeypatch):
     stuck = replace(zhukovsky, id="stuck-variant", claims=(claim,) * 3)
     cases = [zhukovsky, stuck]
     assert len(batches(cases)) == 1 and batches(cases)[0][0][1].id == "stuck-variant"
-    results = dict(audit_in_workers(cases, 1, TimeBudget(check=0.5, corrections=0.5, margin=0.5)))
+    # checks of a tenth of a second get 2 s each (room for a busy machine); the stuck case
+    # is killed at its deadline, long before its 120 s sleep ends
+    budget = TimeBudget(check=2.0, corrections=2.0, margin=0.5)
+    results = dict(audit_in_workers(cases, 1, budget))
     assert "worker killed" in results[1].results[0].reason
     assert {r.verdict for r in results[0].results} == {Verdict.VERIFIED}

@@ -1,4 +1,5 @@
-"""A test run killed with SIGKILL leaves no process behind: neither the PostgreSQL server
+"""A test run killed with SIGKILL (or SIGTERM, which ends pytest as abruptly: no
+fixture teardown, no exit handler) leaves no process behind: neither the PostgreSQL server
 of its session, nor the ``dask scheduler`` and ``dask worker`` processes of a fixture,
 nor the processes of a LocalCluster, nor the server's folder.
 
@@ -75,7 +76,8 @@ def test_services_held_until_the_run_is_killed(
 @pytest.mark.slow
 @pytest.mark.skipif(not sys.platform.startswith("linux"), reason="reads /proc")
 @pytest.mark.skipif(HOLD in os.environ, reason="the killed run itself")
-def test_a_killed_run_leaves_nothing_behind(tmp_path):
+@pytest.mark.parametrize("how", [signal.SIGKILL, signal.SIGTERM], ids=["SIGKILL", "SIGTERM"])
+def test_a_killed_run_leaves_nothing_behind(tmp_path, how):
     ready = tmp_path / "held.json"
     log = tmp_path / "run.log"
     held_test = f"{Path(__file__).relative_to(ROOT)}::test_services_held_until_the_run_is_killed"
@@ -101,8 +103,9 @@ def test_a_killed_run_leaves_nothing_behind(tmp_path):
         assert services <= up, f"not marked: {services - up}"
         assert Path(held["postgres_root"]).is_dir()
 
-        os.kill(run.pid, signal.SIGKILL)  # the test process only, as a CI time limit does
+        os.kill(run.pid, how)  # the test process only, as a CI time limit does
         run.wait(timeout=HANG)
+        assert run.returncode == -how  # killed, not a pytest that cleaned up and ended
         deadline = time.monotonic() + BOUND
         while (left := marked(str(run.pid))) and time.monotonic() < deadline:
             time.sleep(0.1)
