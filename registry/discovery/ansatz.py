@@ -207,6 +207,12 @@ class PolynomialSystem:
         """``expr`` as an element of the system's ring (s expanded; parameter denominators
         cleared; in an extended ring, inverses and roots written with its variables),
         reduced modulo the level set. NotPolynomialError if it is not in the ring."""
+        return self.reduce(self.fraction(expr, what=what)[0])
+
+    def fraction(self, expr: sp.Expr, *, what: str = "expression") -> tuple[PolyElement, sp.Expr]:
+        """``expr`` as (numerator in the system's ring, not reduced; the parameter
+        denominator cleared from it): expr = numerator / denominator in the ring.
+        NotPolynomialError if it is not in the ring."""
         expr = sp.sympify(expr).subs(mech.s, mech.S_VALUE)
         if self.space.extended:
             try:
@@ -220,7 +226,7 @@ class PolynomialSystem:
             poly = self.ring.from_expr(sp.expand(numer).xreplace(self._plain))
         except (ValueError, sp.PolynomialError, sp.CoercionFailed) as err:
             raise NotPolynomialError(f"the {what} is not polynomial: {err}") from None
-        return self.reduce(poly)
+        return poly, denom
 
     def expression(self, poly: PolyElement) -> sp.Expr:
         """A ring element as a sympy expression in the state and the parameters."""

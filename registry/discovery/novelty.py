@@ -120,7 +120,7 @@ def _relation(
             break
     else:
         return None
-    terms = []
+    terms, parts = [], []
     used: set[int] = set()
     for exps, c in zip(products, coeffs, strict=True):
         if c:
@@ -128,14 +128,64 @@ def _relation(
             for g, e in zip(gens, exps, strict=True):
                 factor *= g.scale**e
             monomial = sp.Mul(*(g.symbol**e for g, e in zip(gens, exps, strict=True)))
-            terms.append(sp.factor(factor) * monomial)
+            factor = sp.factor(factor)
+            terms.append(factor * monomial)
+            parts.append((factor, exps))
             used.update(i for i, e in enumerate(exps) if e)
-    return sp.Add(*terms), [gens[i] for i in sorted(used)]
+    kept = sorted(used)
+    parts = [(k, tuple(exps[i] for i in kept)) for k, exps in parts]
+    return sp.Add(*terms), [gens[i] for i in kept], parts
 
 
-def checked(system: PolynomialSystem, expr: sp.Expr, combination: sp.Expr, gens) -> sp.Expr:
+def _difference(
+    system: PolynomialSystem, expr: sp.Expr, parts, gens
+) -> tuple[PolyElement, PolyElement]:
+    """(rest, D) with expr - sum_j k_j prod_i gens_i^e_ij = rest / D in the system's ring,
+    rest reduced modulo the level set and D a parameter polynomial: the identity computed
+    exactly with ring arithmetic (each claim's numerator raised and multiplied there), not
+    by expanding the combination as an expression."""
+
+    def parameter(e: sp.Expr) -> PolyElement:
+        return system.ring.from_expr(sp.expand(e).xreplace(system._plain))
+
+    pieces: list[tuple[PolyElement, PolyElement]] = []
+    numer, denom = system.fraction(expr)
+    pieces.append((numer, parameter(denom)))
+    fractions = [system.fraction(g.expr) for g in gens]
+    fractions = [(n, parameter(d)) for n, d in fractions]
+    for k, exps in parts:
+        a, b = sp.fraction(sp.together(k))
+        n, d = parameter(a), parameter(b)
+        for (gn, gd), e in zip(fractions, exps, strict=True):
+            if e:
+                n *= gn**e
+                d *= gd**e
+        pieces.append((-n, d))
+    common = system.ring.one
+    for _, d in pieces:
+        common = common.lcm(d)
+    total = system.ring.zero
+    for n, d in pieces:
+        total += n * common.exquo(d)
+    return system.reduce(total), common
+
+
+def checked(
+    system: PolynomialSystem, expr: sp.Expr, combination: sp.Expr, gens, parts=None
+) -> sp.Expr:
     """``combination`` plus the constant that makes it equal ``expr`` on the level set,
-    checked exactly in the system's ring; DiscoveryError where the two differ by more."""
+    checked exactly in the system's ring; DiscoveryError where the two differ by more.
+    With ``parts`` (combination = sum k * prod gens^exps, as (k, exps) pairs) the
+    identity is computed with ring arithmetic (``_difference``); where that does not
+    show it, or without ``parts``, by expanding the expressions."""
+    outside = {*system.variables, mech.s}
+    if parts is not None and not any(k.free_symbols & outside for k, _ in parts):
+        rest, common = _difference(system, expr, parts, gens)
+        if not any(any(m[: system.n]) for m in rest.monoms()):
+            if rest:
+                constant = system.expression(rest) / system.expression(common)
+                combination += sp.factor(constant)
+            return combination
     values = {g.symbol: g.expr for g in gens if g.symbol != g.expr}
     difference = sp.expand(expr - combination.xreplace(values))
     rest = system.polynomial(difference)
@@ -177,8 +227,8 @@ def statuses(
                 relation = _relation(system, fld, gens, poly, target, _scale(expr))
                 if relation is None:
                     continue
-                combination, used = relation
-                combination = checked(system, expr, combination, used)
+                combination, used, parts = relation
+                combination = checked(system, expr, combination, used, parts)
                 status = IntegralStatus(
                     "rediscovered",
                     tuple(g.name for g in used if g.claim),
