@@ -24,7 +24,7 @@ import random
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field, replace
-from typing import cast
+from typing import Any, cast
 
 import sympy as sp
 from sympy import QQ
@@ -209,7 +209,7 @@ def _search(
     while queue:
         state.total += len(queue)
         results = _each(state, [c for c, _ in queue], jobs, elsewhere)
-        following = []
+        following: list[tuple[Any, dict[int, int]]] = []
         for (_, parent), (g, dimensions, inner, undecided, cofactors) in zip(
             queue, results, strict=True
         ):
