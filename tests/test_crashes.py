@@ -355,8 +355,6 @@ import os, signal, sys
 from sqlalchemy import event
 from sqlalchemy.orm import Session
 from registry.cli import main
-from tests.helpers.processes import group_members, kill_group, registry_command, wait_until_gone
-from tests.helpers.samples import SEED_FILES
 from registry.store.tables import ResultRow
 
 sent = []
