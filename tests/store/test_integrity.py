@@ -28,6 +28,7 @@ from registry.errors import (
     DatabaseMissingError,
     DatabaseReadOnlyError,
 )
+from registry.runs import audit_run
 from registry.store import engine
 from registry.store.database import Store
 from registry.store.integrity import verify
@@ -359,7 +360,7 @@ def test_an_interrupted_audit_in_process_is_recorded(db, monkeypatch):
     def stop(*args, **kwargs):
         raise KeyboardInterrupt
 
-    monkeypatch.setattr(registry.api, "audit_case", stop)
+    monkeypatch.setattr(audit_run, "audit_case", stop)
     with pytest.raises(KeyboardInterrupt):
         reg.audit([ZHUKOVSKY], fresh=True, jobs=0)
     assert list(reg.runs()["status"]) == ["complete", "interrupted"]
@@ -369,7 +370,7 @@ def test_a_signal_during_a_database_session_waits_for_its_end(db_target):
     import os
     import signal
 
-    from registry.cli import _interruptible
+    from registry.runs.interruption import interruptible as _interruptible
 
     store = Store(db_target)
     finished = False
