@@ -80,6 +80,8 @@ def case_row(case: Case, version: int, source_id: int) -> CaseRow:
         functions={name: [str(a) for a in args] for name, (_, args) in case.functions.items()},
         added_at=now(),
         topic=case.topic,
+        hamiltonian=case.system.hamiltonian.text if case.system.hamiltonian else None,
+        kappa=case.system.kappa.text,
     )
 
 

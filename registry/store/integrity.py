@@ -286,6 +286,9 @@ def stored_expressions(store: Store) -> list[StoredText]:
             out.append(StoredText(r.id, "potential", r.potential))
             out += [StoredText(r.id, f"torque[{i}]", t) for i, t in enumerate(r.torque)]
             out += [StoredText(r.id, f"inertia[{i}]", t) for i, t in enumerate(r.inertia)]
+            if r.hamiltonian is not None:
+                out.append(StoredText(r.id, "hamiltonian", r.hamiltonian))
+            out.append(StoredText(r.id, "kappa", r.kappa))
         for c in session.scalars(select(ClaimRow)):
             # a claim a search attached to a version is not in its text: named apart
             where = (
@@ -334,6 +337,9 @@ def _columns_agree(case: Case, stored: list[StoredText]) -> list[str]:
         expected[f"torque[{i}]"] = case.system.torque[i].text
     for i, moment in enumerate(case.system.inertia):  # none in the Hamiltonian form
         expected[f"inertia[{i}]"] = moment.text
+    if case.system.hamiltonian is not None:
+        expected["hamiltonian"] = case.system.hamiltonian.text
+    expected["kappa"] = case.system.kappa.text
     for claim in case.claims:
         where = f"claim {claim.label!r}"
         expected[f"{where} expression"] = claim.expression.text

@@ -32,7 +32,7 @@ from sqlalchemy.orm import DeclarativeBase, Mapped, mapped_column
 from sqlalchemy.types import TypeDecorator
 
 #: Version of the table layout, kept in the ``meta`` table (the Alembic revision, as a number).
-SCHEMA_VERSION = 6
+SCHEMA_VERSION = 7
 
 #: The states of an audit run; every run starts as ``running``.
 RUN_STATUSES = ("running", "complete", "failed", "interrupted")
@@ -131,6 +131,10 @@ class CaseRow(Base):
     functions: Mapped[dict[str, list[str]]] = mapped_column(JSON)
     added_at: Mapped[datetime] = mapped_column(UTCDateTime)
     topic: Mapped[str] = mapped_column(Text, default="", server_default="")
+    #: H as the case file gives it (``system.hamiltonian``); NULL in the inertia form.
+    hamiltonian: Mapped[str | None] = mapped_column(Text, nullable=True)
+    #: The bracket's parameter as written (``system.kappa``): "0" is e(3).
+    kappa: Mapped[str] = mapped_column(Text, default="0", server_default="0")
 
 
 class CaseAliasRow(Base):

@@ -5,9 +5,11 @@ from __future__ import annotations
 
 import pandas as pd
 
+from registry.language.casefile import load_case
 from registry.model import Verdict
 from registry.store import frames
 from registry.store.tables import ResultRow
+from tests.helpers.samples import CASES
 from tests.helpers.stores import audit_of, count
 
 
@@ -18,8 +20,9 @@ def test_cases_and_claims_frames(store, sample_case, other_case, case_factory):
     cases = frames.cases_frame(store)
     assert list(cases.columns) == [
         "case", "version", "title", "citation", "locator", "doi", "content_hash", "n_claims",
-        "added_at", "topic", "authors", "year", "source_title", "journal", "booktitle",
-        "publisher", "volume", "issue", "pages", "url", "aliases",
+        "added_at", "topic", "inertia", "potential", "torque", "hamiltonian", "kappa",
+        "authors", "year", "source_title", "journal", "booktitle", "publisher", "volume",
+        "issue", "pages", "url", "aliases",
     ]  # fmt: skip
     assert cases.set_index("case")["version"].to_dict() == {other_case.id: 1, sample_case.id: 2}
     assert cases.set_index("case")["n_claims"].to_dict() == {other_case.id: 0, sample_case.id: 2}
@@ -32,6 +35,23 @@ def test_cases_and_claims_frames(store, sample_case, other_case, case_factory):
     assert claims["label"].tolist() == ["I1", "I2"]
     assert set(claims["version"]) == {2}
     assert claims["on"].tolist()[1] == ["gamma1**2 + gamma2**2 + gamma3**2 = 1"]
+
+
+def test_the_cases_frame_shows_each_system_as_its_file_writes_it(store, sample_case):
+    """Inertia form: A, B, C, U and kappa "0"; Hamiltonian form: H and kappa as written
+    (so a notebook can select the so(4) cases without parsing anything)."""
+    komarov = load_case(CASES / "so4" / "komarov-1981-so4-kovalevskaya.toml")
+    store.add_case(sample_case)
+    store.add_case(komarov)
+    rows = frames.cases_frame(store).set_index("case")
+    ours = rows.loc[sample_case.id]
+    assert list(ours["inertia"]) == [e.text for e in sample_case.system.inertia]
+    assert ours["potential"] == sample_case.system.potential.text
+    assert pd.isna(ours["hamiltonian"]) and ours["kappa"] == "0"
+    theirs = rows.loc[komarov.id]
+    assert theirs["hamiltonian"] == "M1**2 + M2**2 + 2*M3**2 + 2*gamma1"
+    assert theirs["kappa"] == "1" and list(theirs["inertia"]) == []
+    assert rows.index[rows["kappa"] != "0"].tolist() == [komarov.id]
 
 
 def test_latest_verdicts_follow_the_newest_run_and_keep_history(store, sample_case):

@@ -53,6 +53,7 @@ ADDED = (
     "host", "pid", "pid_started", "compared_with", "narrowed",  # 0002, 0003
     "authors", "year", "title", "journal", "booktitle", "publisher", "volume", "issue",
     "pages", "url", "topic", "notes", "provenance", "search_id",  # 0004
+    "hamiltonian", "kappa",  # 0007
 )  # fmt: skip
 
 
@@ -113,7 +114,7 @@ def upgraded(table: str, row: dict) -> dict:
 
 
 def test_revisions_form_one_chain_ending_at_the_schema_version():
-    assert migrate.known_revisions() == ["0001", "0002", "0003", "0004", "0005", "0006"]
+    assert migrate.known_revisions() == ["0001", "0002", "0003", "0004", "0005", "0006", "0007"]
     assert int(migrate.head()) == SCHEMA_VERSION
 
 
@@ -222,7 +223,7 @@ def test_a_newer_revision_is_refused_with_a_clear_message(db_target):
         conn.execute(text("UPDATE alembic_version SET version_num = '0099'"))
     expected = (
         f"database {str(path)!r} has schema revision 0099, newer than this registry "
-        "supports (revision 0006); upgrade the registry package to open it"
+        "supports (revision 0007); upgrade the registry package to open it"
     )
     with pytest.raises(SchemaTooNewError) as info:
         Store(path)
@@ -316,3 +317,32 @@ def rows_all(path: Path | str, table: str) -> list[dict]:
     """Every column of every row of ``table``, in id order."""
     with connection(path) as conn:
         return [dict(r._mapping) for r in conn.execute(text(f"SELECT * FROM {table} ORDER BY id"))]
+
+
+# SQLite: a database as revision 0006 left it, holding a case in the Hamiltonian form
+def test_revision_0007_copies_each_stored_systems_hamiltonian_and_kappa(tmp_path):
+    from registry.language.casefile import load_case
+    from tests.helpers.samples import CASES
+
+    path = tmp_path / "r6.sqlite"
+    hamiltonian_form = load_case(CASES / "so4" / "komarov-1990-so31-kovalevskaya.toml")
+    inertia_form = load_case(CASES / "heavy-top" / "kovalevskaya-1889-heavy-top.toml")
+    with Store(path) as store:
+        store.add_case(hamiltonian_form)
+        store.add_case(inertia_form)
+    with closing(sqlite3.connect(path)) as conn, conn:  # back to what 0006 built
+        conn.execute("ALTER TABLE cases DROP COLUMN hamiltonian")
+        conn.execute("ALTER TABLE cases DROP COLUMN kappa")
+        conn.execute("UPDATE alembic_version SET version_num = '0006'")
+        conn.execute("UPDATE meta SET value = '6' WHERE key = 'schema_version'")
+
+    with Store(path) as store:
+        assert store.upgraded_from == "0006"
+        with store.engine.connect() as conn:
+            assert compare_metadata(MigrationContext.configure(conn), Base.metadata) == []
+        assert verify(store).ok  # the copied columns agree with the parse of each text
+    copied = {r["case_id"]: (r["hamiltonian"], r["kappa"]) for r in rows_all(path, "cases")}
+    assert copied == {
+        hamiltonian_form.id: (hamiltonian_form.system.hamiltonian.text, "-1"),
+        inertia_form.id: (None, "0"),
+    }
