@@ -114,6 +114,14 @@ def test_an_edited_column_is_found(db):
     ]
 
 
+def test_an_edited_bracket_or_hamiltonian_column_is_found(db):
+    damage(db, f"UPDATE cases SET kappa = '1', hamiltonian = 'M1**2' WHERE case_id = '{YEHIA_B}'")
+    assert problems(db) == [
+        f"case {YEHIA_B} version 1: kappa: stored as '1', but the case text says '0'",
+        f"case {YEHIA_B} version 1: hamiltonian: stored, but not in the case text",
+    ]
+
+
 def test_a_stored_claim_that_no_longer_parses_is_found(db):
     damage(db, "UPDATE claims SET expression = '__import__(''os'')' WHERE label = 'I2'")
     found = problems(db)
