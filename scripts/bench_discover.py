@@ -27,8 +27,9 @@ Then classification scale (issue 21), with several free parameters:
 
 Each is timed in one process, in two local processes (--jobs 2) and on a Dask cluster
 of two local worker processes started once (local:2, the cluster's start not counted),
-and as a ratio to search 1 timed in the same run (the machine is shared: ratios are
-what compares across runs).
+in one process with the ansatz not split along the field's symmetries (the results
+must be the same), and as a ratio to search 1 timed in the same run (the machine is
+shared: ratios are what compares across runs).
 
 Each is timed in this process after one warm-up search (imports and sympy's caches
 are not what is measured), proofs of the reported integrals included. The naive
@@ -261,8 +262,18 @@ def once(name: str, options: dict, **how) -> tuple[float, object]:
     return time.perf_counter() - started, report.search
 
 
+def without_symmetries(name: str, options: dict) -> tuple[float, object]:
+    """Seconds of one search in this process with the ansatz not split along the field's
+    symmetries (registry.discovery.symmetry), and its result."""
+    case = load_case(FAMILIES / f"{name}.toml")
+    started = time.perf_counter()
+    search = discover(case, search_options(case, **options), budget=1800, symmetries=False)
+    return time.perf_counter() - started, search
+
+
 def scale(repeat: int) -> None:
-    """Searches 6-8: one process, two processes, a local Dask cluster of two workers."""
+    """Searches 6-8: one process, two processes, a local Dask cluster of two workers, and
+    one process without symmetries."""
     from registry.distributed.scheduler import cluster_client
 
     reference, _ = ours_timed("heavy-top-lam", dict(degree=4, free=["lam"]), repeat)
@@ -282,6 +293,18 @@ def scale(repeat: int) -> None:
             print(
                 f"  --jobs 2: {two:.2f} s (speed-up {one / two:.2f}); local:2 Dask: "
                 f"{dask:.2f} s (speed-up {one / dask:.2f}); same result: {same}"
+            )
+            plain, search4 = without_symmetries(name, options)
+            kept = (search.generic, search.special, search.complete, search.dimensions) == (
+                search4.generic,
+                search4.special,
+                search4.complete,
+                search4.dimensions,
+            )
+            used = sum("split into" in p for p in search.method.split("; "))
+            print(
+                f"  without symmetries: {plain:.2f} s (with them {one / plain:.2f} of it; "
+                f"{used} of the searched sets split); same result: {kept}"
             )
 
 

@@ -28,6 +28,7 @@ from sympy.polys.rings import PolyElement, PolyRing
 from ..errors import DiscoveryError
 from ..mathematics import mechanics as mech
 from .ring import NotInRingError, SystemRing
+from .symmetry import Decomposition, decompose
 
 #: Exponents of the six state variables (M1, M2, M3, gamma1, gamma2, gamma3).
 Monomial = tuple[int, int, int, int, int, int]
@@ -84,11 +85,24 @@ def weighted_monomials(
 class Block:
     """One connected block of the system: its columns (indices into the system's
     columns), how many rows, and the entries (row, column-in-block) -> parameter
-    polynomial (exponent tuple -> rational)."""
+    polynomial (exponent tuple -> rational). Split along a symmetry, a column of the
+    block is a combination of the system's columns (``basis``: (column, rational)
+    pairs for each; ``columns`` then lists every system column they use)."""
 
     columns: tuple[int, ...]
     rows: int
     entries: Mapping[tuple[int, int], ParamPoly]
+    weights: tuple[int, ...] = ()
+    basis: tuple[tuple[tuple[int, Any], ...], ...] | None = None
+
+    @property
+    def size(self) -> int:
+        """How many columns (unknowns) the block has."""
+        return len(self.weights)
+
+    def combination(self, k: int) -> tuple[tuple[int, Any], ...]:
+        """The block's column k as (system column, coefficient) pairs."""
+        return ((self.columns[k], 1),) if self.basis is None else self.basis[k]
 
 
 class PolynomialSystem:
@@ -109,6 +123,7 @@ class PolynomialSystem:
         *,
         hamiltonian: sp.Expr | None = None,
         cofactor: sp.Expr | None = None,
+        symmetries: bool = True,
     ):
         self.params = tuple(params)
         self.degree = degree
@@ -160,7 +175,12 @@ class PolynomialSystem:
             and not any(all(a >= b for a, b in zip(e, lm, strict=True)) for lm in self.leading)
         ]
         self.column_index = {e: j for j, (e, _) in enumerate(self.columns)}
-        self.blocks = self._blocks()
+        self.decomposition: Decomposition | None = None
+        self.symmetry_note = "not used"
+        splits: list[Decomposition] = []
+        if symmetries:
+            splits, self.symmetry_note = decompose(self, cofactor=bool(self.cofactor))
+        self.blocks = self._blocks(splits)
 
     def _check_size(self, limit: int) -> None:
         """Refuse, before building it, a system larger than ``limit`` (unknowns times
@@ -354,14 +374,49 @@ class PolynomialSystem:
             coords.setdefault(j, {})[m[self.n :]] = c
         return coords
 
-    def _blocks(self) -> list[Block]:
+    def _blocks(self, splits: Sequence[Decomposition] = ()) -> list[Block]:
+        """The connected blocks of the system: columns joined when some row holds both.
+        Split along symmetries (``splits``: the ways found), the columns are the
+        eigenvectors of each class, and a block never joins two classes (d/dt maps them
+        into independent subspaces); the split whose blocks cost least to eliminate is
+        kept, if it costs less than the blocks of the sparsity alone."""
+        derivatives = [self.derivative(e) for e, _ in self.columns]
+        plain = self._connected([{j: 1} for j in range(len(self.columns))], derivatives)
+        best, cost = plain, _cost(plain)
+        found = self.symmetry_note
+        for split in splits:
+            row = split.representatives()
+            blocks = [b for c in split.classes for b in self._connected(c, derivatives, row)]
+            if _cost(blocks) < cost:
+                best, cost, self.decomposition = blocks, _cost(blocks), split
+        if splits:
+            used = self.decomposition.note if self.decomposition else "none used"
+            if self.decomposition is None:
+                found += " (no split cheaper than the blocks of the sparsity)"
+            self.symmetry_note = f"{used} (found: {found})"
+        elif self.symmetry_note != "not used":
+            self.symmetry_note = f"none used (found: {found})"
+        return best
+
+    def _connected(self, combos, derivatives, row=None) -> list[Block]:
+        """The blocks of one class of columns (each a combination of system columns);
+        ``row`` keeps the monomials that determine an image (orbit representatives)."""
+        unit = all(len(c) == 1 and next(iter(c.values())) == 1 for c in combos)
         rows: dict[tuple, int] = {}
         entries: dict[tuple[int, int], dict] = {}
-        for j, (exps, _) in enumerate(self.columns):
-            for m, c in self.derivative(exps).items():
+        for k, combo in enumerate(combos):
+            if unit:
+                image = derivatives[next(iter(combo))]
+            else:
+                image = self.ring.zero
+                for j, c in combo.items():
+                    image += derivatives[j] * c
+            for m, c in image.items():
+                if row is not None and not row(m[: self.n]):
+                    continue
                 r = rows.setdefault(m[: self.n], len(rows))
-                entries.setdefault((r, j), {})[m[self.n :]] = c
-        parent = list(range(len(self.columns)))
+                entries.setdefault((r, k), {})[m[self.n :]] = c
+        parent = list(range(len(combos)))
 
         def find(a: int) -> int:
             while parent[a] != a:
@@ -370,28 +425,41 @@ class PolynomialSystem:
             return a
 
         first: dict[int, int] = {}
-        for r, j in entries:
+        for r, k in entries:
             if r in first:
-                a, b = find(first[r]), find(j)
+                a, b = find(first[r]), find(k)
                 if a != b:
                     parent[a] = b
             else:
-                first[r] = j
+                first[r] = k
         groups: dict[int, list[int]] = {}
-        for j in range(len(self.columns)):
-            groups.setdefault(find(j), []).append(j)
+        for k in range(len(combos)):
+            groups.setdefault(find(k), []).append(k)
         blocks = []
         for cols in groups.values():
-            index = {j: k for k, j in enumerate(cols)}
+            index = {k: i for i, k in enumerate(cols)}
             local_rows: dict[int, int] = {}
             local = {}
-            for (r, j), v in entries.items():
-                if j in index:
-                    local[(local_rows.setdefault(r, len(local_rows)), index[j])] = v
-            blocks.append(Block(tuple(cols), len(local_rows), local))
+            for (r, k), v in entries.items():
+                if k in index:
+                    local[(local_rows.setdefault(r, len(local_rows)), index[k])] = v
+            weights = tuple(self.columns[next(iter(combos[k]))][1] for k in cols)
+            if unit:
+                used = tuple(next(iter(combos[k])) for k in cols)
+                blocks.append(Block(used, len(local_rows), local, weights))
+            else:
+                basis = tuple(tuple(sorted(combos[k].items())) for k in cols)
+                used = tuple(sorted({j for b in basis for j, _ in b}))
+                blocks.append(Block(used, len(local_rows), local, weights, basis))
         return blocks
 
     @property
     def size(self) -> int:
         """Unknowns times equations, the measure of the work the system asks for."""
         return len(self.columns) * sum(b.rows for b in self.blocks)
+
+
+def _cost(blocks: Sequence[Block]) -> int:
+    """The work of eliminating the blocks (unknowns times equations times the smaller),
+    to choose between ways of splitting the system."""
+    return sum(b.size * b.rows * min(b.size, b.rows) for b in blocks)

@@ -78,7 +78,7 @@ class KernelCache:
         n = len(self.system.columns)
         out = []
         for b, block in enumerate(self.system.blocks):
-            weights = [self.system.columns[j][1] for j in block.columns]
+            weights = block.weights
             cutoff = min(degree, max(weights))
             if cutoff < min(weights):
                 continue
@@ -93,16 +93,22 @@ class KernelCache:
                 ]
                 basis = nullspace(block.rows, len(keep), entries, self.field)
                 self.kernels[key] = [
-                    self._embed({block.columns[keep[i]]: c for i, c in enumerate(v)}, n)
-                    for v in basis
+                    self._embed(block, {keep[i]: c for i, c in enumerate(v)}, n) for v in basis
                 ]
             out.extend(self.kernels[key])
         return out
 
-    def _embed(self, coords: dict[int, object], n: int) -> list:
+    def _embed(self, block, coords: dict[int, object], n: int) -> list:
+        """A kernel vector of the block (its local columns) on the system's columns."""
         full = [self.field.zero] * n
-        for j, c in coords.items():
-            full[j] = c
+        for k, c in coords.items():
+            if not c:
+                continue
+            if block.basis is None:
+                full[block.columns[k]] = c
+                continue
+            for j, a in block.basis[k]:
+                full[j] += c * self.field.number(a)
         return full
 
 

@@ -92,6 +92,9 @@ class _State:
     progress: Progress | None = None
     done: int = 0
     total: int = 0
+    #: whether the ansatz is split along the field's symmetries, and what each set used
+    symmetries: bool = True
+    used: dict[tuple[str, ...], str] = field(default_factory=dict)
 
     def rnd(self, when: tuple[str, ...]) -> random.Random:
         """A generator seeded by the search and the set searched, so that results do not
@@ -108,6 +111,7 @@ def discover(
     seed: int = 0,
     progress: Progress | None = None,
     mapper: Mapper | None = None,
+    symmetries: bool = True,
 ) -> Search:
     """Search ``case`` for first integrals (module docstring).
 
@@ -118,7 +122,8 @@ def discover(
     that many processes; a ``mapper`` searches them where it runs its calls (a Dask
     cluster), with the same results. A candidate set the mapper could not search (its
     call killed, lost, or failed) is named in the coverage, and the search is then not
-    complete.
+    complete. ``symmetries`` false searches the whole ansatz without splitting it along
+    the field's symmetries (``symmetry``), for comparison: the results are the same.
     """
     started = time.perf_counter()
     options = options or SearchOptions()
@@ -128,7 +133,7 @@ def discover(
             f"--free names {', '.join(map(repr, unknown))}, which the case does not declare "
             f"(its parameters: {', '.join(case.parameters) or 'none'})"
         )
-    state = _State(options, seed, progress=progress)
+    state = _State(options, seed, progress=progress, symmetries=symmetries)
     free = [case.parameters[f] for f in options.free]
     if options.relations:
         state.cofactor, coefficients = _cofactor(options, CaseMechanics(case), free)
@@ -163,7 +168,7 @@ def discover(
         coverage=coverage,
         dimensions=tuple((d, *c) for d, c in sorted(state.counts.items())),
         seconds=time.perf_counter() - started,
-        method=METHOD + (f"; {note}" if note else ""),
+        method=METHOD + (f"; {note}" if note else "") + _symmetry_note(state),
         claims=state.claims,
     )
 
@@ -210,16 +215,31 @@ def _search(
         state.total += len(queue)
         results = _each(state, [c for c, _ in queue], jobs, elsewhere)
         following: list[tuple[Any, dict[int, int]]] = []
-        for (_, parent), (g, dimensions, inner, undecided, cofactors) in zip(
+        for (_, parent), (g, dimensions, inner, undecided, cofactors, used) in zip(
             queue, results, strict=True
         ):
             state.undecided.extend(u for u in undecided if u not in state.undecided)
             state.cofactors.update(cofactors)
+            state.used.update(used)
             if any(dimensions.get(d, 0) > k for d, k in parent.items()):
                 special.append(g)
             following.extend((c, dimensions) for c in _fresh(state, inner))
         queue = following
     return found, special
+
+
+def _symmetry_note(state: _State) -> str:
+    """The symmetries each searched set's ansatz was split along (its own, found from
+    its equations), as parts of the search's method."""
+    if not state.symmetries:
+        return "; symmetries: not used"
+    parts = []
+    for when, note in state.used.items():
+        if not when:
+            parts.append(f"symmetries: {note}")
+        elif "split" in note:
+            parts.append(f"symmetries where {', '.join(when)}: {note}")
+    return "".join(f"; {p}" for p in parts)
 
 
 def _fresh(state: _State, candidates: list) -> list:
@@ -251,7 +271,8 @@ def _step(
     rnd = state.rnd(when)
     m = CaseMechanics(case)
     cofactor = state.cofactors.get(when, state.cofactor)
-    system, params = _system(state.options, m, free, cofactor, values)
+    system, params = _system(state.options, m, free, cofactor, values, state.symmetries)
+    state.used[when] = system.symmetry_note
     _check_invariant(system, state.options)
     known, names = _known(m, system)
     if cofactor is not None and cofactor != 0:  # Darboux polynomials: nothing is known
@@ -334,7 +355,7 @@ def _each(state: _State, candidates, jobs: int, elsewhere=None):
             before = list(state.undecided)
             g, dimensions, inner = _step(state, sub, rest, when, values)
             state.done += 1
-            yield g, dimensions, inner, [u for u in state.undecided if u not in before], {}
+            yield g, dimensions, inner, [u for u in state.undecided if u not in before], {}, {}
         return
     yield from _each_elsewhere(state, candidates, local_mapper(jobs), None)
 
@@ -342,7 +363,7 @@ def _each(state: _State, candidates, jobs: int, elsewhere=None):
 def _each_elsewhere(state: _State, candidates, mapper: Mapper, seconds: float | None):
     """``_each`` through a mapper, in the candidates' order; a candidate set it could
     not search is undecided."""
-    bare = replace(state, progress=None, found=[], undecided=[], searched=[])
+    bare = replace(state, progress=None, found=[], undecided=[], searched=[], used={})
     work = [(bare, *candidate) for candidate in candidates]
     for index, value in in_order(mapper(_step_apart, work, seconds), len(work)):
         when = candidates[index][2]
@@ -351,7 +372,7 @@ def _each_elsewhere(state: _State, candidates, mapper: Mapper, seconds: float | 
         state.done += 1
         if isinstance(value, BaseException):
             why = f"candidate set {', '.join(when)} not searched ({value})"
-            yield IntegralSet(when, 0), {}, [], [why], {}
+            yield IntegralSet(when, 0), {}, [], [why], {}, {}
         else:
             yield value
 
@@ -362,11 +383,16 @@ def _step_apart(work):
     state, case, free, when, values = work
     g, dimensions, inner = _step(state, case, free, when, values)
     cofactors = {c[2]: state.cofactors[c[2]] for c in inner if c[2] in state.cofactors}
-    return g, dimensions, inner, state.undecided, cofactors
+    return g, dimensions, inner, state.undecided, cofactors, state.used
 
 
 def _system(
-    options: SearchOptions, m: CaseMechanics, free: list[sp.Symbol], cofactor=None, values=None
+    options: SearchOptions,
+    m: CaseMechanics,
+    free: list[sp.Symbol],
+    cofactor=None,
+    values=None,
+    symmetries: bool = True,
 ):
     """The polynomial system and its parameters (the free ones first, then the symbolic
     ones, then those standing for 1/c(p) where the level set's basis divides by c(p));
@@ -378,7 +404,14 @@ def _system(
     params = [*free, *symbolic]
     weights = (options.weights[0],) * 3 + (options.weights[1],) * 3
     system = PolynomialSystem(
-        m.field, params, weights, options.degree, on, hamiltonian=m.hamiltonian, cofactor=cofactor
+        m.field,
+        params,
+        weights,
+        options.degree,
+        on,
+        hamiltonian=m.hamiltonian,
+        cofactor=cofactor,
+        symmetries=symmetries,
     )
     return system, list(system.params)
 
@@ -530,7 +563,7 @@ def _locus(
             locus.merge(drop_locus(rows, rho, free, rnd, positive=positive, nonzero=nonzero))
 
     for b, block in enumerate(system.blocks):
-        weights = [system.columns[j][1] for j in block.columns]
+        weights = block.weights
         for cutoff in sorted(set(weights)):
             keep = {c: i for i, c in enumerate(c for c, w in enumerate(weights) if w <= cutoff)}
             rows = rows_of(((r, keep[c]), v) for (r, c), v in block.entries.items() if c in keep)

@@ -156,6 +156,7 @@ def search_text(search: Search) -> str:
         for part in search.method.split("; ")
         if part.startswith("the vector field is not weighted-homogeneous")
     )
+    lines.extend(part for part in search.method.split("; ") if part.startswith("symmetries"))
     lines.append(f"complete: {'yes' if search.complete else 'no'}")
     lines.extend(f"  coverage: {c}" for c in search.coverage if not search.complete)
     lines.append(statement(search))

@@ -50,3 +50,15 @@ def test_the_text_lists_each_set_with_its_integrals(kovalevskaya):
     assert "lam = 2: 1 extra integral(s)" in text
     assert "    M1    (integral verified; casimir refuted)" in text
     assert "complete: yes" in text
+
+
+def test_the_text_says_which_symmetries_split_the_ansatz(kovalevskaya):
+    """lam = 1 is the spherical top with its centre of mass on axis 1: turning about that
+    axis and the reflections swapping axes 2 and 3 keep the field, and split its ansatz."""
+    lines = search_text(kovalevskaya).splitlines()
+    generic = [line for line in lines if line.startswith("symmetries: ")]
+    assert len(generic) == 1 and "none used" in generic[0] and "sign changes" in generic[0]
+    (spherical,) = [line for line in lines if line.startswith("symmetries where lam = 1: ")]
+    assert "M2 -> M3, M3 -> M2, gamma2 -> gamma3, gamma3 -> gamma2" in spherical
+    assert "rotation about axis 1" in spherical
+    assert not [line for line in lines if line.startswith("symmetries where lam = 2")]
