@@ -39,12 +39,16 @@ from dataclasses import dataclass, field, replace
 
 import flint
 import sympy as sp
+from sympy.polys.domains import QQ, ZZ
 from sympy.polys.matrices import DomainMatrix
+from sympy.polys.rootisolation import dup_count_real_roots
 
 #: The prime of the modular rank checks (below 2**63, as FLINT's nmod_mat needs).
 PRIME = (1 << 61) - 1
 #: Most branches one matrix may split into before the rest is called undecided.
 MAX_BRANCHES = 20_000
+#: Most entries each memo below keeps before it starts afresh (bounds the memory).
+MEMO_SIZE = 200_000
 
 Poly = flint.fmpz_mpoly
 Row = dict[int, Poly]
@@ -103,8 +107,7 @@ class _Splitter:
         self.region = region
         self.ctx = region.context
         self.rnd = rnd
-        self.factors: dict[str, list[Poly]] = {}
-        self.nowhere_zero: dict[str, bool] = {}
+        self.nowhere_zero = _memo(_NOWHERE_ZERO, region)
         self.out = Split()
         self.symbols = [sp.Symbol(n) for n in region.names]
 
@@ -112,11 +115,12 @@ class _Splitter:
 
     def factor(self, poly: Poly) -> list[Poly]:
         """The distinct irreducible factors (primitive, positive leading coefficient)."""
+        memo = _memo(_FACTORS, poly.context())
         key = str(poly)
-        hit = self.factors.get(key)
+        hit = memo.get(key)
         if hit is None:
             hit = [f for f, _ in poly.factor()[1]]
-            self.factors[key] = hit
+            memo[key] = hit
         return hit
 
     def is_unit(self, h: Poly, branch: Branch) -> bool:
@@ -514,13 +518,9 @@ class _Splitter:
         used = [i for i, d in enumerate(poly.degrees()) if d]
         if len(used) == 1:
             (i,) = used
-            x = self.symbols[i]
-            roots = sp.Poly(self.expr(poly), x).real_roots()
-            if i in self.region.positive:
-                roots = [r for r in roots if r > 0]
-            elif i in self.region.nonzero:
-                roots = [r for r in roots if r != 0]
-            return not roots
+            return not _real_roots_allowed(
+                poly, i, i in self.region.positive, i in self.region.nonzero
+            )
         for i in used:
             if poly.degrees()[i] != 2:
                 continue
@@ -532,6 +532,47 @@ class _Splitter:
             if self._sign(b * b - 4 * a * c) is False:
                 return True
         return False
+
+
+#: Factorisations (by the polynomials' ring) and nowhere-zero decisions (by the region,
+#: whose assumptions they depend on), shared by every block of a search: the blocks of
+#: one ansatz meet the same factors again and again.
+_FACTORS: dict[flint.fmpz_mpoly_ctx, dict[str, list[Poly]]] = {}
+_NOWHERE_ZERO: dict[Region, dict[str, bool]] = {}
+
+
+def _memo(store: dict, key) -> dict:
+    """The memo of ``key`` in ``store``, emptied once it holds MEMO_SIZE entries."""
+    memo = store.setdefault(key, {})
+    if len(memo) >= MEMO_SIZE:
+        memo.clear()
+    return memo
+
+
+def _real_roots_allowed(poly: Poly, i: int, positive: bool, nonzero: bool) -> int:
+    """How many real roots the irreducible ``poly``, a polynomial in its variable ``i``
+    alone, has where the assumptions allow them (x > 0 if ``positive``, x != 0 if
+    ``nonzero``), from its integer coefficients (no expressions built). Being
+    irreducible, its roots are simple and 0 is one only for the polynomial c x.
+
+    FLINT isolates the roots in certified balls, the real ones with an imaginary part
+    exactly 0; a real root whose ball meets 0 (sign not certified) falls back to
+    Sturm sequences, which are exact but some 30 times slower."""
+    coeffs: dict[int, int] = {}
+    for exps, c in poly.terms():
+        coeffs[int(exps[i])] = int(c)
+    degree = max(coeffs)
+    if degree == 1:
+        root = QQ(-coeffs.get(0, 0), coeffs[1])
+        return int(not ((positive and root <= 0) or (nonzero and root == 0)))
+    ascending = [coeffs.get(k, 0) for k in range(degree + 1)]
+    real = [z.real for z, _ in flint.fmpz_poly(ascending).complex_roots() if z.imag == 0]
+    if not positive:
+        return len(real)
+    if all(x > 0 or x < 0 for x in real):
+        return sum(1 for x in real if x > 0)
+    dense = [ZZ(c) for c in reversed(ascending)]
+    return dup_count_real_roots(dense, ZZ, inf=QQ(0))
 
 
 def _divides(h: Poly, v: Poly) -> bool:

@@ -83,3 +83,39 @@ def test_too_many_nonlinear_equations_are_undecided_not_dropped():
     split = drop_sets(rows, 1, region, random.Random(4))
     assert split.undecided and not split.sets
     assert "= 0" in split.undecided[0]
+
+
+def test_real_roots_where_the_assumptions_allow_them():
+    from registry.discovery.splitting import _real_roots_allowed
+
+    ctx = Region(("x", "y"), 2).context
+    X, _ = ctx.gens()
+    # (irreducible polynomial, real roots, positive roots, nonzero roots)
+    cases = [
+        (X**2 - 2, 2, 1, 2),
+        (X**2 + 1, 0, 0, 0),
+        (X**3 - 2, 1, 1, 1),
+        (X**3 + 2, 1, 0, 1),
+        (X**5 - 4 * X + 2, 3, 2, 3),  # Eisenstein at 2; roots near -1.5, 0.5, 1.2
+        (2 * X + 3, 1, 0, 1),
+        (X, 1, 0, 0),
+        (2 * 10**41 * X**2 - 1, 2, 1, 2),  # roots +-2.2e-21: balls near 0
+        (X**2 - 10**41 * X - 1, 2, 1, 2),  # roots 1e41 and -1e-41
+    ]
+    for poly, real, positive, nonzero in cases:
+        assert _real_roots_allowed(poly, 0, False, False) == real, poly
+        assert _real_roots_allowed(poly, 0, True, True) == positive, poly
+        assert _real_roots_allowed(poly, 0, False, True) == nonzero, poly
+
+
+def test_a_unit_under_one_region_is_not_one_under_another():
+    # The nowhere-zero memo is shared by the blocks of a search: it must keep the
+    # regions (their assumptions) apart. b**2 - 2 vanishes at b = sqrt(2) > 0 but
+    # b + 1 has no positive root: a unit for b > 0, not for b real.
+    positive = Region(("b",), 1, frozenset({0}), frozenset({0}))
+    real = Region(("b",), 1)
+    (Bp,) = positive.context.gens()
+    assert _Splitter(positive, random.Random(0)).unit_entry(Bp + 1, Branch([], 1))
+    assert not _Splitter(real, random.Random(0)).unit_entry(Bp + 1, Branch([], 1))
+    assert _Splitter(positive, random.Random(0)).unit_entry(Bp + 1, Branch([], 1))
+    assert not _Splitter(positive, random.Random(0)).unit_entry(Bp**2 - 2, Branch([], 1))
