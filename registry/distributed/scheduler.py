@@ -47,6 +47,10 @@ if TYPE_CHECKING:
 SCHEDULER_ENV = "REGISTRY_SCHEDULER"
 #: Seconds to wait for a scheduler to answer before the command gives up.
 CONNECT_TIMEOUT = 10.0
+#: How long a ``local:N`` cluster waits before it closes the nanny of a worker that
+#: died and is not back yet (Dask's ``lost-worker-timeout``, 15 s by default, closes
+#: it for good): longer than any command runs, since the nanny restarts the worker.
+LOST_WORKER_KEPT = "365 days"
 #: Protocols of Dask's communication layer that take HOST:PORT.
 PROTOCOLS = ("tcp", "tls", "ws", "wss", "ucx")
 
@@ -155,7 +159,11 @@ def cluster_client(
             # a worker is sent only the tasks it can run at once: the tail of a run is
             # shared out evenly, and a worker that dies held no task queued behind
             saturation = {"distributed.scheduler.worker-saturation": 1.0}
-            stack.enter_context(dask_config(saturation))
+            # a worker that died is its nanny's to restart: the cluster must not close
+            # that nanny for good because the worker happened to be down (restarting)
+            # when Dask's lost-worker timer fired, or the cluster ends with no worker
+            kept = {"distributed.deploy.lost-worker-timeout": LOST_WORKER_KEPT}
+            stack.enter_context(dask_config({**saturation, **kept}))
             cluster = stack.enter_context(
                 distributed.LocalCluster(
                     n_workers=address.workers,

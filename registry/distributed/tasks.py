@@ -17,13 +17,17 @@ tcp://...``). A batch whose workers died more often than
 ``distributed.scheduler.allowed-failures`` allows (``KilledWorker``) is tried again
 item by item, and an item is given up, as ``Failure("lost")``, only after one more
 try on its own (Dask blames every task a dying worker held, even one queued behind
-the culprit). Only the client sees the results: it does all the writing.
+the culprit). A run always ends: should the cluster have no worker left for
+``no_worker`` seconds (every worker dead, none restarted), each item not done yet is
+given up as ``Failure("lost")`` saying so, instead of waiting for a worker that never
+comes. Only the client sees the results: it does all the writing.
 """
 
 from __future__ import annotations
 
 import math
 import queue
+import time
 import uuid
 from collections.abc import Callable, Generator, Iterable, Iterator, Sequence
 from dataclasses import dataclass
@@ -42,6 +46,13 @@ RETRIES = 2
 #: How often an item whose task Dask gave up (KilledWorker: its workers kept dying) is
 #: submitted again on its own before it is given up.
 LOST_RETRIES = 1
+#: Seconds a run waits, by default, for a worker when the cluster has none left (every
+#: worker dead: nannies restart theirs within seconds, a batch system within minutes).
+NO_WORKER = 120.0
+#: Seconds between two looks, while no result comes, at the events and the workers.
+POLL = 0.1
+#: Seconds between two questions to the scheduler about its workers, while no result comes.
+WATCH = 1.0
 
 
 @dataclass(frozen=True)
@@ -143,6 +154,7 @@ def run_calls(
     label: Callable[[Any], str] = str,
     on_event: Callable[[Event], None] | None = None,
     name: str = "registry-call",
+    no_worker: float = NO_WORKER,
 ) -> Generator[tuple[int, Any], None, None]:
     """Run ``fn(item)`` for every item on the cluster of ``client``, each call in a child
     process of a Dask worker; yield ``(index, outcome)`` as the calls complete.
@@ -169,6 +181,10 @@ def run_calls(
         thread, between two yields.
     name
         The prefix of the tasks' keys (what Dask's dashboard shows).
+    no_worker
+        Seconds the run waits while the cluster has no worker at all; past them, every
+        item not done yet is ``Failure("lost")`` (and a ``given-up`` event) and the run
+        ends. Dask itself would wait for ever for a worker to come.
 
     Yields
     ------
@@ -182,16 +198,17 @@ def run_calls(
     if sorted(i for b in plan for i in b) != list(range(len(items))):
         raise ValueError("batches must hold every item index exactly once")
     seconds = [deadline(item) if callable(deadline) else deadline for item in items]
-    run = _Run(client, fn, items, seconds, [label(item) for item in items], on_event, name)
+    labels = [label(item) for item in items]
+    run = _Run(client, fn, items, seconds, labels, on_event, name, no_worker)
     return run.results([b for b in plan if b])
 
 
 class _Run:
     """One ``run_calls``: the tasks submitted, what the scheduler said of lost workers."""
 
-    def __init__(self, client, fn, items, seconds, labels, on_event, name):
+    def __init__(self, client, fn, items, seconds, labels, on_event, name, no_worker):
         self.client, self.fn, self.items, self.seconds = client, fn, items, seconds
-        self.labels, self.on_event = labels, on_event
+        self.labels, self.on_event, self.no_worker = labels, on_event, no_worker
         self.prefix = f"{name}-{uuid.uuid4().hex[:8]}"
         self.tasks: dict[str, list[int]] = {}  # key -> the indices it runs
         self.futures: dict[str, Future] = {}
@@ -199,6 +216,8 @@ class _Run:
         self.losses: dict[str, list[str]] = {}  # key -> workers lost while they held it
         self.tries = [0] * len(items)  # submissions on its own after a failed task
         self.heard: queue.SimpleQueue[dict] = queue.SimpleQueue()
+        self.looked = -math.inf  # when the workers were last counted
+        self.workerless: float | None = None  # since when the cluster has had none
 
     # -- events
 
@@ -260,8 +279,17 @@ class _Run:
             ac = as_completed()
             for b, indices in enumerate(plan):
                 self.submit(f"{self.prefix}-{b}", indices, ac)
-            for future in ac:
+            while not ac.is_empty():
+                if not ac.has_ready():
+                    self.hear()
+                    if self.deserted():
+                        yield from self.give_up()
+                        return
+                    time.sleep(POLL)
+                    continue
+                future = next(ac)
                 self.hear()
+                self.workerless = None  # something came back: a worker was there
                 if future.status == "finished":
                     yield from self.finished(future)
                 else:
@@ -274,6 +302,38 @@ class _Run:
             outstanding = [f for f in self.futures.values() if not f.done()]
             if outstanding:
                 self.client.cancel(outstanding)
+
+    def deserted(self) -> bool:
+        """Whether the cluster has had no worker for ``no_worker`` seconds: nothing left
+        to run this run's tasks (Dask keeps them waiting for a worker, for ever). The
+        scheduler is asked at most every ``WATCH`` seconds; a scheduler that does not
+        answer is the futures' business (they are dropped: ``failed``)."""
+        now = time.monotonic()
+        if now - self.looked < WATCH:
+            return False
+        self.looked = now
+        try:
+            workers = len(self.client.nthreads(callback_timeout=10 * WATCH))
+        except Exception:  # a scheduler gone or reconnecting: no count, no verdict
+            return False
+        if workers:
+            self.workerless = None
+            return False
+        if self.workerless is None:
+            self.workerless = now
+        return now - self.workerless >= self.no_worker
+
+    def give_up(self) -> Iterator[tuple[int, Any]]:
+        """Every item not done yet, as ``Failure("lost")``: the cluster has no worker."""
+        address = self.client.scheduler.address
+        why = f"no Dask worker left on the cluster at {address} for {self.no_worker:g} s"
+        for key, indices in list(self.tasks.items()):
+            if key in self.done:  # its items came, or went on in other tasks
+                continue
+            self.done.add(key)
+            self.report("given-up", None, indices, f"given up ({why})")
+            for index in indices:
+                yield index, Failure("lost", why)
 
     def finished(self, future: Future) -> Iterator[tuple[int, Any]]:
         key = str(future.key)  # this run's keys are strings (see ``submit``)
@@ -301,7 +361,12 @@ class _Run:
         key = str(future.key)  # this run's keys are strings (see ``submit``)
         indices = self.tasks[key]
         address = self.client.scheduler.address
-        if future.status in ("cancelled", "lost"):
+        if future.status in ("lost", "pending"):
+            # its result went with a worker that died before it was fetched: the
+            # scheduler computes it again (``hear`` says so), and it comes back then
+            ac.add(future)
+            return
+        if future.status == "cancelled":
             raise SchedulerError(
                 address,
                 f"the Dask scheduler at {address} dropped the run's tasks ({future.status}); "

@@ -6,8 +6,10 @@ from __future__ import annotations
 
 import json
 import os
+import signal
 import socket
 import sys
+import time
 
 import pytest
 
@@ -28,6 +30,7 @@ from registry.errors import (
     SchedulerError,
     SchedulerUnreachableError,
 )
+from tests.helpers.clocks import HANG
 
 
 @pytest.mark.parametrize(
@@ -183,6 +186,29 @@ def test_local_n_starts_n_worker_processes_on_127_0_0_1_for_the_block_only():
         assert ("127.0.0.1", 8787) not in listening(os.getpid())  # not the dashboard's port
     assert client.status == "closed"
     assert cluster.status.name == "closed"
+
+
+def test_a_local_worker_that_dies_is_restarted_and_kept_in_the_cluster():
+    """Dask closes the nanny of a worker lost ``lost-worker-timeout`` ago that is not back
+    yet, for good; with the timer at 0 s (the worst moment: while the nanny restarts it)
+    the cluster still has both workers after a death."""
+    import dask
+
+    with dask.config.set({"distributed.deploy.lost-worker-timeout": "0s"}):
+        with cluster_client("local:2") as client:
+            first = client.run(os.getpid)
+            victim = next(iter(first.values()))
+            os.kill(victim, signal.SIGKILL)
+            deadline = time.monotonic() + HANG
+            while time.monotonic() < deadline:
+                pids = client.run(os.getpid, on_error="ignore")  # the victim may be dying
+                if len(pids) == 2 and victim not in pids.values():
+                    break
+                time.sleep(0.2)
+            time.sleep(1.0)  # past the lost-worker timer of the restarted worker's loss
+            pids = client.run(os.getpid, on_error="ignore")
+            assert len(pids) == 2 and victim not in pids.values(), pids
+            assert len(client.cluster.workers) == 2  # both nannies still there
 
 
 def listening(*pids: int) -> set[tuple[str, int]]:

@@ -13,7 +13,8 @@ from pathlib import Path
 import pytest
 
 from registry.distributed.tasks import Failure, guided, pack, run_calls
-from tests.helpers.clocks import HANG
+from tests.helpers.clocks import HANG, within
+from tests.helpers.dask_clusters import dask_processes
 from tests.helpers.processes import alive
 
 # ------------------------------------------------------- calls the workers run
@@ -159,3 +160,33 @@ def test_an_item_that_kills_every_worker_is_given_up_alone(process_cluster, tmp_
     given_up = next(e for e in events if e.kind == "given-up")
     assert given_up.items == ("always-",)
     assert str(given_up).startswith("always-: given up (KilledWorker: ")
+
+
+def test_a_run_ends_when_the_cluster_has_no_worker_left(tmp_path):
+    """Workers without a nanny stay dead: once the batch has killed both, Dask keeps it
+    waiting for a worker for ever; the run gives its items up after ``no_worker``."""
+    from distributed import Client
+
+    items = [("always", ""), ("fine", "a")]
+    events = []
+    with dask_processes(tmp_path / "dask") as cluster, Client(cluster.address) as client:
+        found = within(
+            HANG,
+            lambda: dict(
+                run_calls(
+                    client,
+                    kill_my_worker,
+                    items,
+                    deadline=60,
+                    batches=[[0, 1]],
+                    label=lambda item: f"{item[0]}-{item[1]}",
+                    on_event=events.append,
+                    no_worker=2.0,
+                )
+            ),
+        )
+        assert all(w.poll() is not None for w in cluster.workers), cluster.log()
+    why = f"no Dask worker left on the cluster at {cluster.address} for 2 s"
+    assert found == {0: Failure("lost", why), 1: Failure("lost", why)}
+    assert [e.kind for e in events] == ["worker-lost", "worker-lost", "given-up"]
+    assert str(events[-1]) == f"always-, fine-a: given up ({why})"
