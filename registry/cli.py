@@ -211,6 +211,14 @@ def add(paths: tuple[str, ...]) -> None:
     help=f"Seconds allowed to each check (default {DEFAULT_BUDGET.check:g}).",
 )
 @click.option(
+    "--corrections-budget",
+    "corrections_budget",
+    type=click.FloatRange(min=0, min_open=True),
+    default=None,
+    help="Seconds allowed to the corrections and conditions of each case "
+    f"(default {DEFAULT_BUDGET.corrections:g}).",
+)
+@click.option(
     "--numeric",
     is_flag=True,
     help="Add numerical evidence: drift of each claim along trajectories started on "
@@ -230,6 +238,7 @@ def audit(
     jobs: int | None,
     scheduler: str | None,
     check_budget: float | None,
+    corrections_budget: float | None,
     numeric: bool,
     strict: bool,
 ) -> None:
@@ -280,7 +289,11 @@ def audit(
         bar.set_postfix_str(case_id, refresh=False)
         bar.update()
 
-    budget = replace(DEFAULT_BUDGET, check=check_budget) if check_budget else DEFAULT_BUDGET
+    budget = DEFAULT_BUDGET
+    if check_budget:
+        budget = replace(budget, check=check_budget)
+    if corrections_budget:
+        budget = replace(budget, corrections=corrections_budget)
     try:
         with reg.interruptible():
             report = reg.audit(

@@ -24,6 +24,7 @@ from click.testing import CliRunner
 import registry
 from registry.cli import main
 from registry.store.database import Store
+from tests.helpers.clocks import PATIENT_OPTIONS
 from tests.helpers.samples import (
     AFFINE,
     CASES,
@@ -105,8 +106,9 @@ def audited(module_databases) -> SimpleNamespace:
     """
     db = module_databases.new("cli")
     added = invoke(db, "add", *(str(case_file(c)) for c in SEED))
-    as_json = invoke(db, "audit", "--json")
-    table = invoke(db, "audit")
+    # budgets only a hang exceeds: a busy machine must not turn a verdict inconclusive
+    as_json = invoke(db, "audit", "--json", *PATIENT_OPTIONS)
+    table = invoke(db, "audit", *PATIENT_OPTIONS)
     runs = invoke(db, "runs")
     verdicts = invoke(db, "verdicts")
     return SimpleNamespace(
@@ -675,3 +677,29 @@ def test_every_branch_of_a_condition_reaches_the_json_the_table_and_corrections(
     branches = [" ".join(r[r.index("conditions") + 1 :]) for r in rows if "M-false" in r]
     assert branches[:2] == ["A = C, B = C verified", "A = B, k1 = 0, k2 = 0 verified"]
     assert len(branches) == 5
+
+
+def test_the_corrections_budget_bounds_the_corrections_alone(module_databases):
+    """``--corrections-budget``: the corrections of a case with a wrong torque claim run
+    out of it (and say so), the checks keep theirs and their verdicts."""
+    case = "yehia-2003-kovalevskaya-b"
+    db = module_databases.new("corrections-budget")
+    assert invoke(db, "add", str(case_file(case))).exit_code == 0
+    args = ("audit", "--case", case, "--json", "--fresh", "--jobs", "0", *PATIENT_OPTIONS)
+    patient = json.loads(invoke(db, *args).stdout)
+    cut = invoke(db, *args, "--corrections-budget", "1e-9")
+    assert cut.exit_code == 0, cut.output
+    hurried = json.loads(cut.stdout)
+    (entry,) = hurried["cases"]
+    (before,) = patient["cases"]
+    assert entry["family"] == {
+        "name": "none",
+        "reason": "corrections: time budget exceeded (1e-09 s)",
+    }
+    assert before["family"]["name"] == "psi-gamma-grad-phi"  # found with time to do it
+    (claim,) = entry["claims"]
+    (claim_before,) = before["claims"]
+    assert claim_before["corrections"] and "corrections" not in claim
+    keep = ("label", "integral", "casimir", "verdict")
+    assert {k: claim[k] for k in keep} == {k: claim_before[k] for k in keep}
+    assert entry["checks"] == before["checks"]

@@ -32,6 +32,7 @@ from click.testing import CliRunner
 
 import registry
 from registry.cli import main
+from tests.helpers.clocks import PATIENT_OPTIONS
 from tests.helpers.processes import group_members, kill_group, registry_command, wait_until_gone
 from tests.helpers.samples import SEED_FILES
 
@@ -51,7 +52,7 @@ RUN_TABLES = ("check_results", "corrections", "evidence")
 def start_audit(db: Path, *args: str) -> subprocess.Popen:
     """``registry audit --fresh`` in a new session (its process group holds its workers)."""
     return subprocess.Popen(
-        registry_command(db, "audit", "--fresh", *args),
+        registry_command(db, "audit", "--fresh", *PATIENT_OPTIONS, *args),
         stdout=subprocess.DEVNULL,
         stderr=subprocess.PIPE,
         text=True,
@@ -175,7 +176,10 @@ def audited(tmp_path_factory) -> tuple[Path, int]:
     )
     assert added.returncode == 0, added.stderr
     done = subprocess.run(
-        registry_command(db, "audit", "--fresh"), capture_output=True, text=True, timeout=WAIT
+        registry_command(db, "audit", "--fresh", *PATIENT_OPTIONS),
+        capture_output=True,
+        text=True,
+        timeout=WAIT,
     )
     assert done.returncode == 0, done.stderr
     assert [status for status, _ in runs(db).values()] == ["complete"]
@@ -300,7 +304,10 @@ def test_audits_killed_at_random_moments_leave_a_sound_database(db, audited, cap
 
     # the next audit, in a real process, completes normally
     done = subprocess.run(
-        registry_command(db, "audit", "--fresh"), capture_output=True, text=True, timeout=WAIT
+        registry_command(db, "audit", "--fresh", *PATIENT_OPTIONS),
+        capture_output=True,
+        text=True,
+        timeout=WAIT,
     )
     assert done.returncode == 0, done.stderr
     final = runs(db)
@@ -377,7 +384,17 @@ def test_sigterm_while_a_case_is_committed_ends_the_audit(db, audited, tmp_path)
     driver = tmp_path / "sigterm_in_flush.py"
     driver.write_text(SIGTERM_IN_FLUSH, encoding="utf-8")
     proc = subprocess.Popen(
-        [sys.executable, str(driver), "--db", str(db), "audit", "--fresh", "--jobs", "2"],
+        [
+            sys.executable,
+            str(driver),
+            "--db",
+            str(db),
+            "audit",
+            "--fresh",
+            "--jobs",
+            "2",
+            *PATIENT_OPTIONS,
+        ],
         stdout=subprocess.DEVNULL,
         stderr=subprocess.PIPE,
         text=True,

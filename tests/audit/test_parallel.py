@@ -10,7 +10,7 @@ from registry import Verdict, audit_case, load_case
 from registry.audit.checks import CHECKS
 from registry.audit.parallel import _torque, audit_in_workers, batches, estimated_cost
 from registry.execution.time_budget import TimeBudget
-from tests.helpers.clocks import HANG
+from tests.helpers.clocks import PATIENT
 from tests.helpers.samples import CASES
 
 
@@ -48,7 +48,7 @@ def test_workers_give_the_same_verdicts_as_in_process():
     ]
     # the same work on both sides: budgets no busy machine reaches (a correction search
     # cut off by a wall-clock budget in one and not the other would tell nothing)
-    budget = TimeBudget(check=HANG, corrections=5 * HANG, margin=HANG)
+    budget = PATIENT
     parallel = dict(audit_in_workers(cases, 2, budget))
     for index, case in enumerate(cases):
         here = audit_case(case, budget=budget)

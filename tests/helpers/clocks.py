@@ -21,10 +21,19 @@ from typing import Any, TypeVar
 
 import pytest
 
+from registry.execution.time_budget import TimeBudget
+
 T = TypeVar("T")
 
 #: Seconds of wall clock after which waiting for something counts as a hang.
 HANG = 60.0
+
+#: An audit's time budgets that only a hang exceeds: for a test that asserts a verdict
+#: (the default budgets, 5 s per check, are wall clock, which a busy machine slows).
+PATIENT = TimeBudget(check=HANG, corrections=5 * HANG, margin=HANG)
+#: The same budgets as options of ``registry audit``.
+PATIENT_OPTIONS = ("--budget", f"{PATIENT.check:g}", "--corrections-budget",
+                   f"{PATIENT.corrections:g}")  # fmt: skip
 
 
 class CpuTime:
