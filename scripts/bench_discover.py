@@ -25,6 +25,13 @@ Then classification scale (issue 21), with several free parameters:
    five free parameters, degree 2 at weights M = 1, gamma = 1 (Clebsch's condition);
 8. the same at degree 4 on s = 0 (Chaplygin's case besides); 7 and 8 target < 10 min.
 
+Then the survey of the whole catalog (issue 21, item 5):
+
+9. ``Registry.survey`` of every case of ``data/cases`` on a fresh throwaway SQLite
+   database, in one process and in two (--jobs 2; target < 30 s on two cores), with the
+   load average beside each time, the counts the main job prints and the slowest
+   searches.
+
 Each is timed in one process, in two local processes (--jobs 2) and on a Dask cluster
 of two local worker processes started once (local:2, the cluster's start not counted),
 in one process with the ansatz not split along the field's symmetries (the results
@@ -39,7 +46,8 @@ determinant of a random projection computed symbolically, and the integrals ther
 with sympy's nullspace. It runs in a child process with a time cap: past it the
 ratio printed is a lower bound.
 
-Usage: python scripts/bench_discover.py [--repeat 5] [--baseline-cap 300] [--only-scale]
+Usage: python scripts/bench_discover.py [--repeat 5] [--baseline-cap 300]
+       [--only-general | --only-scale | --only-survey]
 Nothing here is asserted by the tests: machines are shared and noisy.
 """
 
@@ -48,9 +56,11 @@ from __future__ import annotations
 import argparse
 import itertools
 import multiprocessing as mp
+import os
 import queue as queue_module
 import random
 import statistics
+import tempfile
 import time
 from dataclasses import replace
 from pathlib import Path
@@ -58,6 +68,7 @@ from pathlib import Path
 import sympy as sp
 from sympy.polys.matrices import DomainMatrix
 
+import registry
 from registry.api import discover_file
 from registry.audit.case_audit import audit_case
 from registry.discovery.ansatz import count_monomials
@@ -308,15 +319,54 @@ def scale(repeat: int) -> None:
             )
 
 
+def survey(repeat: int) -> None:
+    """Search 9: the whole catalog's survey, in one process and in two."""
+    reference, _ = ours_timed("heavy-top-lam", dict(degree=4, free=["lam"]), repeat)
+    print(f"reference (search 1, 1 parameter, degree 4): {reference:.3f} s")
+    for jobs in (1, 2):
+        with tempfile.TemporaryDirectory() as folder:
+            with registry.open(Path(folder) / "survey.sqlite") as reg:
+                reg.add(ROOT / "data" / "cases")
+                load = os.getloadavg()[0]
+                started = time.perf_counter()
+                reports = reg.survey(jobs=jobs)
+                seconds = time.perf_counter() - started
+        searches = [r.search for r in reports]
+        new = sum(len(s.generic.new) + sum(x.extra for x in s.special) for s in searches)
+        again = sum(len(s.generic.rediscovered) for s in searches)
+        complete = len({s.case for s in searches if s.claims_complete})
+        undecided = sum(not s.decided for s in searches)
+        target = " (target < 30 s)" if jobs == 2 else ""
+        print(
+            f"survey of the catalog, --jobs {jobs}: {seconds:.1f} s{target}, "
+            f"{seconds / reference:.0f}x search 1 (load average {load:.1f} at the start, "
+            f"{os.getloadavg()[0]:.1f} at the end); {len(searches)} searches: {new} new "
+            f"integral(s), {again} rediscovered, {complete} case(s) with complete claims, "
+            f"{undecided} not decided"
+        )
+        slowest = sorted(searches, key=lambda s: -s.seconds)[:5]
+        named = [
+            s.case
+            + (" on " + ", ".join(e.text for e in s.options.on) if s.options.on else "")
+            + f" {s.seconds:.1f} s"
+            for s in slowest
+        ]
+        print("  slowest: " + "; ".join(named))
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeat", type=int, default=5)
     parser.add_argument("--baseline-cap", type=float, default=300.0)
     parser.add_argument("--only-general", action="store_true", help="only searches 4 and 5")
     parser.add_argument("--only-scale", action="store_true", help="only searches 6 to 8")
+    parser.add_argument("--only-survey", action="store_true", help="only the survey (9)")
     args = parser.parse_args()
     if args.only_scale:
         scale(args.repeat)
+        return
+    if args.only_survey:
+        survey(args.repeat)
         return
     general_bracket(args.repeat)
     if args.only_general:
@@ -340,6 +390,7 @@ def main() -> None:
                 f"ratio > {seconds / ours:.0f}x"
             )
     scale(args.repeat)
+    survey(args.repeat)
 
 
 if __name__ == "__main__":

@@ -98,3 +98,18 @@ def test_worker_processes_find_the_same(jobs):
     apart = list(searched(work, budget=60, jobs=jobs))
     assert [s.generic for s in apart] == [s.generic for s in here]
     assert [s.options for s in apart] == [o for _, o in work]
+
+
+def test_a_search_cut_short_by_its_budget_in_a_worker_says_so_and_establishes_nothing():
+    # Kovalevskaya's top at degree 4 takes far more than a millisecond: the budget runs
+    # out in the worker processes before the generic values are decided, and the record
+    # says so: not decided, never "no integral exists"
+    kovalevskaya = "(M1**2 - M2**2 - 4*a*gamma1)**2 + (2*M1*M2 - 4*a*gamma2)**2"
+    c = case("a*gamma1", (kovalevskaya, ""), ("M3", ""))
+    work = [(c, stated_options(c)[0])] * 2
+    for cut in searched(work, budget=1e-3, jobs=2):
+        assert not cut.decided and not cut.complete
+        assert any("time budget exceeded (0.001 s)" in line for line in cut.coverage)
+        sentence = statement(cut)
+        assert sentence.startswith("Nothing is established") and "exists" not in sentence
+        assert search_document(cut)["decided"] is False
