@@ -116,14 +116,14 @@ def test_statuses_name_the_fewest_claims_and_the_known_integrals_used(lagrange):
     assert other.status == "new"
 
 
-@pytest.mark.slow  # the whole catalog's recorded searches: minutes on two busy cores
+@pytest.mark.slow  # the whole catalog's recorded searches: about 30 s of processor time
 def test_the_survey_of_the_catalog_adds_no_claim_equal_to_an_existing_one():
     """Every integral the survey finds in a catalog case is one of that case's claims
     again, named, unless the case's claim is wrong on purpose (the audit does not prove
     it): then the integral found is what holds instead (Steklov's F with the source's
     sign, Komarov's deformed K), new. What is not searched is a family with arbitrary or
-    transcendental functions, a level set the flow does not keep, or cut by the budget,
-    each said so."""
+    transcendental functions, or a level set the flow does not keep, each said so; no
+    search is cut by its budget (each takes a second or two of processor time)."""
     from registry.discovery.survey import searched, stated_options
 
     cases = {c.id: c for c in (load_case(p) for p in sorted(CASES.rglob("*.toml")))}
@@ -132,7 +132,7 @@ def test_the_survey_of_the_catalog_adds_no_claim_equal_to_an_existing_one():
     for search in searched(work, budget=60, jobs=2):
         if not search.decided:
             reason = search.coverage[0]
-            assert any(w in reason for w in ("function", "invariant", "budget")), reason
+            assert any(w in reason for w in ("function", "invariant")), reason
             continue
         for text, status in zip(search.generic.integrals, search.generic.status, strict=True):
             if status.status == "new":
