@@ -43,6 +43,8 @@ from sympy.polys.domains import QQ, ZZ
 from sympy.polys.matrices import DomainMatrix
 from sympy.polys.rootisolation import dup_count_real_roots
 
+from ..mathematics.factoring import factor_mpoly
+
 #: The prime of the modular rank checks (below 2**63, as FLINT's nmod_mat needs).
 PRIME = (1 << 61) - 1
 #: Most branches one matrix may split into before the rest is called undecided.
@@ -119,7 +121,7 @@ class _Splitter:
         key = str(poly)
         hit = memo.get(key)
         if hit is None:
-            hit = [f for f, _ in poly.factor()[1]]
+            hit = [f for f, _ in factor_mpoly(poly)[1]]
             memo[key] = hit
         return hit
 
@@ -159,7 +161,7 @@ class _Splitter:
     def unit_part(self, poly: Poly, branch: Branch) -> Poly:
         """The product of the unit factors of ``poly`` (with its content)."""
         part = self.ctx.constant(1)
-        content, factors = poly.factor()
+        content, factors = factor_mpoly(poly)
         part *= content
         for f, e in factors:
             if self.is_unit(f, branch):

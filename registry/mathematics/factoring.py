@@ -34,6 +34,26 @@ def factor(expr: sp.Expr) -> sp.Expr:
     return _keep_coeff(cn / cd, fn / fd)  # -3*(B + 1), not -3*B - 3
 
 
+def factor_mpoly(poly):
+    """``poly.factor()`` of a FLINT polynomial over Z: (content, [(factor, exponent)]),
+    the factors primitive with positive leading coefficient in the ring's lex order.
+
+    python-flint 0.9 sorts the factors by a key that converts coefficients to a C long,
+    so two factors with a coefficient beyond 2**63 raise OverflowError (for instance
+    (u + 10**30) (u - 10**30) (v + 1)); sympy's exact factorisation over Z then does the
+    same work, more slowly."""
+    try:
+        return poly.factor()
+    except OverflowError:
+        ctx = poly.context()
+        gens = sp.symbols(f"x0:{ctx.nvars()}")
+        terms = {tuple(int(e) for e in m): int(c) for m, c in poly.to_dict().items()}
+        content, factors = sp.Poly.from_dict(terms, *gens, domain=sp.ZZ).factor_list()
+        return flint.fmpz(int(content)), [
+            (ctx.from_dict({m: int(c) for m, c in f.as_dict().items()}), e) for f, e in factors
+        ]
+
+
 def _factor_polynomial(expr: sp.Expr) -> tuple[sp.Rational, sp.Expr]:
     """(content, product of factors) of a polynomial over Q in its symbols, factored by
     FLINT (PolynomialError if it is not one)."""
@@ -45,7 +65,7 @@ def _factor_polynomial(expr: sp.Expr) -> tuple[sp.Rational, sp.Expr]:
     poly = sp.Poly(expr, *gens, domain=sp.QQ)
     scale, integral = poly.clear_denoms(convert=True)
     ctx = flint.fmpz_mpoly_ctx.get(tuple(f"x{i}" for i in range(len(gens))), "lex")
-    content, factors = ctx.from_dict({m: int(c) for m, c in integral.terms()}).factor()
+    content, factors = factor_mpoly(ctx.from_dict({m: int(c) for m, c in integral.terms()}))
     parts = [
         sp.Poly.from_dict({m: int(c) for m, c in f.to_dict().items()}, *gens).as_expr() ** e
         for f, e in factors

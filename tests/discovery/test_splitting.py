@@ -119,3 +119,13 @@ def test_a_unit_under_one_region_is_not_one_under_another():
     assert not _Splitter(real, random.Random(0)).unit_entry(Bp + 1, Branch([], 1))
     assert _Splitter(positive, random.Random(0)).unit_entry(Bp + 1, Branch([], 1))
     assert not _Splitter(positive, random.Random(0)).unit_entry(Bp**2 - 2, Branch([], 1))
+
+
+def test_entries_with_huge_coefficients_are_split_on():
+    # python-flint 0.9's factor() overflowed on such entries and the search crashed
+    big = 10**30
+    split = drop_sets([{0: (Z - big) * (Z + big) * (B - C)}], 1, REGION, random.Random(4))
+    assert not split.undecided
+    assert sorted(split.sets, key=str) == sorted(
+        [{z: sp.Integer(big)}, {z: sp.Integer(-big)}, {b: c}], key=str
+    )

@@ -54,3 +54,27 @@ def test_what_is_not_rational_over_q_goes_to_sympy():
         sp.sqrt(2) * (x**2 - 1),
     ):
         assert factor(expr) == sp.factor(expr)
+
+
+def test_factors_with_coefficients_beyond_a_machine_word():
+    # python-flint 0.9 raises OverflowError sorting such factors; the fallback factors them
+    import flint
+
+    from registry.mathematics.factoring import factor_mpoly
+
+    ctx = flint.fmpz_mpoly_ctx.get(("u", "v"), "lex")
+    u, v = ctx.gens()
+    big = 10**30
+    poly = -3 * (u + big) * (u - big) * (v + 1) ** 2 * (u * v - big * v + 7)
+    content, factors = factor_mpoly(poly)
+    assert content == -3
+    assert sorted((str(f), e) for f, e in factors) == sorted(
+        [(str(u + big), 1), (str(u - big), 1), (str(v + 1), 2), (str(u * v - big * v + 7), 1)]
+    )
+    product = content
+    for f, e in factors:
+        product *= f**e
+    assert product == poly
+    u_, v_ = sp.symbols("u v")
+    expr = sp.expand(-3 * (u_ + big) * (u_ - big) * (v_ + 1) ** 2)
+    assert factor(expr) == sp.factor(expr)  # the audit's display form, as before
