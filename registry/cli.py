@@ -21,7 +21,12 @@ import click
 
 from .distributed.scheduler import SCHEDULER_ENV, scheduler_option
 from .errors import DatabaseMissingError, RegistryError, UnknownClaimError, printable
-from .execution.time_budget import DEFAULT_BUDGET
+from .execution.time_budget import (
+    BUDGET_ENV,
+    CORRECTIONS_BUDGET_ENV,
+    DEFAULT_BUDGET,
+    default_budget,
+)
 from .runs import DEFAULT_SEARCH_BUDGET
 
 if TYPE_CHECKING:
@@ -208,7 +213,7 @@ def add(paths: tuple[str, ...]) -> None:
     "check_budget",
     type=click.FloatRange(min=0, min_open=True),
     default=None,
-    help=f"Seconds allowed to each check (default {DEFAULT_BUDGET.check:g}).",
+    help=f"Seconds allowed to each check (default ${BUDGET_ENV}, else {DEFAULT_BUDGET.check:g}).",
 )
 @click.option(
     "--corrections-budget",
@@ -216,7 +221,7 @@ def add(paths: tuple[str, ...]) -> None:
     type=click.FloatRange(min=0, min_open=True),
     default=None,
     help="Seconds allowed to the corrections and conditions of each case "
-    f"(default {DEFAULT_BUDGET.corrections:g}).",
+    f"(default ${CORRECTIONS_BUDGET_ENV}, else {DEFAULT_BUDGET.corrections:g}).",
 )
 @click.option(
     "--numeric",
@@ -289,7 +294,7 @@ def audit(
         bar.set_postfix_str(case_id, refresh=False)
         bar.update()
 
-    budget = DEFAULT_BUDGET
+    budget = default_budget()
     if check_budget:
         budget = replace(budget, check=check_budget)
     if corrections_budget:

@@ -314,3 +314,15 @@ class DaskMissingError(SchedulerError, ImportError):
             f"--scheduler {_quote(address)} needs Dask distributed, which is not installed "
             f"(no module {missing!r}); install with pip install -e '.[dask]'",
         )
+
+
+class BudgetSettingError(RegistryError, ValueError):
+    """An environment variable meant to set a default time budget holds no positive
+    number of seconds."""
+
+    def __init__(self, variable: str, text: str):
+        self.variable, self.text = variable, text
+        super().__init__(
+            f"${variable} must be a positive number of seconds, not {text!r} "
+            "(unset it for the built-in default)"
+        )

@@ -29,8 +29,16 @@ from registry.model import (
 )
 from registry.store.database import Store
 from tests.helpers import watchdog
+from tests.helpers.clocks import PATIENT
 from tests.helpers.databases import BACKENDS, POSTGRES, Databases
 from tests.helpers.postgres_server import PostgresServer, ServerUnavailable
+
+# The tests assert verdicts, not speed: every audit given no budget of its own (in this
+# process, in the workers, in the ``registry`` processes the tests start, which inherit
+# the environment) gets budgets that only a hang exceeds, instead of the wall-clock
+# defaults a busy machine runs out of. Tests of the budgets themselves pass theirs.
+os.environ.setdefault("REGISTRY_BUDGET", f"{PATIENT.check:g}")
+os.environ.setdefault("REGISTRY_CORRECTIONS_BUDGET", f"{PATIENT.corrections:g}")
 
 # Property tests draw the same examples on every run (a failure is reproducible, and CI
 # does not fail at random); HYPOTHESIS_PROFILE=explore draws new ones each run. No

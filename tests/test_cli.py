@@ -703,3 +703,17 @@ def test_the_corrections_budget_bounds_the_corrections_alone(module_databases):
     keep = ("label", "integral", "casimir", "verdict")
     assert {k: claim[k] for k in keep} == {k: claim_before[k] for k in keep}
     assert entry["checks"] == before["checks"]
+
+
+def test_a_bad_budget_in_the_environment_is_one_line_naming_it(module_databases, monkeypatch):
+    db = module_databases.new("bad-budget")
+    assert invoke(db, "add", str(case_file("zhukovsky-gyrostat"))).exit_code == 0
+    monkeypatch.setenv("REGISTRY_BUDGET", "soon")
+    result = invoke(db, "audit")
+    assert result.exit_code != 0
+    assert error_lines(result) == [
+        "Error: $REGISTRY_BUDGET must be a positive number of seconds, not 'soon' "
+        "(unset it for the built-in default)"
+    ]
+    monkeypatch.delenv("REGISTRY_BUDGET")
+    assert registry.open(db).runs().empty  # refused before any run was started

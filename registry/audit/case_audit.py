@@ -13,7 +13,13 @@ from collections.abc import Iterable
 from dataclasses import replace
 
 from ..execution.serving import Failure
-from ..execution.time_budget import DEFAULT_BUDGET, BudgetExceeded, TimeBudget, time_limit
+from ..execution.time_budget import (
+    DEFAULT_BUDGET,
+    BudgetExceeded,
+    TimeBudget,
+    default_budget,
+    time_limit,
+)
 from ..mathematics.case_mechanics import CaseMechanics
 from ..model import (
     Case,
@@ -48,7 +54,11 @@ def audit_case(
     Each check runs under ``budget.check`` seconds and the corrections under
     ``budget.corrections``; one that runs out is ``inconclusive: time budget exceeded``.
     With ``numeric``, every claim also gets numerical evidence (``numeric_evidence``).
+    Without ``budget``, the default's seconds may come from the environment
+    (``time_budget.default_budget``); ``budget=None``: no limit.
     """
+    if budget is DEFAULT_BUDGET:
+        budget = default_budget()
     wanted = set(CHECKS) if checks is None else set(checks)
     unknown = wanted - set(CHECKS)
     if unknown:

@@ -9,11 +9,15 @@ processes (``local``, ``children``) are killed from outside when their case over
 
 from __future__ import annotations
 
+import math
+import os
 import signal
 import threading
-from collections.abc import Iterator
+from collections.abc import Iterator, Mapping
 from contextlib import contextmanager
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
+
+from ..errors import BudgetSettingError
 
 
 class BudgetExceeded(BaseException):
@@ -39,6 +43,36 @@ class TimeBudget:
 
 #: Budgets used when none is given: a few seconds per check.
 DEFAULT_BUDGET = TimeBudget()
+
+#: Environment variables that replace the built-in defaults of ``check`` and
+#: ``corrections`` (seconds) wherever no budget is given: for a slow or busy machine, or
+#: a test suite that asserts verdicts, not speed. The budgets keep their meaning.
+BUDGET_ENV = "REGISTRY_BUDGET"
+CORRECTIONS_BUDGET_ENV = "REGISTRY_CORRECTIONS_BUDGET"
+
+
+def default_budget(environ: Mapping[str, str] | None = None) -> TimeBudget:
+    """``DEFAULT_BUDGET``, with ``check`` and ``corrections`` from ``$REGISTRY_BUDGET`` and
+    ``$REGISTRY_CORRECTIONS_BUDGET`` where they are set (BudgetSettingError if one is not
+    a positive number of seconds).
+
+    >>> default_budget({"REGISTRY_BUDGET": "60"})
+    TimeBudget(check=60.0, corrections=20.0, margin=10.0)
+    """
+    environ = os.environ if environ is None else environ
+    budget = DEFAULT_BUDGET
+    for variable, field in ((BUDGET_ENV, "check"), (CORRECTIONS_BUDGET_ENV, "corrections")):
+        text = environ.get(variable, "").strip()
+        if not text:
+            continue
+        try:
+            seconds = float(text)
+        except ValueError:
+            raise BudgetSettingError(variable, text) from None
+        if not (seconds > 0 and math.isfinite(seconds)):
+            raise BudgetSettingError(variable, text)
+        budget = replace(budget, **{field: seconds})
+    return budget
 
 
 def _interrupt(signum, frame):

@@ -23,7 +23,7 @@ from ..distributed.scheduler import check_same_code, cluster_client, describe
 from ..distributed.tasks import Event
 from ..errors import RegistryError
 from ..execution.local import default_jobs
-from ..execution.time_budget import TimeBudget
+from ..execution.time_budget import TimeBudget, default_budget
 from ..language.case_writer import corrected_case_text
 from ..model import Case, CaseAudit, Verdict, VerdictChange
 from ..presentation.audit_json import audit_document
@@ -103,7 +103,7 @@ def _audit(
     scheduler: str | None,
 ) -> AuditReport:
     """``audit``, with ``client`` the Dask client of ``scheduler`` (or both None)."""
-    budget = budget or DEFAULT_BUDGET
+    budget = default_budget() if budget is None or budget is DEFAULT_BUDGET else budget
     jobs = default_jobs() if jobs is None else jobs
     stored = store.case_versions(list(case_ids) if case_ids else None)
     version = code_version()

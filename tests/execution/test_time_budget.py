@@ -67,3 +67,26 @@ def test_a_workers_deadline_covers_every_check_the_repairs_and_a_margin():
     budget = TimeBudget(check=2.0, corrections=5.0, margin=1.0)
     assert budget.case_deadline(10) == 2.0 * 10 + 5.0 + 1.0
     assert TimeBudget() == TimeBudget(check=5.0, corrections=20.0, margin=10.0)
+
+
+def test_the_default_budgets_may_come_from_the_environment(monkeypatch):
+    from registry.errors import BudgetSettingError
+    from registry.execution.time_budget import default_budget
+
+    assert default_budget({}) == TimeBudget()
+    both = {"REGISTRY_BUDGET": " 60 ", "REGISTRY_CORRECTIONS_BUDGET": "300"}
+    assert default_budget(both) == TimeBudget(check=60.0, corrections=300.0)
+    for bad in ("abc", "0", "-1", "inf", "nan"):
+        with pytest.raises(BudgetSettingError) as caught:
+            default_budget({"REGISTRY_CORRECTIONS_BUDGET": bad})
+        assert str(caught.value) == (
+            f"$REGISTRY_CORRECTIONS_BUDGET must be a positive number of seconds, not {bad!r} "
+            "(unset it for the built-in default)"
+        )
+    # an audit given no budget takes the environment's; one given a budget keeps it
+    case = load_case(CASES / "yehia-2003-kovalevskaya-b.toml")
+    monkeypatch.setenv("REGISTRY_CORRECTIONS_BUDGET", "1e-9")
+    cut = audit_case(case, checks=["integral"], repair=True)
+    assert cut.family.reason == "corrections: time budget exceeded (1e-09 s)"
+    kept = audit_case(case, checks=["integral"], repair=True, budget=TimeBudget(corrections=600))
+    assert kept.family.name == "psi-gamma-grad-phi"  # found, with time to do it
