@@ -21,6 +21,7 @@ from __future__ import annotations
 import random
 from collections.abc import Callable
 from itertools import combinations
+from typing import Any
 
 from .linear import GF_PRIME, PRIME
 
@@ -117,7 +118,7 @@ def _image(domain) -> Callable[[object], object] | None:
     point = [GF_PRIME(rnd.randrange(1, PRIME)) for _ in domain.symbols]
     cache: dict = {}
 
-    def poly(p) -> object:
+    def poly(p) -> Any:
         total = GF_PRIME.zero
         for exps, coeff in p.items():
             term = _rational(coeff)
@@ -127,7 +128,7 @@ def _image(domain) -> Callable[[object], object] | None:
             total += term
         return total
 
-    def image(c) -> object:
+    def image(c) -> Any:
         hit = cache.get(c)
         if hit is None:
             denom = poly(c.denom)
