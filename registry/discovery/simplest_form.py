@@ -140,14 +140,17 @@ def _image(domain) -> Callable[[object], object] | None:
     return image
 
 
-def _rational(q) -> object:
-    """A rational number modulo PRIME (its denominator is never a multiple of it in
-    practice; ZeroDivisionError otherwise)."""
-    return GF_PRIME(int(q.numerator)) / GF_PRIME(int(q.denominator))
+def _rational(q) -> Any:
+    """A rational number modulo PRIME (_Pole where its denominator is a multiple of it)."""
+    denominator = GF_PRIME(int(q.denominator))
+    if not denominator:
+        raise _Pole
+    return GF_PRIME(int(q.numerator)) / denominator
 
 
 class _Pole(ArithmeticError):
-    """The random point is a pole of a coefficient."""
+    """A coefficient has no image: the random point is one of its poles, or a
+    denominator is a multiple of the prime."""
 
 
 def _solve(rows: list[list], rhs: list, domain) -> list | None:

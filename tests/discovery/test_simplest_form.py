@@ -81,3 +81,13 @@ def test_a_domain_without_a_modular_image_is_tried_exactly():
     vector = [field.one, 2 * r2, 2 * field.one]
     columns = [(1, 0, 0), (0, 1, 0), (0, 0, 1)]
     assert simplest(vector, trivial, columns, field) == [field.one, field.zero, field.zero]
+
+
+def test_a_coefficient_without_a_modular_image_sends_the_tries_back_to_the_domain():
+    # 1/PRIME has no image modulo PRIME: the tries are made in QQ, with the same answer
+    from registry.discovery.linear import PRIME
+
+    columns = [(1, 0, 0), (0, 1, 0), (0, 0, 1)]
+    tiny = QQ(1, PRIME)
+    trivial = [[QQ(0), tiny, QQ(1)]]
+    assert simplest([QQ(1), 2 * tiny, QQ(2)], trivial, columns, QQ) == [QQ(1), QQ(0), QQ(0)]
