@@ -165,6 +165,9 @@ class PolynomialSystem:
             self.cofactor_scale = self.ring.from_expr(sp.expand(denom).xreplace(plain))
         self.ideal = [self.ring.from_expr(g) for g in monic]
         self.leading = [g.LM[: self.n] for g in self.ideal]
+        # the field in normal form (u gamma3^3 u^3 is u^0 where u gamma3 = 1): what d/dt
+        # does modulo the ideal is unchanged, and its degrees are the true ones
+        self.field = [self.reduce(y) for y in self.field]
         self._check_size(max_size)
         # (a monomial of weight 0, in inverse variables only, counts with degree 1)
         self.columns: list[tuple[Monomial, int]] = [
@@ -207,11 +210,15 @@ class PolynomialSystem:
             )
 
     def shift(self) -> int:
-        """How much the field raises the weighted degree (the weight of a cofactor)."""
+        """How much the field raises the weighted degree of polynomials in M and gamma
+        (the weight of a cofactor, a polynomial in them: the rates of adjoined inverses
+        and roots, whose weight 0 is a convention, do not count)."""
+        state = set(mech.STATE)
         return max(
             (
                 self.weight_of(m) - self.weights[i]
                 for i, y in enumerate(self.field)
+                if self.variables[i] in state
                 for m in y.monoms()
             ),
             default=0,

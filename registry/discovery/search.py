@@ -20,6 +20,7 @@ free-parameter values where more appear.
 
 from __future__ import annotations
 
+import itertools
 import random
 import time
 from collections.abc import Callable, Sequence
@@ -39,6 +40,7 @@ from ..language.parser import Namespace, parse_equation
 from ..language.printer import to_text
 from ..mathematics import mechanics as mech
 from ..mathematics.case_mechanics import CaseMechanics
+from ..mathematics.factoring import factor
 from ..mathematics.families import recognise
 from ..mathematics.zero_test import decide
 from ..model import (
@@ -86,6 +88,7 @@ class _State:
     claims: tuple[str, ...] = ()
     #: relations: the cofactor K' (coefficients free), and its values on candidate sets
     cofactor: sp.Expr | None = None
+    coefficients: tuple[sp.Symbol, ...] = ()
     cofactors: dict = field(default_factory=dict)
     #: candidate sets searched (or being searched), as values of the free parameters
     searched: list[dict[sp.Symbol, sp.Expr]] = field(default_factory=list)
@@ -137,6 +140,7 @@ def discover(
     free = [case.parameters[f] for f in options.free]
     if options.relations:
         state.cofactor, coefficients = _cofactor(options, CaseMechanics(case), free)
+        state.coefficients = tuple(coefficients)
         free += coefficients
     note = grading_note(CaseMechanics(case).field, options.weights)
     elsewhere = None
@@ -456,19 +460,25 @@ def _cofactor(
     options: SearchOptions, m: CaseMechanics, free: list[sp.Symbol]
 ) -> tuple[sp.Expr, list[sp.Symbol]]:
     """The general cofactor of Darboux polynomials: a combination, with unknown
-    coefficients K_<monomial>, of the state monomials of the weight by which the field
-    raises the weighted degree."""
+    coefficients K_<monomial>, of the state monomials its Newton polytope allows
+    (``cofactor_monomials``; in a ring with inverses or roots, those of the weight by
+    which the field raises the weighted degree)."""
     if options.on:
         raise DiscoveryError(
             "--relations searches the whole phase space (its relations F = 0 are level "
             "sets themselves); drop --on"
         )
-    weights = (options.weights[0],) * 3 + (options.weights[1],) * 3
-    shift = _system(options, m, free)[0].shift()
+    system = _system(options, m, free, symmetries=False)[0]
+    shift = system.shift()
     if shift < 0:
         raise DiscoveryError("the field lowers the weighted degree: no cofactor is polynomial")
+    if system.space.extended:
+        weights = (options.weights[0],) * 3 + (options.weights[1],) * 3
+        monomials = weighted_monomials(shift, weights)
+    else:
+        monomials = cofactor_monomials(system.field, system.n, system.weights)
     coefficients, cofactor = [], sp.Integer(0)
-    for exps in weighted_monomials(shift, weights):
+    for exps in monomials:
         monomial = sp.Mul(*(x**e for x, e in zip(mech.STATE, exps, strict=True)))
         k = sp.Symbol("K_" + (str(monomial).replace("**", "").replace("*", "_")), real=True)
         if k.name in m.case.parameters:
@@ -476,6 +486,38 @@ def _cofactor(
         coefficients.append(k)
         cofactor += k * monomial
     return cofactor, coefficients
+
+
+def cofactor_monomials(field: Sequence[PolyElement], n: int, weights: Sequence[int]) -> list:
+    """The state monomials a cofactor K of a polynomial field X can have: X(F) = K F
+    gives Newton(K) + Newton(F) = Newton(X(F)) (Ostrowski), and X(F) = sum dF/dx_i X_i
+    lies in Newton(F) + N with N = conv{exps(m) - e_i : m a monomial of X_i}, so that
+    Newton(K) lies in N (cancellation of Minkowski sums), for every F and every value of
+    the parameters (a coefficient that vanishes only shrinks N). A monomial is dropped
+    only where a direction d separates it from N exactly (d.p > max of d over N), d in
+    {-1, 0, 1}^n and +-the weights: a superset of N's lattice points, in integers. A
+    weighted-homogeneous field has its cofactors of one weight; a field whose torque
+    has terms of several degrees (s^2) gets cofactors of every weight it needs, not
+    only the largest."""
+    import numpy as np
+
+    vertices = set()
+    for i, y in enumerate(field):
+        for m in y.monoms():
+            e = list(m[:n])
+            e[i] -= 1
+            vertices.add(tuple(e))
+    if not vertices:
+        return []
+    directions = [d for d in itertools.product((-1, 0, 1), repeat=n) if any(d)]
+    w = tuple(weights)
+    directions += [w, tuple(-x for x in w)]
+    dirs = np.array(directions, dtype=np.int64)
+    top = (np.array(sorted(vertices), dtype=np.int64) @ dirs.T).max(axis=0)
+    highest = int(max(sum(a * b for a, b in zip(v, w, strict=True)) for v in vertices))
+    candidates = [e for d in range(highest + 1) for e in weighted_monomials(d, w)]
+    inside = ((np.array(candidates, dtype=np.int64) @ dirs.T) <= top).all(axis=1)
+    return [c for c, ok in zip(candidates, inside, strict=True) if ok]
 
 
 def _proven_relations(state: _State, m: CaseMechanics, when, integrals, cofactor) -> IntegralSet:
@@ -493,7 +535,11 @@ def _proven_relations(state: _State, m: CaseMechanics, when, integrals, cofactor
             state.undecided.append(
                 f"invariant relation {to_text(f)} = 0{where} found but not proven ({verdict})"
             )
-    return IntegralSet(when, len(kept), tuple(kept), (), cofactor=to_text(sp.factor(cofactor)))
+    # factored where the cofactor is determined (a general one, with its unknown
+    # coefficients, is written out: factoring it is costly and tells nothing)
+    known = not (cofactor.free_symbols & set(state.coefficients))
+    shown = factor(cofactor) if known else cofactor
+    return IntegralSet(when, len(kept), tuple(kept), (), cofactor=to_text(shown))
 
 
 def _known_integrals(m: CaseMechanics) -> list[tuple[str, sp.Expr]]:

@@ -110,6 +110,7 @@ class _Splitter:
         self.ctx = region.context
         self.rnd = rnd
         self.nowhere_zero = _memo(_NOWHERE_ZERO, region)
+        self.factored: dict[str, tuple] = {}
         self.out = Split()
         self.symbols = [sp.Symbol(n) for n in region.names]
 
@@ -159,9 +160,14 @@ class _Splitter:
         return all(self.is_unit(f, branch) for f in self.factor(poly))
 
     def unit_part(self, poly: Poly, branch: Branch) -> Poly:
-        """The product of the unit factors of ``poly`` (with its content)."""
+        """The product of the unit factors of ``poly`` (with its content). A row's gcd
+        recurs in branch after branch: its factorization is computed once."""
         part = self.ctx.constant(1)
-        content, factors = factor_mpoly(poly)
+        key = str(poly)
+        hit = self.factored.get(key)
+        if hit is None:
+            hit = self.factored[key] = factor_mpoly(poly)
+        content, factors = hit
         part *= content
         for f, e in factors:
             if self.is_unit(f, branch):

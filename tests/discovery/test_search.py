@@ -22,12 +22,14 @@ from pathlib import Path
 import pytest
 import sympy as sp
 
+from registry.discovery.ansatz import count_monomials
 from registry.discovery.locus import same
-from registry.discovery.search import discover, search_options, substituted
+from registry.discovery.search import _cofactor, discover, search_options, substituted
 from registry.errors import DiscoveryError
 from registry.language.casefile import load_case, parse_case_text
 from registry.language.parser import Namespace, parse_expression
 from registry.mathematics import mechanics as mech
+from registry.mathematics.case_mechanics import CaseMechanics
 from registry.model import Verdict
 
 FAMILIES = Path(__file__).resolve().parents[1] / "data" / "families"
@@ -403,3 +405,39 @@ def test_without_hess_condition_there_is_no_relation_and_first_integrals_are_not
     )
     search = discover(case, search_options(case, degree=1, relations=True))
     assert search.complete and search.special == ()
+
+
+def test_a_cofactor_ranges_over_the_newton_polytope_of_the_field():
+    """Newton(K) lies in conv{exps(m) - e_i : m in X_i}: for the heavy top (homogeneous
+    for M: 1, gamma: 2) that is M1, M2, M3, the cofactors' weight 1; a torque with terms
+    of several degrees ((gamma3^2 + c0)(1 + s^2)) needs cofactors of several weights,
+    and far fewer monomials than every one up to the largest weight."""
+    root = Path(__file__).resolve().parents[2] / "data/cases"
+    hess = load_case(root / "heavy-top/hess-1890-heavy-top.toml")
+    cofactor, coefficients = _cofactor(search_options(hess, degree=1, relations=True),
+                                       CaseMechanics(hess), [])  # fmt: skip
+    assert sp.Poly(cofactor, *mech.STATE).monoms() == [
+        (1, 0, 0, 0, 0, 0),
+        (0, 1, 0, 0, 0, 0),
+        (0, 0, 1, 0, 0, 0),
+    ]
+    axis = load_case(root / "axis-torque.toml")
+    cofactor, coefficients = _cofactor(search_options(axis, degree=2, relations=True),
+                                       CaseMechanics(axis), [])  # fmt: skip
+    weights = {sum(a * w for a, w in zip(m, (1, 1, 1, 2, 2, 2), strict=True))
+               for m in sp.Poly(cofactor, *mech.STATE).monoms()}  # fmt: skip
+    assert len(weights) > 1 and 0 in weights  # a constant part, and several weights
+    assert len(coefficients) < count_monomials(max(weights), (1, 1, 1, 2, 2, 2)) // 10
+
+
+def test_relations_in_a_ring_with_an_inverse_take_the_degrees_of_the_normal_form():
+    """Goryachev (1916), potential a gamma1 + b/gamma3^2: the field in the ring with
+    u = 1/gamma3 reduced by u gamma3 = 1 raises the degree by 1 (not by 7, as its
+    unreduced form 3 M2 M3 gamma3^3 u^3 suggested): three cofactor coefficients, and the
+    degree-2 search is decided (it ran out of a 120 s budget)."""
+    case = load_case(
+        Path(__file__).resolve().parents[2] / "data/cases/heavy-top/goryachev-1916-heavy-top.toml"
+    )
+    search = discover(case, search_options(case, degree=2, relations=True), budget=300)
+    assert search.complete
+    assert all(s.integrals == () for s in search.special)  # only the level sets of H, ...
