@@ -139,7 +139,9 @@ def discover(
     state = _State(options, seed, progress=progress, symmetries=symmetries)
     free = [case.parameters[f] for f in options.free]
     if options.relations:
-        state.cofactor, coefficients = _cofactor(options, CaseMechanics(case), free)
+        state.cofactor, coefficients = _cofactor(
+            options, CaseMechanics(case), free, state.undecided
+        )
         state.coefficients = tuple(coefficients)
         free += coefficients
     note = grading_note(CaseMechanics(case).field, options.weights)
@@ -457,12 +459,16 @@ def _free_symbols(state: _State, case: Case) -> list[sp.Symbol]:
 
 
 def _cofactor(
-    options: SearchOptions, m: CaseMechanics, free: list[sp.Symbol]
+    options: SearchOptions,
+    m: CaseMechanics,
+    free: list[sp.Symbol],
+    undecided: list[str] | None = None,
 ) -> tuple[sp.Expr, list[sp.Symbol]]:
     """The general cofactor of Darboux polynomials: a combination, with unknown
-    coefficients K_<monomial>, of the state monomials its Newton polytope allows
-    (``cofactor_monomials``; in a ring with inverses or roots, those of the weight by
-    which the field raises the weighted degree)."""
+    coefficients K_<monomial>, of the state monomials of the weight by which the field
+    raises the weighted degree that its Newton polytope allows (``cofactor_monomials``;
+    in a ring with inverses or roots, every one of that weight). Monomials of lower
+    weight that the polytope allows are named in ``undecided``."""
     if options.on:
         raise DiscoveryError(
             "--relations searches the whole phase space (its relations F = 0 are level "
@@ -472,11 +478,21 @@ def _cofactor(
     shift = system.shift()
     if shift < 0:
         raise DiscoveryError("the field lowers the weighted degree: no cofactor is polynomial")
+    weights = (options.weights[0],) * 3 + (options.weights[1],) * 3
     if system.space.extended:
-        weights = (options.weights[0],) * 3 + (options.weights[1],) * 3
         monomials = weighted_monomials(shift, weights)
     else:
         monomials = cofactor_monomials(system.field, system.n, system.weights)
+    # parts of lower weight (a field that is not weighted-homogeneous) make the search an
+    # eigenvalue problem (a constant part is an eigenvalue of the linear part): only the
+    # top weight is searched, and the search says what it left out
+    lower = [e for e in monomials if sum(a * w for a, w in zip(e, weights, strict=True)) < shift]
+    monomials = [e for e in monomials if e not in lower]
+    if lower and undecided is not None:
+        undecided.append(
+            f"cofactors with parts of weight below {shift} ({len(lower)} monomials the field's "
+            "Newton polytope allows; the field is not weighted-homogeneous) are not searched"
+        )
     coefficients, cofactor = [], sp.Integer(0)
     for exps in monomials:
         monomial = sp.Mul(*(x**e for x, e in zip(mech.STATE, exps, strict=True)))
