@@ -400,10 +400,24 @@ class _Splitter:
         return sign_n is None or sign_d is None or sign_n == sign_d
 
     def _sign(self, poly: Poly) -> bool | None:
-        """True (> 0), False (< 0) or None (either) wherever the assumptions hold."""
-        if not self._one_signed(poly):
+        """True (> 0), False (< 0) or None (either) wherever the assumptions hold: a
+        polynomial of one sign, or a product of such factors and of even powers of
+        polynomials in the symbolic parameters alone (generic, so nonzero): the
+        discriminant -4 A^2 C^2 (A - C)^2 is negative."""
+        if self._one_signed(poly):
+            return next(iter(poly.terms()))[1] > 0
+        if poly.is_zero():
             return None
-        return next(iter(poly.terms()))[1] > 0
+        content, factors = factor_mpoly(poly)
+        positive = content > 0
+        for f, e in factors:
+            if e % 2 == 0 and not any(f.degrees()[: self.region.free]):
+                continue
+            if not self._one_signed(f):
+                return None
+            if e % 2 and not next(iter(f.terms()))[1] > 0:
+                positive = not positive
+        return positive
 
     # ------------------------------------------------------------------ output
 

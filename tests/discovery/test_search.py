@@ -462,3 +462,19 @@ def test_relations_in_a_ring_with_an_inverse_take_the_degrees_of_the_normal_form
     search = discover(case, search_options(case, degree=2, relations=True), budget=300)
     assert search.complete
     assert all(s.integrals == () for s in search.special)  # only the level sets of H, ...
+
+
+def test_a_cofactor_with_no_real_value_is_ruled_out_and_the_search_is_complete():
+    """The symmetric free top (A = B): K_M3 would need A^2 C^2 K_M3^2 + (A - C)^2 = 0,
+    whose discriminant -4 A^2 C^2 (A - C)^2 is negative for generic A, C (a product of
+    one-signed factors and even powers): no real cofactor, nothing undecided. Asymmetric
+    moments have real irrational cofactors (the planes through the separatrices), which
+    stay named as not solvable rationally."""
+    root = Path(__file__).resolve().parents[2] / "data/cases/free-rigid-body"
+    symmetric = load_case(root / "euler-1765-free-rigid-body-symmetric.toml")
+    search = discover(symmetric, search_options(symmetric, degree=2, relations=True))
+    assert search.complete, search.coverage
+    asymmetric = load_case(root / "euler-1765-free-rigid-body.toml")
+    search = discover(asymmetric, search_options(asymmetric, degree=2, relations=True))
+    assert not search.complete
+    assert any("not solvable rationally" in c for c in search.coverage)
