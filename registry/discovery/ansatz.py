@@ -36,6 +36,10 @@ Monomial = tuple[int, int, int, int, int, int]
 ParamPoly = Mapping[tuple[int, ...], "object"]
 
 
+#: The size of the largest block of the sparsity from which symmetries are sought: below
+#: it, finding and using them costs more than it saves (bench_discover.py, measured).
+SPLIT_FROM = 24
+
 #: Largest system a search builds: unknowns times equations (about 8 bytes of sparse
 #: bookkeeping each in the worst case, so the default stays within a few hundred MB).
 MAX_SYSTEM_SIZE = 20_000_000
@@ -180,10 +184,8 @@ class PolynomialSystem:
         self.column_index = {e: j for j, (e, _) in enumerate(self.columns)}
         self.decomposition: Decomposition | None = None
         self.symmetry_note = "not used"
-        splits: list[Decomposition] = []
-        if symmetries:
-            splits, self.symmetry_note = decompose(self, cofactor=bool(self.cofactor))
-        self.blocks = self._blocks(splits)
+        self.symmetries = symmetries
+        self.blocks = self._blocks()
 
     def _check_size(self, limit: int) -> None:
         """Refuse, before building it, a system larger than ``limit`` (unknowns times
@@ -381,15 +383,29 @@ class PolynomialSystem:
             coords.setdefault(j, {})[m[self.n :]] = c
         return coords
 
-    def _blocks(self, splits: Sequence[Decomposition] = ()) -> list[Block]:
+    def _blocks(self, splits: Sequence[Decomposition] | None = None) -> list[Block]:
         """The connected blocks of the system: columns joined when some row holds both.
-        Split along symmetries (``splits``: the ways found), the columns are the
-        eigenvectors of each class, and a block never joins two classes (d/dt maps them
-        into independent subspaces); the split whose blocks cost least to eliminate is
-        kept, if it costs less than the blocks of the sparsity alone."""
+        Split along symmetries (``splits``: given, or the ways ``decompose`` finds where
+        the sparsity leaves a block of SPLIT_FROM unknowns or more: smaller ones cost
+        less than looking), the columns are the eigenvectors of each class, and a block
+        never joins two classes (d/dt maps them into independent subspaces); the split
+        whose blocks cost least to eliminate is kept, if it costs less than the blocks
+        of the sparsity alone."""
         derivatives = [self.derivative(e) for e, _ in self.columns]
         plain = self._connected([{j: 1} for j in range(len(self.columns))], derivatives)
         best, cost = plain, _cost(plain)
+        if splits is None:
+            largest = max((b.size for b in plain), default=0)
+            if not self.symmetries:
+                splits = []
+            elif largest < SPLIT_FROM:
+                self.symmetry_note = (
+                    f"not sought (the sparsity's largest block has {largest} unknowns)"
+                )
+                return plain
+            else:
+                found_splits, self.symmetry_note = decompose(self, cofactor=bool(self.cofactor))
+                splits = found_splits
         found = self.symmetry_note
         for split in splits:
             row = split.representatives()
