@@ -36,6 +36,7 @@ from __future__ import annotations
 import random
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field, replace
+from typing import Any, cast
 
 import flint
 import sympy as sp
@@ -588,7 +589,9 @@ def _real_roots_allowed(poly: Poly, i: int, positive: bool, nonzero: bool) -> in
         root = QQ(-coeffs.get(0, 0), coeffs[1])
         return int(not ((positive and root <= 0) or (nonzero and root == 0)))
     ascending = [coeffs.get(k, 0) for k in range(degree + 1)]
-    real = [z.real for z, _ in flint.fmpz_poly(ascending).complex_roots() if z.imag == 0]
+    # (root ball, multiplicity) pairs; python-flint's stubs type them as acb alone
+    roots = cast(list[tuple[Any, int]], flint.fmpz_poly(ascending).complex_roots())
+    real = [z.real for z, _ in roots if z.imag == 0]
     if not positive:
         return len(real)
     if all(x > 0 or x < 0 for x in real):
