@@ -56,7 +56,7 @@ from ..model import (
 )
 from . import novelty
 from .ansatz import PolynomialSystem, weighted_monomials
-from .grading import grading_note
+from .grading import grading_note, homogeneous_weights
 from .integrals import Analysis, Generator, analyse, products
 from .linear import GF_PRIME, PRIME, Field
 from .locus import Locus, drop_locus, polynomial, same
@@ -489,9 +489,17 @@ def _cofactor(
     lower = [e for e in monomials if sum(a * w for a, w in zip(e, weights, strict=True)) < shift]
     monomials = [e for e in monomials if e not in lower]
     if lower and undecided is not None:
+        better = homogeneous_weights(m.field)
+        hint = (
+            f"; it is for M={better[0]}, gamma={better[1]}: search with --weights "
+            f"M={better[0]},gamma={better[1]}"
+            if better is not None and better != tuple(options.weights)
+            else ""
+        )
         undecided.append(
             f"cofactors with parts of weight below {shift} ({len(lower)} monomials the field's "
-            "Newton polytope allows; the field is not weighted-homogeneous) are not searched"
+            "Newton polytope allows; the field is not weighted-homogeneous for these weights"
+            f"{hint}) are not searched"
         )
     coefficients, cofactor = [], sp.Integer(0)
     for exps in monomials:

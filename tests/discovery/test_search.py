@@ -478,3 +478,19 @@ def test_a_cofactor_with_no_real_value_is_ruled_out_and_the_search_is_complete()
     search = discover(asymmetric, search_options(asymmetric, degree=2, relations=True))
     assert not search.complete
     assert any("not solvable rationally" in c for c in search.coverage)
+
+
+def test_relations_for_weights_that_leave_the_field_inhomogeneous_say_which_weights_do_not():
+    """Clebsch's quadratic potential at the default weights M: 1, gamma: 2 raises the
+    degree by 1 and by 3: lower cofactor weights are left out and the coverage says
+    which weights make the field homogeneous; with those no cofactor weight is left out
+    (what stays undecided are cofactors no free parameter solves rationally)."""
+    case = load_case(
+        Path(__file__).resolve().parents[2]
+        / "data/cases/kirchhoff/clebsch-1871-kirchhoff-quadratic.toml"
+    )
+    search = discover(case, search_options(case, degree=2, relations=True))
+    assert not search.complete
+    assert any("search with --weights M=1,gamma=1" in c for c in search.coverage)
+    search = discover(case, search_options(case, degree=2, weights=(1, 1), relations=True))
+    assert search.decided and not any("weight below" in c for c in search.coverage)
