@@ -19,43 +19,20 @@ from pathlib import Path
 import pytest
 
 import registry
-from tests.helpers.dask_clusters import source_environment
+from tests.helpers.clocks import PATIENT_OPTIONS
+from tests.helpers.dask_clusters import registry_run, source_environment, verdicts
 
 ROOT = Path(__file__).resolve().parents[2]
 SEED = ROOT / "data" / "cases"
 FAMILY = ROOT / "tests" / "data" / "families" / "heavy-top-lam-z0.toml"
-#: What a verdict is, apart from when and how fast it was found.
-COLUMNS = ["case", "claim", "check", "verdict", "method", "reason", "witness", "residual"]
-#: Seconds per check: the comparisons are of verdicts, not of a busy machine's speed.
-BUDGET = "60"
 
 pytestmark = pytest.mark.skipif(not sys.platform.startswith("linux"), reason="POSIX processes")
-
-
-def registry_run(db: Path, *args: str, env: dict[str, str] | None = None, **kw):
-    """``registry --db DB ARGS`` in a process of its own; its completed process."""
-    environment = source_environment()
-    environment.pop("REGISTRY_SCHEDULER", None)  # only where a test sets it
-    environment.update(env or {})
-    return subprocess.run(
-        [sys.executable, "-m", "registry", "--db", str(db), *args],
-        capture_output=True,
-        text=True,
-        env=environment,
-        timeout=900,
-        **kw,
-    )
 
 
 def catalog(db: Path, *paths: Path) -> Path:
     added = registry_run(db, "add", *map(str, paths))
     assert added.returncode == 0, added.stderr
     return db
-
-
-def verdicts(db: Path):
-    frame = registry.open(db).verdicts()
-    return frame[COLUMNS].sort_values(["case", "check", "claim"]).reset_index(drop=True)
 
 
 def last_run(db: Path) -> dict:
@@ -70,12 +47,12 @@ def test_an_audit_on_separate_dask_processes_gives_the_local_pools_verdicts(
     by_variable = catalog(tmp_path / "variable.sqlite", SEED)
     address = separate_processes.address
 
-    expected = registry_run(local, "audit", "--jobs", "2", "--budget", BUDGET)
+    expected = registry_run(local, "audit", "--jobs", "2", *PATIENT_OPTIONS)
     assert expected.returncode == 0, expected.stderr
-    got = registry_run(by_option, "audit", "--scheduler", address, "--budget", BUDGET)
+    got = registry_run(by_option, "audit", "--scheduler", address, *PATIENT_OPTIONS)
     assert got.returncode == 0, got.stderr + separate_processes.log()
     by_env = registry_run(
-        by_variable, "audit", "--budget", BUDGET, env={"REGISTRY_SCHEDULER": address}
+        by_variable, "audit", *PATIENT_OPTIONS, env={"REGISTRY_SCHEDULER": address}
     )
     assert by_env.returncode == 0, by_env.stderr
 
@@ -125,12 +102,12 @@ def worker_busy_with_the_audit(address: str, timeout: float = 120.0) -> str:
 def test_a_worker_killed_mid_audit_takes_no_results_with_it(tmp_path, separate_processes):
     local = catalog(tmp_path / "local.sqlite", SEED)
     remote = catalog(tmp_path / "remote.sqlite", SEED)
-    expected = registry_run(local, "audit", "--jobs", "2", "--budget", BUDGET)
+    expected = registry_run(local, "audit", "--jobs", "2", *PATIENT_OPTIONS)
     assert expected.returncode == 0, expected.stderr
 
     audit = subprocess.Popen(
         [sys.executable, "-m", "registry", "--db", str(remote), "audit"]
-        + ["--scheduler", separate_processes.address, "--budget", BUDGET],
+        + ["--scheduler", separate_processes.address, *PATIENT_OPTIONS],
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
         text=True,

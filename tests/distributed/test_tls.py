@@ -18,14 +18,13 @@ import pytest
 
 import registry
 from registry.distributed.scheduler import TLS_KEYS
-from tests.helpers.dask_clusters import Certificate, dask_processes, source_environment
+from tests.helpers.clocks import PATIENT_OPTIONS
+from tests.helpers.dask_clusters import Certificate, dask_processes, registry_run, verdicts
 
 ROOT = Path(__file__).resolve().parents[2]
 SEED = ROOT / "data" / "cases"
 FILES = [SEED / "zhukovsky-gyrostat.toml", SEED / "yehia-2003-kovalevskaya-b.toml"]
 FAMILY = ROOT / "tests" / "data" / "families" / "heavy-top-lam.toml"
-COLUMNS = ["case", "claim", "check", "verdict", "method", "reason", "witness", "residual"]
-BUDGET = "60"
 
 pytestmark = pytest.mark.skipif(not sys.platform.startswith("linux"), reason="POSIX processes")
 
@@ -44,31 +43,6 @@ def tls_cluster(certificates, tmp_path_factory):
         yield cluster
 
 
-def registry_run(db: Path, *args: str, env: dict[str, str] | None = None):
-    """``registry --db DB ARGS`` in a process of its own, with ``env`` added to a clean
-    environment (no TLS or scheduler settings of the machine running the tests)."""
-    import subprocess
-
-    environment = {
-        k: v
-        for k, v in source_environment().items()
-        if not k.startswith("DASK_DISTRIBUTED__COMM") and k != "REGISTRY_SCHEDULER"
-    }
-    environment.update(env or {})
-    return subprocess.run(
-        [sys.executable, "-m", "registry", "--db", str(db), *args],
-        capture_output=True,
-        text=True,
-        env=environment,
-        timeout=900,
-    )
-
-
-def verdicts(db: Path):
-    frame = registry.open(db).verdicts()
-    return frame[COLUMNS].sort_values(["case", "check", "claim"]).reset_index(drop=True)
-
-
 def added(db: Path) -> Path:
     done = registry_run(db, "add", *map(str, FILES))
     assert done.returncode == 0, done.stderr
@@ -77,11 +51,11 @@ def added(db: Path) -> Path:
 
 def test_an_audit_over_tls_gives_the_local_pools_verdicts(tmp_path, tls_cluster, certificates):
     local, remote = added(tmp_path / "local.sqlite"), added(tmp_path / "tls.sqlite")
-    expected = registry_run(local, "audit", "--jobs", "2", "--budget", BUDGET)
+    expected = registry_run(local, "audit", "--jobs", "2", *PATIENT_OPTIONS)
     assert expected.returncode == 0, expected.stderr
     env = certificates["cluster"].client_environment()
     got = registry_run(
-        remote, "audit", "--scheduler", tls_cluster.address, "--budget", BUDGET, env=env
+        remote, "audit", "--scheduler", tls_cluster.address, *PATIENT_OPTIONS, env=env
     )
     assert got.returncode == 0, got.stderr + tls_cluster.log()
     assert verdicts(remote).equals(verdicts(local))

@@ -79,6 +79,39 @@ def source_environment() -> dict[str, str]:
     return {**os.environ, "PYTHONPATH": os.pathsep.join(p for p in (SOURCE, path) if p)}
 
 
+#: What a verdict is, apart from when and how fast it was found.
+VERDICT_COLUMNS = ["case", "claim", "check", "verdict", "method", "reason", "witness", "residual"]
+
+
+def registry_run(db: Path, *args: str, env: dict[str, str] | None = None, **kw):
+    """``registry --db DB ARGS`` in a process of its own; its completed process. Its
+    environment is this one (the package under test first on the path) without the
+    machine's scheduler and Dask TLS settings, with ``env`` added."""
+    environment = {
+        k: v
+        for k, v in source_environment().items()
+        if not k.startswith("DASK_DISTRIBUTED__COMM") and k != "REGISTRY_SCHEDULER"
+    }
+    environment.update(env or {})
+    return subprocess.run(
+        [sys.executable, "-m", "registry", "--db", str(db), *args],
+        capture_output=True,
+        text=True,
+        env=environment,
+        timeout=900,
+        **kw,
+    )
+
+
+def verdicts(db: Path):
+    """The verdicts stored in ``db``, in a fixed order, without timings."""
+    import registry
+
+    frame = registry.open(db).verdicts()
+    columns = frame[VERDICT_COLUMNS]
+    return columns.sort_values(["case", "check", "claim"]).reset_index(drop=True)
+
+
 @dataclass
 class DaskProcesses:
     """A ``dask scheduler`` and ``dask worker`` processes started for a test."""

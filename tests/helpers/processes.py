@@ -8,7 +8,7 @@ import os
 import signal
 import sys
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from pathlib import Path
 
 
@@ -16,18 +16,27 @@ def registry_command(db: Path, *args: str) -> list[str]:
     return [sys.executable, "-m", "registry", "--db", str(db), *args]
 
 
+def _stat(pid: int | str) -> tuple[str, int, int] | None:
+    """(state, parent, process group) of a process, from /proc/PID/stat; None if gone."""
+    try:
+        text = Path(f"/proc/{pid}/stat").read_text()
+    except OSError:
+        return None
+    state, ppid, pgrp = text[text.rindex(")") + 2 :].split()[:3]  # the name may hold ")"
+    return state, int(ppid), int(pgrp)
+
+
+def _live() -> Iterator[tuple[int, int, int]]:
+    """(pid, parent, process group) of every live (not zombie) process, from /proc."""
+    for entry in Path("/proc").glob("[0-9]*"):
+        found = _stat(entry.name)
+        if found is not None and found[0] not in ("Z", "X"):
+            yield int(entry.name), found[1], found[2]
+
+
 def group_members(pgid: int) -> list[int]:
-    """Live (not zombie) processes of a process group, from /proc."""
-    found = []
-    for stat in Path("/proc").glob("[0-9]*/stat"):
-        try:
-            text = stat.read_text()
-        except OSError:
-            continue
-        state, _ppid, pgrp = text[text.rindex(")") + 2 :].split()[:3]
-        if int(pgrp) == pgid and state not in ("Z", "X"):
-            found.append(int(stat.parent.name))
-    return found
+    """Live (not zombie) processes of a process group."""
+    return [pid for pid, _, pgrp in _live() if pgrp == pgid]
 
 
 def wait_until_gone(pgid: int, timeout: float = 15.0) -> list[int]:
@@ -47,34 +56,19 @@ def kill_group(pgid: int) -> None:
 
 def children(pid: int) -> list[int]:
     """Live child processes of ``pid``."""
-    found = []
-    for stat in Path("/proc").glob("[0-9]*/stat"):
-        try:
-            text = stat.read_text()
-        except OSError:
-            continue
-        state, ppid = text[text.rindex(")") + 2 :].split()[:2]
-        if int(ppid) == pid and state not in ("Z", "X"):
-            found.append(int(stat.parent.name))
-    return found
+    return [child for child, ppid, _ in _live() if ppid == pid]
 
 
 def busy(pid: int) -> bool:
     """Whether a process is running on a CPU or runnable (state R), i.e. computing."""
-    try:
-        text = Path(f"/proc/{pid}/stat").read_text()
-    except OSError:
-        return False
-    return text[text.rindex(")") + 2 :].split()[0] == "R"
+    found = _stat(pid)
+    return found is not None and found[0] == "R"
 
 
 def alive(pid: int) -> bool:
     """Whether a process exists and is not a zombie (one that ended, not yet reaped)."""
-    try:
-        text = Path(f"/proc/{pid}/stat").read_text()
-    except OSError:
-        return False
-    return text[text.rindex(")") + 2 :].split()[0] not in ("Z", "X")
+    found = _stat(pid)
+    return found is not None and found[0] not in ("Z", "X")
 
 
 #: prctl(2) option: the signal a process gets when the thread that started it ends.
