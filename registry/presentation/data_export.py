@@ -22,10 +22,15 @@ FORMATS = ("csv", "json", "parquet")
 TABLES = ("cases", "claims", "verdicts", "all_results", "corrections", "runs")
 
 #: Text columns whose values may look like numbers (a volume "8"), read back as text.
-TEXT_COLUMNS = ("volume", "issue", "pages", "doi", "locator", "citation", "label", "claim")
+TEXT_COLUMNS = (
+    "volume", "issue", "pages", "doi", "locator", "citation", "label", "claim",
+    "potential", "hamiltonian", "kappa", "expression",
+)  # fmt: skip
 
 #: Columns holding JSON values (dicts or lists), written as JSON text in CSV and Parquet.
-JSON_COLUMNS = ("on", "witness", "payload", "options", "authors", "aliases")
+JSON_COLUMNS = (
+    "on", "witness", "payload", "options", "authors", "aliases", "inertia", "torque",
+)  # fmt: skip
 
 
 # ------------------------------------------------------------------ tables

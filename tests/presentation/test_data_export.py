@@ -24,7 +24,13 @@ YEHIA_B = "yehia-2003-kovalevskaya-b"
 ZHUKOVSKY = "zhukovsky-gyrostat"
 READERS = {
     "csv": data_export.read_table,  # plain read_csv would read a volume "8" as a number
-    "json": lambda p: pd.read_json(p, orient="records", precise_float=True),
+    # pandas' own JSON reader, told which columns are text ("8" is a volume, "0" a kappa)
+    "json": lambda p: pd.read_json(
+        p,
+        orient="records",
+        precise_float=True,
+        dtype={c: "string" for c in data_export.TEXT_COLUMNS},
+    ),
     "parquet": pd.read_parquet,
 }
 KEYS = {
