@@ -38,12 +38,7 @@ from registry.language.parser import Namespace, parse_expression
 from registry.mathematics import mechanics as mech
 from registry.mathematics.case_mechanics import CaseMechanics
 from registry.model import Verdict
-
-FAMILIES = Path(__file__).resolve().parents[1] / "data" / "families"
-
-
-def family(name: str):
-    return load_case(FAMILIES / f"{name}.toml")
+from tests.helpers.samples import FAMILIES, family
 
 
 def search(name: str, **options):

@@ -8,8 +8,6 @@ without it must be the same (integrals, special sets, counts, completeness).
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import pytest
 import sympy as sp
 
@@ -23,15 +21,10 @@ from registry.discovery.symmetry import (
     rotations,
     signed_permutations,
 )
-from registry.language.casefile import load_case, parse_case_text
+from registry.language.casefile import parse_case_text
 from registry.mathematics import mechanics as mech
 from registry.mathematics.case_mechanics import CaseMechanics
-
-FAMILIES = Path(__file__).resolve().parents[1] / "data" / "families"
-
-
-def family(name: str):
-    return load_case(FAMILIES / f"{name}.toml")
+from tests.helpers.samples import family
 
 
 def system_of(case, **options):

@@ -12,13 +12,7 @@ import registry
 from registry.discovery.search import discover, search_options
 from registry.distributed.searches import _label, cluster_mapper, discover_on_cluster
 from registry.errors import DiscoveryError
-from registry.language.casefile import load_case
-
-FAMILIES = Path(__file__).resolve().parents[1] / "data" / "families"
-
-
-def family(name: str):
-    return load_case(FAMILIES / f"{name}.toml")
+from tests.helpers.samples import FAMILIES, family
 
 
 def same(one, two) -> bool:

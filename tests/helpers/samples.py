@@ -12,6 +12,8 @@ CLASSICAL = TEST_DATA / "classical"
 #: Cases in the Hamiltonian form, on e(3), so(4) and so(3,1) (issue 20), derived in
 #: tests/test_hamiltonian_form.py.
 HAMILTONIAN = TEST_DATA / "hamiltonian"
+#: Families with free parameters, searched by ``registry discover --free`` (issue 21).
+FAMILIES = TEST_DATA / "families"
 #: Level sets kept by the flow, one repelling and one attracting (numeric evidence).
 LEVEL_SETS = TEST_DATA / "level-sets"
 #: The seed catalog: the reference paper's cases (and one classical case) at the top of
@@ -76,3 +78,10 @@ def slow_case(n: int) -> str:
     """The text of a case whose claim's proof takes minutes (see SLOW_CASE)."""
     linear = sp.sympify(f"gamma1 + gamma2 + gamma3 + M1 + k + {n}")
     return SLOW_CASE.format(n=n, linear=linear, square=sp.expand(linear**2))
+
+
+def family(name: str):
+    """The test family ``tests/data/families/<name>.toml``, loaded."""
+    from registry.language.casefile import load_case
+
+    return load_case(FAMILIES / f"{name}.toml")
