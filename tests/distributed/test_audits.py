@@ -145,9 +145,9 @@ def test_a_check_that_would_run_for_minutes_is_stopped_by_its_budget_on_the_work
         result = audit.result(check, case.claims[0].label)
         assert result.verdict is Verdict.INCONCLUSIVE
         assert result.reason == "time budget exceeded (1 s)"
-        # stopped at its budget (a busy machine's alarm may come a little late), long
-        # before the case's deadline
-        assert result.seconds < 4.0
+        # stopped near its budget (within ten times it: a busy machine's alarm may come
+        # late), not after the minutes the proof would take
+        assert result.seconds < 10.0
     ((_, local),) = audit_in_workers(cases, 1, budget)
     for check in ("integral", "casimir"):  # the slow checks end as in the local pool
         mine, theirs = (a.result(check, case.claims[0].label) for a in (audit, local))
