@@ -40,8 +40,8 @@ from ..execution.serving import Failure
 if TYPE_CHECKING:
     from distributed import Client, Future
 
-#: How often Dask runs a task again when the task itself raises (a fork that failed for
-#: lack of memory, say; an exception of ``fn`` is a Failure, not a raise).
+#: How often Dask runs a task again when the task itself raises (a child that could not
+#: be started for lack of memory, say; an exception of ``fn`` is a Failure, not a raise).
 RETRIES = 2
 #: How often an item whose task Dask gave up (KilledWorker: its workers kept dying) is
 #: submitted again on its own before it is given up.

@@ -5,7 +5,7 @@ result.
 A child calls ``fn`` on each item it is given, in turn, and sends each result back
 through a pipe as soon as it is done (``("ok", value)``, or ``("error", text)`` when
 ``fn`` raised). The local worker pool (``local``: long-lived workers, batch after
-batch) and the forked children of Dask tasks (``children``: one batch) both run it.
+batch) and the child interpreters of Dask tasks (``children``: one batch) both run it.
 """
 
 from __future__ import annotations
@@ -96,7 +96,7 @@ def serve_items(fn: Callable[[Any], Any], items: Sequence[Any], conn: Any) -> bo
 def serve(
     conn: Any, fn: Callable[[Any], Any], parent: int, items: Sequence[Any] | None = None
 ) -> None:
-    """The one child loop: serve ``items`` (a forked child's batch), or else each batch
+    """The one child loop: serve ``items`` (a Dask task's child's batch), or else each batch
     received on ``conn`` until told to stop (None) or the pipe closes.
 
     SIGALRM works here (this is the child's main thread); SIGTERM ends the child at

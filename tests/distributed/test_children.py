@@ -1,12 +1,15 @@
 """Calls in child processes of a Dask worker: each in a child of its worker, in the
 child's main thread (the audit's SIGALRM budget works there); a call past its deadline
 killed even where SIGALRM cannot reach it; a crash, an exception and an unpicklable
-result recorded, and the rest of the batch still done by a new child."""
+result recorded, and the rest of the batch still done by a new child; a child that
+starts clean while another thread of its worker is importing a module, and a batch
+the child cannot load reported as such."""
 
 from __future__ import annotations
 
 import os
 import signal
+import sys
 import threading
 import time
 
@@ -97,7 +100,7 @@ def test_a_crash_an_exception_and_an_unpicklable_result_are_recorded(thread_clus
     assert found[4].kind == "error" and found[4].reason.startswith("result cannot be sent back")
 
 
-def test_run_batch_outside_a_worker_forks_children_too():
+def test_run_batch_outside_a_worker_starts_children_too():
     result = run_batch(family, [(0, None, None), (1, None, 5.0)])
     assert [i for i, _ in result.outcomes] == [0, 1]
     assert {parent for _, (_, parent, _) in result.outcomes} == {os.getpid()}
@@ -106,3 +109,55 @@ def test_run_batch_outside_a_worker_forks_children_too():
 
 def test_every_failure_kind_is_explained():
     assert set(FAILURES) == {"killed", "crashed", "error", "lost"}
+
+
+def import_named(name: str) -> str:
+    """Imports the module ``name`` and returns the value it defines."""
+    import importlib
+
+    return importlib.import_module(name).VALUE
+
+
+def test_a_child_started_while_another_worker_thread_imports_a_module_does_not_hang(
+    tmp_path, monkeypatch
+):
+    # A worker thread that is importing a module holds that module's import lock. A
+    # child forked from the worker at that moment inherits the lock held by a thread it
+    # does not have, and hangs for ever the first time it needs the module (as sympy's
+    # functions import their helpers on first use). Children must start clean.
+    name = f"slow_import_{os.getpid()}"
+    (tmp_path / f"{name}.py").write_text("import time\ntime.sleep(3)\nVALUE = 42\n")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    importing = threading.Thread(target=import_named, args=(name,))
+    importing.start()
+    try:
+        time.sleep(1)  # the other thread is now inside the module's import
+        result = run_batch(import_named, [(0, name, HANG)])
+    finally:
+        importing.join()
+        sys.modules.pop(name, None)
+    assert result.outcomes == [(0, 42)]
+
+
+def test_a_batch_the_child_cannot_load_is_an_error_for_each_item_and_no_new_child(
+    tmp_path, monkeypatch
+):
+    # fn's module exists in the worker only: the new interpreter cannot import it
+    name = f"gone_{os.getpid()}"
+    (tmp_path / f"{name}.py").write_text("def twice(x):\n    return 2 * x\n")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    import importlib
+
+    try:
+        twice = importlib.import_module(name).twice
+        (tmp_path / f"{name}.py").unlink()
+        result = run_batch(twice, [(0, 1, HANG), (1, 2, HANG)])
+    finally:
+        sys.modules.pop(name, None)
+    assert [i for i, _ in result.outcomes] == [0, 1] and result.children == 1
+    for _, failure in result.outcomes:
+        assert isinstance(failure, Failure) and failure.kind == "error"
+        assert failure.reason == (
+            f"the child process could not load the batch: "
+            f"ModuleNotFoundError: No module named '{name}'"
+        )
