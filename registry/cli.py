@@ -282,13 +282,11 @@ def audit(
 
     Example: registry audit --case yehia-2003-kovalevskaya-b --json
     """
-    from tqdm import tqdm
-
     scheduler = _cluster(jobs, scheduler, local="workers")
     reg = _registry()
     total = reg.count_cases(list(case_ids) or None)
     quiet = as_json or not sys.stderr.isatty()
-    bar = tqdm(total=total, unit="case", file=sys.stderr, disable=quiet, leave=False)
+    bar = _progress_bar(total=total, unit="case", disable=quiet)
 
     def progress(case_id: str) -> None:
         bar.set_postfix_str(case_id, refresh=False)
@@ -568,14 +566,21 @@ def _cluster(jobs: int | None, scheduler: str | None, local: str = "processes") 
     return None if jobs is not None else scheduler_option(scheduler)
 
 
+def _progress_bar(**options: Any) -> Any:
+    """A tqdm bar on stderr, without tqdm's monitor thread: the local pool forks its
+    workers from this process, and a fork is safe only where no other thread runs."""
+    from tqdm import tqdm
+
+    tqdm.monitor_interval = 0
+    return tqdm(file=sys.stderr, leave=False, **options)
+
+
 @contextmanager
 def _counting_bar(unit: str, quiet: bool = False) -> Iterator:
     """A progress bar on stderr (none when it is not a terminal, or ``quiet``), as the
     callback (done, total, what) that searches report to."""
-    from tqdm import tqdm
-
     disable = quiet or not sys.stderr.isatty()
-    bar = tqdm(total=0, unit=unit, file=sys.stderr, disable=disable, leave=False)
+    bar = _progress_bar(total=0, unit=unit, disable=disable)
 
     def progress(done: int, total: int, where: str) -> None:
         bar.total = total

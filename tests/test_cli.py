@@ -717,3 +717,29 @@ def test_a_bad_budget_in_the_environment_is_one_line_naming_it(module_databases,
     ]
     monkeypatch.delenv("REGISTRY_BUDGET")
     assert registry.open(db).runs().empty  # refused before any run was started
+
+
+def test_the_audit_forks_its_workers_where_no_other_thread_of_the_command_runs(
+    tmp_path, monkeypatch
+):
+    # A fork copies the locks other threads hold, without the threads that would
+    # release them: the local pool's workers are forked from this process, so the
+    # command starts no thread of its own before it (tqdm's monitor thread did).
+    import threading
+
+    from registry.execution import local
+
+    before = set(threading.enumerate())
+    started: list[str] = []
+    original = local._Worker.__init__
+
+    def watching(self, *args, **kwargs):
+        started.extend(t.name for t in threading.enumerate() if t not in before)
+        original(self, *args, **kwargs)
+
+    monkeypatch.setattr(local._Worker, "__init__", watching)
+    db = tmp_path / "registry.sqlite"
+    assert invoke(db, "add", str(case_file(ZHUKOVSKY))).exit_code == 0
+    result = invoke(db, "audit", "--jobs", "2", *PATIENT_OPTIONS)
+    assert result.exit_code == 0, result.output
+    assert started == []
