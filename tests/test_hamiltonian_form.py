@@ -296,6 +296,42 @@ def test_both_forms_give_the_same_verdicts(path):
     assert first == second
 
 
+HAMILTONIAN_FORM = [p for p in CATALOG if load_case(p).system.hamiltonian_form]
+#: Old coordinates in terms of new ones: a cyclic permutation of the axes (a rotation,
+#: which keeps the bracket), and gamma = 2 gamma' (which turns kappa into kappa/4).
+ROTATED = {M1: M3, M2: M1, M3: M2, g1: g3, g2: g1, g3: g2}
+SCALED = {g1: 2 * g1, g2: 2 * g2, g3: 2 * g3, mech.s: 2 * mech.s}
+
+
+def rewritten(case: Case, old: dict) -> Case:
+    """``case`` in the new coordinates of ``old``: H, the torque (a vector), kappa and
+    every claim and level set rewritten, as a physicist would type them."""
+    data = tomllib.loads(case.text)
+    system, new = data["system"], lambda e: to_text(e.xreplace(old))
+    system["hamiltonian"] = new(case.system.hamiltonian.expr)
+    torque = [new(t.expr) for t in case.system.torque]
+    system["torque"] = torque[1:] + torque[:1] if old is ROTATED else torque
+    scale = sp.Integer(4) if old is SCALED else sp.Integer(1)
+    system["kappa"] = to_text(case.system.kappa.expr / scale)
+    for claim, written in zip(case.claims, data.get("claims", []), strict=True):
+        written["expression"] = new(claim.expression.expr)
+        if claim.on:
+            written["on"] = [f"{new(eq.lhs)} = {new(eq.rhs)}" for eq in claim.on]
+    return parse_case_text(tomli_w.dumps(data), f"{case.id} in other coordinates")
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("path", HAMILTONIAN_FORM, ids=lambda p: p.stem)
+def test_a_rotation_of_the_axes_or_a_rescaled_gamma_changes_no_verdict(path):
+    """The audit decides what a case means, not how its coordinates were chosen: every
+    Hamiltonian-form case of the catalog, with its axes permuted cyclically or with
+    gamma = 2 gamma' and kappa/4, gets the same verdict for every check and claim."""
+    case = load_case(path)
+    first = verdicts(audit_case(case, repair=False))
+    for old in (ROTATED, SCALED):
+        assert verdicts(audit_case(rewritten(case, old), repair=False)) == first
+
+
 # ------------------------------------------------------------------ discovery
 
 SEARCHED = """\
