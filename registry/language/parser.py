@@ -20,6 +20,7 @@ import ast
 import difflib
 import math
 import re
+import warnings
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from types import MappingProxyType
@@ -183,9 +184,13 @@ def _bracket_depth(text: str) -> int:
 
 
 def _parse_tree(flat: str, text: str) -> ast.Expression:
-    """The Python syntax tree of ``flat``, or ExpressionError."""
+    """The Python syntax tree of ``flat``, or ExpressionError. Python's own warnings on
+    the text (``2and M1``: "invalid decimal literal") are not the user's concern: the
+    text is refused, or read, by our rules alone."""
     try:
-        return ast.parse(flat, mode="eval")
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", SyntaxWarning)
+            return ast.parse(flat, mode="eval")
     except (RecursionError, MemoryError):
         raise ExpressionError(
             f"expression nested too deeply (more than {limits.MAX_DEPTH} levels)", text

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import warnings
+
 import pytest
 import sympy as sp
 from hypothesis import HealthCheck, given, settings
@@ -315,3 +317,13 @@ TOKENS = [
 @given(st.lists(st.sampled_from(TOKENS), max_size=30).map(" ".join))
 def test_token_soup_is_an_expression_or_an_expression_error(text):
     _parses_or_says_why(text)
+
+
+@pytest.mark.parametrize("text", ["2and M1", "1if M1 else M2", "M1 + 3or 2"])
+def test_text_python_would_warn_about_is_refused_without_a_python_warning(text):
+    # "invalid decimal literal" is Python's SyntaxWarning, not a message for the user
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        with pytest.raises(ExpressionError) as error:
+            parse_expression(text)
+    assert caught == [] and text in str(error.value)
