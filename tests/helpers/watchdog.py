@@ -45,27 +45,25 @@ SWEEP = 30.0
 # ---------------------------------------------------------------- in the test process
 
 
-def start(pid: int | None = None) -> subprocess.Popen | None:
+def start(pid: int | None = None) -> bool:
     """Mark this process's environment and start the watchdog on process ``pid`` (this
-    one by default); None where /proc cannot be read (not Linux)."""
+    one by default); False where /proc cannot be read (not Linux)."""
     if not Path("/proc/self/environ").exists():
-        return None
+        return False
     pid = os.getpid() if pid is None else pid
     folder = tempfile.mkdtemp(prefix=f"registry-test-run-{pid}-")
     os.environ[MARK] = str(pid)
     os.environ[FOLDER] = folder
-    global _watchdog
-    _watchdog = subprocess.Popen(
+    # the process started here forks the watchdog and ends at once (awaited): the
+    # watchdog, which must outlive this process, is not its child
+    subprocess.run(
         [sys.executable, "-I", "-S", __file__, str(pid), folder],
         stdin=subprocess.DEVNULL,
         stdout=subprocess.DEVNULL,
         start_new_session=True,  # a kill of the test's process group spares it
+        check=True,
     )
-    return _watchdog
-
-
-#: The watchdog of this process's run (kept: it ends after this process).
-_watchdog: subprocess.Popen | None = None
+    return True
 
 
 def register(kind: str, **info: str) -> Path | None:
@@ -183,4 +181,5 @@ def watch(pid: int, folder: Path) -> None:
 
 
 if __name__ == "__main__":
-    watch(int(sys.argv[1]), Path(sys.argv[2]))
+    if os.fork() == 0:  # the watchdog; its parent ends at once
+        watch(int(sys.argv[1]), Path(sys.argv[2]))
