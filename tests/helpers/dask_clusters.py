@@ -204,11 +204,10 @@ def dask_processes(
     def start(name: str, *args: str) -> subprocess.Popen:
         with open(where / f"{name}.log", "wb") as log:
             proc = subprocess.Popen(
-                dask_command(*args),
+                dying_with_this_process(dask_command(*args)),  # nothing outlives the run
                 stdout=log,
                 stderr=subprocess.STDOUT,
                 env=env,
-                preexec_fn=dying_with_this_process(),  # nothing outlives the test run
             )
         started.append(proc)
         return proc

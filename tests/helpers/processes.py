@@ -3,12 +3,11 @@ and children read from /proc, and killing a group."""
 
 from __future__ import annotations
 
-import ctypes
 import os
 import signal
 import sys
 import time
-from collections.abc import Callable, Iterator
+from collections.abc import Iterator
 from pathlib import Path
 
 
@@ -71,28 +70,26 @@ def alive(pid: int) -> bool:
     return found is not None and found[0] not in ("Z", "X")
 
 
-#: prctl(2) option: the signal a process gets when the thread that started it ends.
-_PR_SET_PDEATHSIG = 1
+#: ``python -c _TIED PID COMMAND...``: asks the kernel (prctl PR_SET_PDEATHSIG = 1) to
+#: SIGKILL this process when the thread that started it ends, checks that PID is still
+#: its parent, then becomes COMMAND (the request survives exec).
+_TIED = (
+    "import ctypes, os, signal, sys; "
+    "ctypes.CDLL(None, use_errno=True).prctl(1, signal.SIGKILL, 0, 0, 0); "
+    "os.getppid() == int(sys.argv[1]) or os._exit(1); "
+    "os.execvp(sys.argv[2], sys.argv[2:])"
+)
 
 
-def dying_with_this_process() -> Callable[[], None] | None:
-    """A ``preexec_fn`` for ``subprocess.Popen`` that has the kernel SIGKILL the child
-    when this process ends, however it ends (Linux); None elsewhere.
+def dying_with_this_process(command: list[str]) -> list[str]:
+    """``command`` started so that the kernel SIGKILLs it when this process ends, however
+    it ends (Linux; ``command`` as it is elsewhere).
 
-    ``prctl`` is looked up here, before the fork: the child only calls it. The signal
-    follows the thread that starts the child: start it from the main thread.
+    No Python runs in the forked child before exec (a ``preexec_fn`` would, which is
+    unsafe where other threads run): a small interpreter makes the request, then
+    becomes ``command``. The signal follows the thread that starts the child: start it
+    from the main thread.
     """
     if not sys.platform.startswith("linux"):
-        return None
-    try:
-        prctl = ctypes.CDLL(None, use_errno=True).prctl
-    except (OSError, AttributeError):
-        return None
-    parent = os.getpid()
-
-    def preexec() -> None:
-        prctl(_PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0)
-        if os.getppid() != parent:  # the parent died before the request took effect
-            os._exit(1)
-
-    return preexec
+        return command
+    return [sys.executable, "-I", "-S", "-c", _TIED, str(os.getpid()), *command]
