@@ -138,16 +138,17 @@ def test_a_check_that_would_run_for_minutes_is_stopped_by_its_budget_on_the_work
 ):
     """In a Dask worker's child process the audit's alarm stops each slow check at its
     budget: inconclusive, on time, as in the local pool."""
-    budget = TimeBudget(check=1.0, corrections=1.0)
+    # the case's deadline far away (margin HANG): this test is about the alarm alone,
+    # which a busy machine may deliver seconds late, after a long call into C returns
+    budget = TimeBudget(check=1.0, corrections=1.0, margin=HANG)
     (case,) = cases = [crafted_case()]
     ((_, audit),) = audit_on_cluster(process_cluster, cases, budget)
     for check in ("integral", "casimir"):
         result = audit.result(check, case.claims[0].label)
         assert result.verdict is Verdict.INCONCLUSIVE
         assert result.reason == "time budget exceeded (1 s)"
-        # stopped near its budget (within ten times it: a busy machine's alarm may come
-        # late), not after the minutes the proof would take
-        assert result.seconds < 10.0
+        # stopped by the alarm, not after the minutes the proof would take
+        assert result.seconds < HANG
     ((_, local),) = audit_in_workers(cases, 1, budget)
     for check in ("integral", "casimir"):  # the slow checks end as in the local pool
         mine, theirs = (a.result(check, case.claims[0].label) for a in (audit, local))
