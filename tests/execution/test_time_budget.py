@@ -10,7 +10,7 @@ import sympy as sp
 from registry import Verdict, audit_case, load_case
 from registry.execution.time_budget import BudgetExceeded, TimeBudget, time_limit
 from registry.model import Expression
-from tests.helpers.clocks import cpu_bound
+from tests.helpers.clocks import HANG, cpu_bound
 from tests.helpers.samples import CASES
 
 
@@ -59,9 +59,9 @@ def test_an_expression_crafted_to_take_forever_ends_inconclusive_within_its_budg
         assert result.verdict is Verdict.INCONCLUSIVE
         assert result.reason == "time budget exceeded (1 s)"
         # the reason names the 1 s budget; the audit's own wall-clock figure says that the
-        # alarm stopped the check near it (within ten times it: on a busy machine the
-        # alarm may come late), not after the minutes the proof would take
-        assert result.seconds < 10.0
+        # alarm stopped the check (on a busy machine it may come seconds late, after a
+        # long call into C returns), not after the minutes the proof would take
+        assert result.seconds < HANG
 
 
 def test_a_workers_deadline_covers_every_check_the_repairs_and_a_margin():
