@@ -7,6 +7,7 @@ as fields and builds its message from them, so the CLI can print
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 
@@ -317,8 +318,8 @@ class DaskMissingError(SchedulerError, ImportError):
 
 
 class BudgetSettingError(RegistryError, ValueError):
-    """An environment variable meant to set a default time budget holds no positive
-    number of seconds."""
+    """An environment variable meant to set a default number of seconds (a time budget,
+    the wait for a database lock) holds no positive number of seconds."""
 
     def __init__(self, variable: str, text: str):
         self.variable, self.text = variable, text
@@ -326,3 +327,15 @@ class BudgetSettingError(RegistryError, ValueError):
             f"${variable} must be a positive number of seconds, not {text!r} "
             "(unset it for the built-in default)"
         )
+
+
+def seconds_setting(variable: str, text: str) -> float:
+    """The positive, finite number of seconds ``text`` (the value of ``$variable``) says,
+    or BudgetSettingError."""
+    try:
+        seconds = float(text)
+    except ValueError:
+        raise BudgetSettingError(variable, text) from None
+    if not (seconds > 0 and math.isfinite(seconds)):
+        raise BudgetSettingError(variable, text)
+    return seconds

@@ -29,7 +29,7 @@ from registry.model import (
 )
 from registry.store.database import Store
 from tests.helpers import watchdog
-from tests.helpers.clocks import PATIENT
+from tests.helpers.clocks import HANG, PATIENT
 from tests.helpers.databases import BACKENDS, POSTGRES, Databases
 from tests.helpers.postgres_server import PostgresServer, ServerUnavailable
 
@@ -39,6 +39,9 @@ from tests.helpers.postgres_server import PostgresServer, ServerUnavailable
 # defaults a busy machine runs out of. Tests of the budgets themselves pass theirs.
 os.environ.setdefault("REGISTRY_BUDGET", f"{PATIENT.check:g}")
 os.environ.setdefault("REGISTRY_CORRECTIONS_BUDGET", f"{PATIENT.corrections:g}")
+# Likewise a command waits for another's database lock longer than the 10 s default (a
+# whole catalog added on a loaded machine held it for over 30 s); tests of the wait set it.
+os.environ.setdefault("REGISTRY_LOCK_TIMEOUT", f"{HANG / 2:g}")
 
 # Property tests draw the same examples on every run (a failure is reproducible, and CI
 # does not fail at random); HYPOTHESIS_PROFILE=explore draws new ones each run. No

@@ -719,6 +719,16 @@ def test_a_bad_budget_in_the_environment_is_one_line_naming_it(module_databases,
     assert registry.open(db).runs().empty  # refused before any run was started
 
 
+def test_a_bad_lock_wait_in_the_environment_is_one_line_naming_it(tmp_path, monkeypatch):
+    monkeypatch.setenv("REGISTRY_LOCK_TIMEOUT", "soon")
+    result = invoke(tmp_path / "registry.sqlite", "add", str(case_file(ZHUKOVSKY)))
+    assert result.exit_code != 0
+    assert error_lines(result) == [
+        "Error: $REGISTRY_LOCK_TIMEOUT must be a positive number of seconds, not 'soon' "
+        "(unset it for the built-in default)"
+    ]
+
+
 def test_the_audit_forks_its_workers_where_no_other_thread_of_the_command_runs(
     tmp_path, monkeypatch
 ):

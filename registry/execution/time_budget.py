@@ -9,7 +9,6 @@ processes (``local``, ``children``) are killed from outside when their case over
 
 from __future__ import annotations
 
-import math
 import os
 import signal
 import threading
@@ -17,7 +16,7 @@ from collections.abc import Iterator, Mapping
 from contextlib import contextmanager
 from dataclasses import dataclass, replace
 
-from ..errors import BudgetSettingError
+from ..errors import seconds_setting
 
 
 class BudgetExceeded(BaseException):
@@ -63,15 +62,8 @@ def default_budget(environ: Mapping[str, str] | None = None) -> TimeBudget:
     budget = DEFAULT_BUDGET
     for variable, field in ((BUDGET_ENV, "check"), (CORRECTIONS_BUDGET_ENV, "corrections")):
         text = environ.get(variable, "").strip()
-        if not text:
-            continue
-        try:
-            seconds = float(text)
-        except ValueError:
-            raise BudgetSettingError(variable, text) from None
-        if not (seconds > 0 and math.isfinite(seconds)):
-            raise BudgetSettingError(variable, text)
-        budget = replace(budget, **{field: seconds})
+        if text:
+            budget = replace(budget, **{field: seconds_setting(variable, text)})
     return budget
 
 

@@ -17,6 +17,7 @@ locked (or, on PostgreSQL, lost a deadlock). Another backend is another branch o
 from __future__ import annotations
 
 import functools
+import os
 import re
 import time
 import zlib
@@ -45,11 +46,15 @@ from ..errors import (
     ServerDatabaseMissingError,
     ServerUnavailableError,
     StorageError,
+    seconds_setting,
 )
 
 #: How long one attempt waits for another process's lock (SQLite's busy timeout,
-#: PostgreSQL's lock_timeout).
+#: PostgreSQL's lock_timeout), unless ``$REGISTRY_LOCK_TIMEOUT`` says otherwise.
 BUSY_TIMEOUT = 10.0
+#: Environment variable that replaces ``BUSY_TIMEOUT`` (seconds): for a busy machine,
+#: where another command may hold the database longer.
+LOCK_TIMEOUT_ENV = "REGISTRY_LOCK_TIMEOUT"
 
 #: Attempts of a transaction that found the database locked, before giving up.
 LOCK_ATTEMPTS = 3
@@ -66,6 +71,13 @@ LOCK_NAMESPACE = 0x52674231
 #: The SQLAlchemy backend names of database servers (shared by several processes and
 #: users, created by an administrator), as opposed to SQLite files.
 SERVER_BACKENDS = ("postgresql",)
+
+
+def lock_timeout() -> float:
+    """Seconds one attempt waits for another process's lock: ``$REGISTRY_LOCK_TIMEOUT``
+    where set (BudgetSettingError if it is not a positive number), else ``BUSY_TIMEOUT``."""
+    text = os.environ.get(LOCK_TIMEOUT_ENV, "").strip()
+    return seconds_setting(LOCK_TIMEOUT_ENV, text) if text else BUSY_TIMEOUT
 
 
 def resolve(url_or_path: str | Path, create: bool) -> tuple[URL, str]:
@@ -118,7 +130,7 @@ def configure_sqlite(engine: Engine, file_db: bool) -> None:
         cursor = dbapi_connection.cursor()
         try:
             cursor.execute("PRAGMA foreign_keys=ON")
-            cursor.execute(f"PRAGMA busy_timeout={int(BUSY_TIMEOUT * 1000)}")
+            cursor.execute(f"PRAGMA busy_timeout={int(lock_timeout() * 1000)}")
             if file_db:
                 cursor.execute("PRAGMA journal_mode=WAL")
         finally:
@@ -132,10 +144,10 @@ def configure_sqlite(engine: Engine, file_db: bool) -> None:
 
 def postgresql_connect_args(url: URL) -> dict[str, Any]:
     """Connection settings for PostgreSQL (psycopg), merged with those of the URL: a
-    lock held longer than ``BUSY_TIMEOUT`` fails the statement (``DatabaseLockedError``,
+    lock held longer than ``lock_timeout()`` fails the statement (``DatabaseLockedError``,
     retried by ``guarded``) instead of waiting for ever; times come back in UTC; a server
     that does not answer within ``CONNECT_TIMEOUT`` is reported as unreachable."""
-    settings = f"-c lock_timeout={int(BUSY_TIMEOUT * 1000)} -c TimeZone=UTC"
+    settings = f"-c lock_timeout={int(lock_timeout() * 1000)} -c TimeZone=UTC"
     given = url.query.get("options")
     given = " ".join(given) if isinstance(given, tuple) else given
     return {
@@ -201,7 +213,7 @@ def storage_error(err: DBAPIError, location: str, doing: str = "write to it") ->
     reported = str(err.orig)
     said = reported.lower()
     if "locked" in said or "busy" in said:
-        return DatabaseLockedError(location, BUSY_TIMEOUT * LOCK_ATTEMPTS)
+        return DatabaseLockedError(location, lock_timeout() * LOCK_ATTEMPTS)
     if "readonly" in said or "read-only" in said:
         return DatabaseReadOnlyError(location, doing)
     if "disk is full" in said or "disk full" in said:
@@ -251,7 +263,7 @@ def server_error(err: DBAPIError, location: str, doing: str = "write to it") -> 
     said = _server_said(err)
     lowered = said.lower()
     if state in LOST_TO_ANOTHER or "lock timeout" in lowered:
-        return DatabaseLockedError(location, BUSY_TIMEOUT * LOCK_ATTEMPTS)
+        return DatabaseLockedError(location, lock_timeout() * LOCK_ATTEMPTS)
     missing = re.search(r'database "(.*)" does not exist', said)
     if state == "3D000" or missing:
         return ServerDatabaseMissingError(location, missing.group(1) if missing else location)

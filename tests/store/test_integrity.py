@@ -283,7 +283,7 @@ def test_a_full_disk_stores_nothing_of_the_change(db, monkeypatch):
 # SQLite's write lock; PostgreSQL's lock timeout is the test after this one
 @pytest.mark.parametrize("backend", ["sqlite"], indirect=True)
 def test_a_locked_database_is_retried_then_reported(db, monkeypatch):
-    monkeypatch.setattr(engine, "BUSY_TIMEOUT", 0.1)
+    monkeypatch.setenv(engine.LOCK_TIMEOUT_ENV, "0.1")
     monkeypatch.setattr(engine, "LOCK_ATTEMPTS", 2)
     reg = registry.open(db)
     holder = sqlite3.connect(db, isolation_level=None, check_same_thread=False)
@@ -306,7 +306,7 @@ def test_a_locked_database_is_retried_then_reported(db, monkeypatch):
 @POSTGRES
 @pytest.mark.parametrize("backend", ["postgres"], indirect=True)
 def test_a_lock_held_too_long_on_the_server_is_retried_then_reported(db, monkeypatch):
-    monkeypatch.setattr(engine, "BUSY_TIMEOUT", 0.1)
+    monkeypatch.setenv(engine.LOCK_TIMEOUT_ENV, "0.1")
     monkeypatch.setattr(engine, "LOCK_ATTEMPTS", 2)
     reg = registry.open(db)
     with connection(db) as holder:  # another session keeps new case versions out
