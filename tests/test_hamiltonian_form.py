@@ -8,6 +8,7 @@ Pi = [[hat(M + mu), hat(gamma)], [hat(gamma), kappa hat(M)]] (CASE_FORMAT.md).
 from __future__ import annotations
 
 import tomllib
+from dataclasses import dataclass
 
 import pytest
 import sympy as sp
@@ -297,22 +298,34 @@ def test_both_forms_give_the_same_verdicts(path):
 
 
 HAMILTONIAN_FORM = [p for p in CATALOG if load_case(p).system.hamiltonian_form]
-#: Old coordinates in terms of new ones: a cyclic permutation of the axes (a rotation,
-#: which keeps the bracket), and gamma = 2 gamma' (which turns kappa into kappa/4).
-ROTATED = {M1: M3, M2: M1, M3: M2, g1: g3, g2: g1, g3: g2}
-SCALED = {g1: 2 * g1, g2: 2 * g2, g3: 2 * g3, mech.s: 2 * mech.s}
 
 
-def rewritten(case: Case, old: dict) -> Case:
-    """``case`` in the new coordinates of ``old``: H, the torque (a vector), kappa and
-    every claim and level set rewritten, as a physicist would type them."""
+@dataclass(frozen=True)
+class Coordinates:
+    """A change of coordinates: the old ones in terms of the new (``old``), how many places
+    the torque's components move, and the factor kappa is divided by."""
+
+    old: dict
+    torque_shift: int = 0
+    kappa_over: int = 1
+
+
+#: A cyclic permutation of the axes (a rotation: the bracket is kept, the torque, a
+#: vector, is permuted too), and gamma = 2 gamma' (which turns kappa into kappa/4).
+ROTATED = Coordinates({M1: M3, M2: M1, M3: M2, g1: g3, g2: g1, g3: g2}, torque_shift=1)
+SCALED = Coordinates({g1: 2 * g1, g2: 2 * g2, g3: 2 * g3, mech.s: 2 * mech.s}, kappa_over=4)
+
+
+def rewritten(case: Case, change: Coordinates) -> Case:
+    """``case`` in the new coordinates of ``change``: H, the torque, kappa and every claim
+    and level set rewritten, as a physicist would type them."""
     data = tomllib.loads(case.text)
-    system, new = data["system"], lambda e: to_text(e.xreplace(old))
+    system, new = data["system"], lambda e: to_text(e.xreplace(change.old))
     system["hamiltonian"] = new(case.system.hamiltonian.expr)
     torque = [new(t.expr) for t in case.system.torque]
-    system["torque"] = torque[1:] + torque[:1] if old is ROTATED else torque
-    scale = sp.Integer(4) if old is SCALED else sp.Integer(1)
-    system["kappa"] = to_text(case.system.kappa.expr / scale)
+    shift = change.torque_shift
+    system["torque"] = torque[shift:] + torque[:shift]
+    system["kappa"] = to_text(case.system.kappa.expr / change.kappa_over)
     for claim, written in zip(case.claims, data.get("claims", []), strict=True):
         written["expression"] = new(claim.expression.expr)
         if claim.on:
@@ -328,8 +341,8 @@ def test_a_rotation_of_the_axes_or_a_rescaled_gamma_changes_no_verdict(path):
     gamma = 2 gamma' and kappa/4, gets the same verdict for every check and claim."""
     case = load_case(path)
     first = verdicts(audit_case(case, repair=False))
-    for old in (ROTATED, SCALED):
-        assert verdicts(audit_case(rewritten(case, old), repair=False)) == first
+    for change in (ROTATED, SCALED):
+        assert verdicts(audit_case(rewritten(case, change), repair=False)) == first
 
 
 # ------------------------------------------------------------------ discovery
