@@ -1,23 +1,26 @@
 """The test suite on a busy machine: the README's test command, run while busy processes
-(pure-Python loops, three per core by default) compete with it for the cores.
+(pure-Python loops) keep the machine's load at three times its cores by default.
 
 A test that holds only on a quiet machine (a tight wall-clock bound, a file read before
-it is complete) fails here. The busy processes are started and stopped by this script,
-and die with it however it ends (a parent-death signal on Linux).
+it is complete) fails here. The load is held, not guessed: every two seconds the script
+counts the runnable processes and starts or stops busy ones, so that the suite's own
+processes plus the busy ones make the load asked for. The busy processes die with this
+script however it ends (the registry's parent-death rule).
 
-Usage: python scripts/loaded_suite.py [--load N] [-- PYTEST ARGUMENTS]
+Usage: python scripts/loaded_suite.py [--load L] [-- PYTEST ARGUMENTS]
   e.g. python scripts/loaded_suite.py
        python scripts/loaded_suite.py --load 4 -- tests/distributed -x
-Prints the load, pass/fail and counts, and the duration; exits with pytest's status.
+Prints the load held (the 1-minute load average, sampled each minute), pass/fail and
+counts, and the duration; exits with pytest's status.
 Nothing here is a test: run it by hand, before a release or after touching timings.
 """
 
 from __future__ import annotations
 
 import argparse
-import ctypes
 import os
 import signal
+import statistics
 import subprocess
 import sys
 import tempfile
@@ -27,49 +30,64 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 
-#: prctl(2) option: the signal a process gets when its parent ends (Linux).
-_PR_SET_PDEATHSIG = 1
+#: A busy process: ends with this script (argv[1] is its pid), then computes forever.
+BUSY = (
+    "import sys\n"
+    "from registry.execution.serving import die_with_parent\n"
+    "die_with_parent(int(sys.argv[1]))\n"
+    "while True: sum(i * i for i in range(1000))\n"
+)
 
-#: A busy process: computes forever, one core's worth.
-BUSY = "while True: sum(i * i for i in range(1000))"
-
-
-def dying_with_this_process():
-    """A ``preexec_fn`` that has the kernel kill the child when this script ends (Linux)."""
-    if not sys.platform.startswith("linux"):
-        return None
-    prctl = ctypes.CDLL(None, use_errno=True).prctl
-    parent = os.getpid()
-
-    def preexec() -> None:
-        prctl(_PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0)
-        if os.getppid() != parent:
-            os._exit(1)
-
-    return preexec
+#: Seconds between two looks at the load; looks averaged to decide (half a minute).
+LOOK_EVERY = 2.0
+LOOKS = 15
 
 
-def start_load(n: int) -> list[subprocess.Popen]:
-    return [
-        subprocess.Popen(
-            [sys.executable, "-c", BUSY],
-            stdin=subprocess.DEVNULL,
-            preexec_fn=dying_with_this_process(),
-        )
-        for _ in range(n)
-    ]
+def runnable() -> int:
+    """Processes running or waiting for a core now, this script not counted (Linux)."""
+    with open("/proc/loadavg") as f:
+        return int(f.read().split()[3].split("/")[0]) - 1
 
 
-def stop_load(busy: list[subprocess.Popen]) -> float:
-    """Stop the busy processes; the CPU seconds they used."""
-    for proc in busy:
-        proc.kill()
-    used = 0.0
-    for proc in busy:
-        _, _, usage = os.wait4(proc.pid, 0)
-        proc.returncode = -signal.SIGKILL
-        used += usage.ru_utime + usage.ru_stime
-    return used
+class Load:
+    """Busy processes, as many as the load asked for needs beside everything else."""
+
+    def __init__(self, target: float, most: int) -> None:
+        self.target, self.most = target, most
+        self.busy: list[subprocess.Popen] = []
+        self.looks: list[int] = []  # the other runnable processes, at each look
+        self.cpu = 0.0
+
+    def adjust(self) -> None:
+        # each look counts the others at that moment: a window of totals would lag
+        # behind a change of busy processes, and the count would swing
+        self.looks = (self.looks + [runnable() - len(self.busy)])[-LOOKS:]
+        others = statistics.fmean(self.looks)
+        want = max(0, min(self.most, round(self.target - others)))
+        while len(self.busy) < want:
+            self.busy.append(
+                subprocess.Popen(
+                    [sys.executable, "-c", BUSY, str(os.getpid())],
+                    cwd=ROOT,
+                    stdin=subprocess.DEVNULL,
+                )
+            )
+        while len(self.busy) > want:
+            self.cpu += _kill(self.busy.pop())
+
+    def stop(self) -> float:
+        """Stop every busy process; the CPU seconds they used, all told."""
+        while self.busy:
+            self.cpu += _kill(self.busy.pop())
+        return self.cpu
+
+
+def _kill(proc: subprocess.Popen) -> float:
+    """Kill a busy process; the CPU seconds it used."""
+    proc.kill()
+    _, _, usage = os.wait4(proc.pid, 0)
+    proc.returncode = -signal.SIGKILL
+    return usage.ru_utime + usage.ru_stime
 
 
 def counts(junit: Path) -> dict[str, int]:
@@ -85,31 +103,53 @@ def counts(junit: Path) -> dict[str, int]:
     return found
 
 
+def run(command: list[str], load: Load) -> tuple[int, list[float]]:
+    """pytest's exit status, and the 1-minute load average seen each minute meanwhile."""
+    proc = subprocess.Popen(command, cwd=ROOT)
+    seen: list[float] = []
+    next_sample = time.monotonic() + 60
+    while True:
+        load.adjust()
+        try:
+            return proc.wait(timeout=LOOK_EVERY), seen
+        except subprocess.TimeoutExpired:
+            pass
+        if time.monotonic() >= next_sample:
+            seen.append(os.getloadavg()[0])
+            next_sample += 60
+
+
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     cores = os.cpu_count() or 1
     parser.add_argument(
-        "--load", type=int, default=3 * cores, help=f"busy processes (default 3 x {cores} cores)"
+        "--load",
+        type=float,
+        default=3.0 * cores,
+        help=f"the load to hold, in runnable processes (default 3 x {cores} cores)",
     )
     parser.add_argument("pytest_args", nargs="*", help="arguments for pytest (after --)")
     args = parser.parse_args()
+    if not sys.platform.startswith("linux"):
+        parser.error("the load is read from /proc/loadavg: Linux only")
 
     with tempfile.TemporaryDirectory(prefix="loaded-suite-") as tmp:
         junit = Path(tmp) / "junit.xml"
         command = [sys.executable, "-m", "pytest", f"--junitxml={junit}", *args.pytest_args]
-        print(f"{cores} cores, {args.load} busy processes; load average before: "
+        print(f"{cores} cores, holding a load of {args.load:g}; load average before: "
               f"{os.getloadavg()[0]:.1f}")  # fmt: skip
         print("running:", " ".join(command[2:]), flush=True)
-        busy = start_load(args.load)
+        load = Load(args.load, most=4 * max(1, round(args.load)))
         started = time.monotonic()
+        seen: list[float] = []
         try:
-            status = subprocess.call(command, cwd=ROOT)
+            status, seen = run(command, load)
         except KeyboardInterrupt:
             status = 130
         finally:
             seconds = time.monotonic() - started
-            load = os.getloadavg()[0]
-            busy_cpu = stop_load(busy)
+            seen.append(os.getloadavg()[0])
+            busy_cpu = load.stop()
         found = counts(junit)
 
     passed = found["tests"] - found["failures"] - found["errors"] - found["skipped"]
@@ -117,7 +157,8 @@ def main() -> int:
     print(f"loaded suite: {'PASS' if status == 0 else 'FAIL'} (pytest exit status {status})")
     print(f"  {passed} passed, {found['failures']} failed, {found['errors']} errors, "
           f"{found['skipped']} skipped")  # fmt: skip
-    print(f"  duration {seconds:.0f} s; load average at the end {load:.1f}; "
+    print(f"  duration {seconds:.0f} s; load average {min(seen):.1f}-{max(seen):.1f} "
+          f"(mean {statistics.fmean(seen):.1f}, {len(seen)} looks: each minute and at the end); "
           f"the busy processes used {busy_cpu:.0f} CPU seconds")  # fmt: skip
     return status
 
