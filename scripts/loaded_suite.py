@@ -4,8 +4,9 @@
 A test that holds only on a quiet machine (a tight wall-clock bound, a file read before
 it is complete) fails here. The load is held, not guessed: every two seconds the script
 counts the runnable processes and starts or stops busy ones, so that the suite's own
-processes plus the busy ones make the load asked for. The busy processes die with this
-script however it ends (the registry's parent-death rule).
+processes plus the busy ones make the load asked for. The busy processes and pytest die
+with this script however it ends (the registry's parent-death rule; pytest's own
+watchdog then stops what the tests started).
 
 Usage: python scripts/loaded_suite.py [--load L] [-- PYTEST ARGUMENTS]
   e.g. python scripts/loaded_suite.py
@@ -30,13 +31,24 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 
-#: A busy process: ends with this script (argv[1] is its pid), then computes forever.
-BUSY = (
-    "import sys\n"
+#: ``python -c _TIED PID COMMAND...``: ends when PID (this script) ends, however it ends
+#: (the registry's parent-death rule), then becomes COMMAND.
+_TIED = (
+    "import os, sys\n"
     "from registry.execution.serving import die_with_parent\n"
     "die_with_parent(int(sys.argv[1]))\n"
-    "while True: sum(i * i for i in range(1000))\n"
+    "os.execvp(sys.argv[2], sys.argv[2:])\n"
 )
+
+#: A busy process: computes forever, one core's worth.
+BUSY = [sys.executable, "-c", "while True: sum(i * i for i in range(1000))"]
+
+
+def tied(command: list[str]) -> list[str]:
+    """``command``, started so that it dies with this script (the kernel's parent-death
+    signal survives the exec)."""
+    return [sys.executable, "-c", _TIED, str(os.getpid()), *command]
+
 
 #: Seconds between two looks at the load; looks averaged to decide (half a minute).
 LOOK_EVERY = 2.0
@@ -65,13 +77,7 @@ class Load:
         others = statistics.fmean(self.looks)
         want = max(0, min(self.most, round(self.target - others)))
         while len(self.busy) < want:
-            self.busy.append(
-                subprocess.Popen(
-                    [sys.executable, "-c", BUSY, str(os.getpid())],
-                    cwd=ROOT,
-                    stdin=subprocess.DEVNULL,
-                )
-            )
+            self.busy.append(subprocess.Popen(tied(BUSY), cwd=ROOT, stdin=subprocess.DEVNULL))
         while len(self.busy) > want:
             self.cpu += _kill(self.busy.pop())
 
@@ -105,7 +111,7 @@ def counts(junit: Path) -> dict[str, int]:
 
 def run(command: list[str], load: Load) -> tuple[int, list[float]]:
     """pytest's exit status, and the 1-minute load average seen each minute meanwhile."""
-    proc = subprocess.Popen(command, cwd=ROOT)
+    proc = subprocess.Popen(tied(command), cwd=ROOT)
     seen: list[float] = []
     next_sample = time.monotonic() + 60
     while True:
