@@ -1,7 +1,8 @@
 """Running calls in worker processes of this machine that can be killed.
 
 ``run_in_workers`` keeps long-lived workers (forked where the platform allows, so sympy
-is not imported again, and its caches stay warm from item to item), gives each a batch
+is not imported again, and its caches stay warm from item to item; new interpreters
+where this process runs other threads), gives each a batch
 of items, and waits on their pipes with a deadline per item: a worker that overruns it
 (stuck in C code, where the in-process timer cannot interrupt it) is killed, the item
 becomes ``Failure("killed")``, and a new worker takes the rest of the batch. Every
@@ -13,6 +14,7 @@ from __future__ import annotations
 
 import multiprocessing as mp
 import os
+import threading
 import time
 from collections.abc import Callable, Generator, Iterator, Sequence
 from multiprocessing.connection import wait
@@ -31,9 +33,28 @@ def default_jobs() -> int:
         return max(1, os.cpu_count() or 1)
 
 
+def _threads() -> int:
+    """Threads this process runs, those of C libraries included (Linux), else Python's."""
+    try:
+        return len(os.listdir("/proc/self/task"))
+    except OSError:
+        return threading.active_count()
+
+
 def _context() -> Any:
-    methods = mp.get_all_start_methods()
-    return mp.get_context("fork" if "fork" in methods else "spawn")
+    """How workers start: forked from this process where it runs one thread (they inherit
+    its imports and sympy's caches), else as new interpreters.
+
+    A fork copies the locks that other threads hold, without those threads: a worker
+    forked while another thread imports a module (a Jupyter kernel's threads, a Dask
+    client's) would wait for ever on that module's lock. A new interpreter imports sympy
+    and the registry again (about a second of processor time per worker), and is this
+    process's own child, so it dies with it as a forked one does. (A fork server would
+    start warm, but its workers keep it alive, and it keeps them.)
+    """
+    if "fork" in mp.get_all_start_methods() and _threads() == 1:
+        return mp.get_context("fork")
+    return mp.get_context("spawn")
 
 
 class _Worker:
@@ -51,7 +72,10 @@ class _Worker:
     def give(
         self, batch: list[int], items: Sequence[Any], seconds: Callable[[Any], float | None]
     ) -> None:
-        self.conn.send([items[i] for i in batch])
+        try:
+            self.conn.send([items[i] for i in batch])
+        except (BrokenPipeError, ConnectionError):
+            pass  # it died already: its pipe reads as closed, the item comes back crashed
         self.batch = list(batch)
         self.start_clock(items, seconds)
 
@@ -131,7 +155,7 @@ def run_in_workers(
                 if w.conn in ready:
                     try:
                         status, value = w.conn.recv()
-                    except EOFError:  # the worker died: report it and replace it
+                    except (EOFError, ConnectionError):  # it died: report and replace it
                         code = w.proc.exitcode
                         why = f"worker died ({code})"
                         yield index, Failure("crashed", why, exitcode=code)

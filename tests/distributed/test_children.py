@@ -18,6 +18,7 @@ from registry.execution.children import run_batch
 from registry.execution.serving import FAILURES, Failure
 from registry.execution.time_budget import BudgetExceeded, time_limit
 from tests.helpers.clocks import HANG
+from tests.helpers.processes import another_thread_importing, import_named
 
 # ------------------------------------------------------- calls the workers run
 
@@ -111,31 +112,15 @@ def test_every_failure_kind_is_explained():
     assert set(FAILURES) == {"killed", "crashed", "error", "lost"}
 
 
-def import_named(name: str) -> str:
-    """Imports the module ``name`` and returns the value it defines."""
-    import importlib
-
-    return importlib.import_module(name).VALUE
-
-
 def test_a_child_started_while_another_worker_thread_imports_a_module_does_not_hang(
-    tmp_path, monkeypatch
+    tmp_path,
 ):
     # A worker thread that is importing a module holds that module's import lock. A
     # child forked from the worker at that moment inherits the lock held by a thread it
     # does not have, and hangs for ever the first time it needs the module (as sympy's
     # functions import their helpers on first use). Children must start clean.
-    name = f"slow_import_{os.getpid()}"
-    (tmp_path / f"{name}.py").write_text("import time\ntime.sleep(3)\nVALUE = 42\n")
-    monkeypatch.syspath_prepend(str(tmp_path))
-    importing = threading.Thread(target=import_named, args=(name,))
-    importing.start()
-    try:
-        time.sleep(1)  # the other thread is now inside the module's import
+    with another_thread_importing(tmp_path) as name:
         result = run_batch(import_named, [(0, name, HANG)])
-    finally:
-        importing.join()
-        sys.modules.pop(name, None)
     assert result.outcomes == [(0, 42)]
 
 

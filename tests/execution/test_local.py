@@ -3,7 +3,11 @@ killable workers whose every item comes back as a result or a ``Failure`` saying
 
 from __future__ import annotations
 
+import importlib
 import os
+import subprocess
+import sys
+import threading
 import time
 
 from registry.errors import DiscoveryError
@@ -11,7 +15,12 @@ from registry.execution.local import default_jobs, local_mapper, run_in_workers
 from registry.execution.mapping import in_order
 from registry.execution.serving import Failure
 from tests.helpers.clocks import HANG
-from tests.helpers.processes import alive
+from tests.helpers.processes import (
+    alive,
+    another_thread_importing,
+    descendants,
+    import_named,
+)
 
 
 def _pid_after(seconds: float) -> tuple[float, int]:
@@ -82,3 +91,60 @@ def test_the_local_mapper_names_a_call_without_a_result():
     assert found[0][0] == "a"
     assert isinstance(found[1], DiscoveryError) and str(found[1]).startswith("crashed: ")
     assert str(found[2]) == "killed: deadline exceeded"
+
+
+def test_workers_started_while_another_thread_imports_a_module_do_not_hang(tmp_path):
+    # The caller runs other threads (a Jupyter kernel does): a worker forked from it while
+    # one of them imports a module would wait for ever on that module's lock, and be
+    # killed at its deadline. Workers are then new interpreters.
+    with another_thread_importing(tmp_path) as name:
+        found = dict(run_in_workers(import_named, [name], jobs=1, seconds=lambda _: HANG))
+    assert found == {0: 42}
+
+
+def test_a_function_a_new_worker_cannot_import_is_a_crash_for_each_item(tmp_path):
+    # with another thread running, workers are new interpreters, which import fn's
+    # module again: where it is gone, each worker dies before it reads its batch
+    name = f"gone_{os.getpid()}"
+    (tmp_path / f"{name}.py").write_text("def twice(x):\n    return 2 * x\n")
+    sys.path.insert(0, str(tmp_path))
+    other = threading.Event()
+    threading.Thread(target=other.wait, daemon=True).start()
+    try:
+        twice = importlib.import_module(name).twice
+        (tmp_path / f"{name}.py").unlink()
+        found = dict(run_in_workers(twice, [1, 2], jobs=1, seconds=lambda _: HANG))
+    finally:
+        other.set()
+        sys.modules.pop(name, None)
+        sys.path.remove(str(tmp_path))
+    assert sorted(found) == [0, 1]
+    for failure in found.values():
+        assert isinstance(failure, Failure) and failure.kind == "crashed"
+
+
+#: A caller with another thread, whose two workers sleep; it prints "started" when both run.
+CALLER = """
+import threading, time
+from registry.execution.local import run_in_workers
+threading.Thread(target=threading.Event().wait, daemon=True).start()
+for _ in run_in_workers(time.sleep, [600, 600], 2, seconds=lambda _: None,
+                        started=lambda i: print("started", i, flush=True)):
+    pass
+"""
+
+
+def test_workers_started_beside_other_threads_die_with_their_caller():
+    caller = subprocess.Popen([sys.executable, "-c", CALLER], stdout=subprocess.PIPE, text=True)
+    try:
+        assert caller.stdout is not None
+        assert [caller.stdout.readline().split()[0] for _ in range(2)] == ["started"] * 2
+        below = descendants(caller.pid)
+        assert len(below) >= 2  # the two workers, and multiprocessing's resource tracker
+    finally:
+        caller.kill()
+        caller.wait()
+    deadline = time.monotonic() + HANG
+    while (left := [p for p in below if alive(p)]) and time.monotonic() < deadline:
+        time.sleep(0.05)
+    assert left == [], "processes outlived the killed caller"

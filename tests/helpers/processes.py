@@ -1,13 +1,16 @@
 """Processes the tests start and watch: the ``registry`` command line, process groups
-and children read from /proc, and killing a group."""
+and children read from /proc, killing a group, and a thread caught in the middle of an
+import (the state in which a fork is unsafe)."""
 
 from __future__ import annotations
 
 import os
 import signal
 import sys
+import threading
 import time
 from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
 
 
@@ -93,3 +96,41 @@ def dying_with_this_process(command: list[str]) -> list[str]:
     if not sys.platform.startswith("linux"):
         return command
     return [sys.executable, "-I", "-S", "-c", _TIED, str(os.getpid()), *command]
+
+
+def descendants(pid: int) -> list[int]:
+    """Live processes below ``pid``: its children, theirs, and so on."""
+    found, below = [], children(pid)
+    while below:
+        found += below
+        below = [grandchild for child in below for grandchild in children(child)]
+    return found
+
+
+def import_named(name: str) -> object:
+    """Imports the module ``name`` and returns the ``VALUE`` it defines."""
+    import importlib
+
+    return importlib.import_module(name).VALUE  # type: ignore[attr-defined]
+
+
+@contextmanager
+def another_thread_importing(directory: Path) -> Iterator[str]:
+    """While inside, another thread of this process is in the middle of importing a new
+    module (it takes 3 s); yields the module's name (``import_named`` gives 42).
+
+    That thread holds the module's import lock: a process forked now inherits the lock
+    without the thread, and waits for ever the first time it needs the module.
+    """
+    name = f"slow_import_{os.getpid()}_{time.monotonic_ns()}"
+    (directory / f"{name}.py").write_text("import time\ntime.sleep(3)\nVALUE = 42\n")
+    sys.path.insert(0, str(directory))
+    importing = threading.Thread(target=import_named, args=(name,))
+    importing.start()
+    try:
+        time.sleep(1)  # the other thread is now inside the module's import
+        yield name
+    finally:
+        importing.join()
+        sys.modules.pop(name, None)
+        sys.path.remove(str(directory))
