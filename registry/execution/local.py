@@ -33,26 +33,20 @@ def default_jobs() -> int:
         return max(1, os.cpu_count() or 1)
 
 
-def _threads() -> int:
-    """Threads this process runs, those of C libraries included (Linux), else Python's."""
-    try:
-        return len(os.listdir("/proc/self/task"))
-    except OSError:
-        return threading.active_count()
-
-
 def _context() -> Any:
-    """How workers start: forked from this process where it runs one thread (they inherit
-    its imports and sympy's caches), else as new interpreters.
+    """How workers start: forked from this process where it runs one Python thread (they
+    inherit its imports and sympy's caches), else as new interpreters.
 
     A fork copies the locks that other threads hold, without those threads: a worker
-    forked while another thread imports a module (a Jupyter kernel's threads, a Dask
-    client's) would wait for ever on that module's lock. A new interpreter imports sympy
-    and the registry again (about a second of processor time per worker), and is this
-    process's own child, so it dies with it as a forked one does. (A fork server would
-    start warm, but its workers keep it alive, and it keeps them.)
+    forked while another Python thread imports a module (a Jupyter kernel's threads, a
+    Dask client's) would wait for ever on that module's lock. Threads of C libraries
+    that never run Python (OpenBLAS's, started with numpy) hold no such lock, and they
+    are prepared for a fork. A new interpreter imports sympy and the registry again
+    (about a second of processor time per worker), and is this process's own child, so
+    it dies with it as a forked one does. (A fork server would start warm, but its
+    workers keep it alive, and it keeps them.)
     """
-    if "fork" in mp.get_all_start_methods() and _threads() == 1:
+    if "fork" in mp.get_all_start_methods() and threading.active_count() == 1:
         return mp.get_context("fork")
     return mp.get_context("spawn")
 

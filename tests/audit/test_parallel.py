@@ -2,16 +2,27 @@
 batch (largest first), and a worker stuck where the timer cannot reach killed and
 replaced, the rest of its batch still audited."""
 
+import multiprocessing as mp
 import signal
 import time
 from dataclasses import replace
 
+import pytest
+
 from registry import Verdict, audit_case, load_case
 from registry.audit.checks import CHECKS
 from registry.audit.parallel import _torque, audit_in_workers, batches, estimated_cost
+from registry.execution import local
 from registry.execution.time_budget import TimeBudget
 from tests.helpers.clocks import PATIENT
 from tests.helpers.samples import CASES
+
+
+@pytest.fixture
+def forked(monkeypatch):
+    """The workers must see a check patched in this process: they are forked, whatever
+    threads earlier tests left running (a Dask client's would make them new interpreters)."""
+    monkeypatch.setattr(local, "_context", lambda: mp.get_context("fork"))
 
 
 def _stuck_in_c(m, *args):
@@ -20,7 +31,7 @@ def _stuck_in_c(m, *args):
     time.sleep(120)
 
 
-def test_a_worker_stuck_where_the_timer_cannot_reach_is_killed_and_replaced(monkeypatch):
+def test_a_worker_stuck_where_the_timer_cannot_reach_is_killed_and_replaced(monkeypatch, forked):
     stuck = replace(CHECKS["energy"], run=_stuck_in_c)
     monkeypatch.setitem(CHECKS, "energy", stuck)
     cases = [
@@ -83,7 +94,7 @@ def _stuck_on_a_claim_named_stuck(mech, *args):
 ORIGINAL_ENERGY = CHECKS["energy"]
 
 
-def test_the_rest_of_a_killed_workers_batch_is_still_audited(monkeypatch):
+def test_the_rest_of_a_killed_workers_batch_is_still_audited(monkeypatch, forked):
     monkeypatch.setitem(
         CHECKS, "energy", replace(ORIGINAL_ENERGY, run=_stuck_on_a_claim_named_stuck)
     )
