@@ -2,7 +2,7 @@
 
 ``run_in_workers`` keeps long-lived workers (forked where the platform allows, so sympy
 is not imported again, and its caches stay warm from item to item; new interpreters
-where this process runs other threads), gives each a batch
+where this process runs other Python threads), gives each a batch
 of items, and waits on their pipes with a deadline per item: a worker that overruns it
 (stuck in C code, where the in-process timer cannot interrupt it) is killed, the item
 becomes ``Failure("killed")``, and a new worker takes the rest of the batch. Every

@@ -13,6 +13,8 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
 
+from tests.helpers.clocks import HANG
+
 
 def registry_command(db: Path, *args: str) -> list[str]:
     return [sys.executable, "-m", "registry", "--db", str(db), *args]
@@ -128,7 +130,10 @@ def another_thread_importing(directory: Path) -> Iterator[str]:
     importing = threading.Thread(target=import_named, args=(name,))
     importing.start()
     try:
-        time.sleep(1)  # the other thread is now inside the module's import
+        # a module is in sys.modules from the start of its import: the thread is inside
+        deadline = time.monotonic() + HANG
+        while name not in sys.modules and time.monotonic() < deadline:
+            time.sleep(0.01)
         yield name
     finally:
         importing.join()
