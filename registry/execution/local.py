@@ -68,7 +68,7 @@ class _Worker:
     ) -> None:
         try:
             self.conn.send([items[i] for i in batch])
-        except (BrokenPipeError, ConnectionError):
+        except ConnectionError:  # BrokenPipeError or ConnectionResetError
             pass  # it died already: its pipe reads as closed, the item comes back crashed
         self.batch = list(batch)
         self.start_clock(items, seconds)
