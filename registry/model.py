@@ -11,9 +11,17 @@ from __future__ import annotations
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from enum import StrEnum
-from typing import NoReturn
+from typing import TYPE_CHECKING, NoReturn
 
 import sympy as sp
+
+from .dynamics import Weights, as_weights
+from .expression import Expression
+
+if TYPE_CHECKING:
+    from .dynamics import Dynamics
+
+__all__ = ["Expression", "Weights", "as_weights"]  # defined beside the model, used with it
 
 
 class Assumption(StrEnum):
@@ -58,17 +66,6 @@ class Verdict(StrEnum):
             if verdict in found:
                 return verdict
         return cls.INCONCLUSIVE
-
-
-@dataclass(frozen=True)
-class Expression:
-    """An expression of the case-file language: the text as written and its meaning."""
-
-    text: str
-    expr: sp.Expr
-
-    def __str__(self) -> str:
-        return self.text
 
 
 @dataclass(frozen=True)
@@ -177,6 +174,9 @@ def _frozen(mapping: Mapping | None) -> Mapping:
 class Case:
     """One system from the literature with the claims its source makes.
 
+    ``system`` is the system as the file states it (its form's fields, kept to be
+    stored and written back); ``dynamics`` is the same system in the one form every
+    other layer reads (``registry.dynamics``, built by ``language.forms``).
     ``parameters`` maps each declared constant to its sympy symbol (which carries
     the assumption); ``functions`` maps each declared arbitrary function to its
     sympy function class and argument symbols. ``text`` is the case file as
@@ -187,6 +187,7 @@ class Case:
     title: str
     source: Source
     system: System
+    dynamics: Dynamics = field(compare=False, repr=False)
     claims: tuple[Claim, ...] = ()
     parameters: Mapping[str, sp.Symbol] = field(default_factory=dict)
     assumptions: Mapping[str, Assumption] = field(default_factory=dict)
@@ -435,13 +436,14 @@ class VerdictChange:
 @dataclass(frozen=True)
 class SearchOptions:
     """What an integral search looks for: the ansatz's largest weighted degree, the
-    weights of M and of gamma, the level set (``on``), and the parameters whose special
-    values are sought (``free``; the others stay symbolic and generic). With
-    ``relations`` it looks for Darboux polynomials instead (dF/dt = K F, the cofactor
-    K's coefficients sought like free parameters): invariant relations F = 0."""
+    weights of the state's vectors (M and gamma for the reference paper's state), the
+    level set (``on``), and the parameters whose special values are sought (``free``;
+    the others stay symbolic and generic). With ``relations`` it looks for Darboux
+    polynomials instead (dF/dt = K F, the cofactor K's coefficients sought like free
+    parameters): invariant relations F = 0."""
 
     degree: int = 4
-    weights: tuple[int, int] = (1, 2)
+    weights: Weights = (("M", 1), ("gamma", 2))
     on: tuple[Equation, ...] = ()
     free: tuple[str, ...] = ()
     relations: bool = False
@@ -449,17 +451,25 @@ class SearchOptions:
     def __post_init__(self) -> None:
         if self.degree < 1:
             raise ValueError(f"the degree of the ansatz must be at least 1, not {self.degree}")
-        if len(self.weights) != 2 or min(self.weights) < 1:
-            raise ValueError(f"weights must be two positive integers, not {self.weights}")
-        object.__setattr__(self, "weights", tuple(self.weights))
+        object.__setattr__(self, "weights", as_weights(self.weights))
         object.__setattr__(self, "on", tuple(self.on))
         object.__setattr__(self, "free", tuple(self.free))
+
+    @property
+    def weight_of(self) -> dict[str, int]:
+        """The weights by vector name."""
+        return dict(self.weights)
+
+    def weights_text(self, sep: str = ": ") -> str:
+        """``M: 1, gamma: 2`` (or with another separator, ``M=1,gamma=2``)."""
+        glue = ", " if sep.endswith(" ") else ","
+        return glue.join(f"{name}{sep}{w}" for name, w in self.weights)
 
     def as_dict(self) -> dict:
         """The options as plain data (stored with a search; the key of its reuse)."""
         return {
             "degree": self.degree,
-            "weights": {"M": self.weights[0], "gamma": self.weights[1]},
+            "weights": dict(self.weights),
             "on": [eq.text for eq in self.on],
             "free": list(self.free),
         } | ({"relations": True} if self.relations else {})

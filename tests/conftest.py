@@ -17,6 +17,7 @@ import pytest
 import sympy as sp
 from hypothesis import settings
 
+from registry.language import forms
 from registry.model import (
     Assumption,
     Case,
@@ -87,15 +88,17 @@ def make_case(
                 on=(Equation("gamma1**2 + gamma2**2 + gamma3**2 = 1", g1**2 + g2**2 + g3**2, 1),),
             ),
         )
+    system = System(
+        inertia=(Expression("C", C), Expression("C", C), Expression("2*C", 2 * C)),
+        potential=Expression("C*gamma3", C * g3),
+        torque=(ZERO, ZERO, Expression("N*gamma3", N * g3)),
+    )
     return Case(
         id=case_id,
         title=f"Title of {case_id}",
         source=Source(citation, locator="p. 1", doi=doi),
-        system=System(
-            inertia=(Expression("C", C), Expression("C", C), Expression("2*C", 2 * C)),
-            potential=Expression("C*gamma3", C * g3),
-            torque=(ZERO, ZERO, Expression("N*gamma3", N * g3)),
-        ),
+        system=system,
+        dynamics=forms.dynamics(system, {"C": C, "N": N}, {}),
         claims=claims,
         parameters={"C": C, "N": N},
         assumptions={"C": Assumption.POSITIVE, "N": Assumption.REAL},

@@ -18,10 +18,12 @@ import registry
 
 PACKAGE = Path(registry.__file__).resolve().parent
 
-BASE = {"model", "errors"}
+BASE = {"model", "errors", "dynamics", "expression"}
 #: What each layer (a folder, or a module at the top) may import, besides itself.
 ALLOWED: dict[str, set[str]] = {
-    "model": set(),
+    "expression": set(),
+    "dynamics": {"expression"},
+    "model": {"dynamics", "expression"},
     "errors": set(),
     "version": set(),
     "execution": BASE,
@@ -242,12 +244,12 @@ def test_every_folder_of_the_package_is_a_known_layer():
         (
             "mathematics/bad.py",
             "from ..store import tables\n",
-            "mathematics may import only errors, mathematics, model",
+            "mathematics may import only dynamics, errors, expression, mathematics, model",
         ),
         (
             "mathematics/bad.py",
             "def f():\n    from registry.presentation import latex\n",
-            "mathematics may import only errors, mathematics, model",
+            "mathematics may import only dynamics, errors, expression, mathematics, model",
         ),
         ("store/bad.py", "from ..audit.checks import CHECKS\n", "store may import only"),
         ("store/bad.py", "from .. import cli\n", "store may import only"),
@@ -261,7 +263,8 @@ def test_every_folder_of_the_package_is_a_known_layer():
         (
             "distributed/bad.py",
             "from ..store.database import Store\n",
-            "distributed may import only audit, discovery, distributed, errors, execution",
+            "distributed may import only audit, discovery, distributed, dynamics, errors, "
+            "execution, expression",
         ),
     ],
 )
@@ -289,4 +292,70 @@ def test_relative_imports_resolve_to_the_module_they_name(tmp_path):
     ]
     assert imports_of(package / "audit" / "checks.py", package) == [
         (1, "registry.mathematics.zero_test")
+    ]
+
+
+#: The fields of the forms a case file may give its system in (``model.System``).
+FORM_FIELDS = {
+    "inertia",
+    "inertia_exprs",
+    "potential",
+    "torque",
+    "torque_exprs",
+    "hamiltonian",
+    "hamiltonian_form",
+    "kappa",
+    "kappa_expr",
+    "variables",
+    "equations",
+    "bracket",
+    "definitions",
+}
+#: Where the forms are known: the case language builds the ``Dynamics`` every other layer
+#: reads; the model declares the forms.
+FORM_AWARE = {"language", "model"}
+
+
+def form_inspections(package: Path) -> list[str]:
+    """Every place outside the case language that reads a field of the form a case file
+    gave its system in (``case.system.inertia``, ``x.system.hamiltonian``, ...) or imports
+    ``model.System``, as 'file:line what'."""
+    found = []
+    for path in sorted(package.rglob("*.py")):
+        if layer_of(module_name(path, package)) in FORM_AWARE:
+            continue
+        where = path.relative_to(package.parent).as_posix()
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if (
+                isinstance(node, ast.Attribute)
+                and node.attr in FORM_FIELDS
+                and isinstance(node.value, ast.Attribute)
+                and node.value.attr == "system"
+            ):
+                found.append(f"{where}:{node.lineno} reads .system.{node.attr}")
+            elif isinstance(node, ast.ImportFrom) and any(a.name == "System" for a in node.names):
+                if (node.module or "").endswith("model"):
+                    found.append(f"{where}:{node.lineno} imports model.System")
+    return found
+
+
+def test_only_the_case_language_knows_the_form_of_a_system():
+    """The audit, discovery, numeric evidence, the store and presentation read the case's
+    ``Dynamics`` and ask what it has; none of them branches on the file's form."""
+    assert form_inspections(PACKAGE) == []
+
+
+def test_reading_a_form_field_outside_the_language_is_named(tmp_path):
+    package = tmp_path / "registry"
+    for folder in ("audit", "language"):
+        (package / folder).mkdir(parents=True)
+        (package / folder / "__init__.py").write_text("")
+    (package / "__init__.py").write_text("")
+    text = "def f(case):\n    return case.system.hamiltonian is None\n"
+    (package / "audit" / "bad.py").write_text(text)
+    (package / "language" / "fine.py").write_text(text)
+    (package / "audit" / "worse.py").write_text("from ..model import Case, System\n")
+    assert form_inspections(package) == [
+        "registry/audit/bad.py:2 reads .system.hamiltonian",
+        "registry/audit/worse.py:1 imports model.System",
     ]

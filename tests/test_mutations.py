@@ -8,6 +8,7 @@ import pytest
 import sympy as sp
 
 from registry import Verdict, audit_case, load_case
+from registry.language.forms import with_system
 from registry.language.printer import to_text
 from registry.mathematics.mechanics import M1, gamma1
 from registry.model import Claim, Expression, System
@@ -94,7 +95,7 @@ def test_making_the_torque_depend_on_m_breaks_jacobi(case_id):
     case = load_case(CASES / f"{case_id}.toml")
     mu = list(case.system.torque)
     mu[0] = Expression(f"{mu[0].text} + M1", mu[0].expr + M1)
-    broken = replace(case, system=replace(case.system, torque=tuple(mu)))
+    broken = with_system(case, replace(case.system, torque=tuple(mu)))
     audit = audit_case(broken, checks=["jacobi", "energy"])
     assert audit.result("jacobi").verdict is Verdict.REFUTED
     assert audit.result("energy").verdict is Verdict.VERIFIED  # H stays conserved for any mu
@@ -132,7 +133,5 @@ def test_changing_the_inertia_of_a_kovalevskaya_case_is_noticed():
     c = case.parameters["C"]
     inertia[0] = Expression("3*C", 3 * c)
     inertia[1] = Expression("3*C", 3 * c)
-    changed = replace(
-        case, system=System(tuple(inertia), case.system.potential, case.system.torque)
-    )
+    changed = with_system(case, System(tuple(inertia), case.system.potential, case.system.torque))
     assert audit_case(changed).result("integral", "K").verdict is Verdict.REFUTED

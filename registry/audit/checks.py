@@ -15,8 +15,9 @@ from dataclasses import dataclass
 
 import sympy as sp
 
+from ..dynamics import Dynamics
+from ..mathematics import flow, symengine_bridge
 from ..mathematics import mechanics as mech
-from ..mathematics import symengine_bridge
 from ..mathematics.case_mechanics import CaseMechanics
 from ..mathematics.factoring import factor
 from ..mathematics.zero_test import ZeroTest, decide
@@ -33,8 +34,9 @@ class CheckSpec:
     cost: str  # "cheap" or "expensive", a note for schedulers and readers
     applies: Callable[[Claim], bool] = lambda claim: True
     #: Why the check does not apply to a case ("" where it does): a check whose statement
-    #: holds by definition for the case is left out, never reported as verified.
-    inapplicable: Callable[[Case], str] = lambda case: ""
+    #: holds by definition for the case, or that asks about something the system does not
+    #: have (a bracket, a Hamiltonian), is left out, never reported as verified.
+    inapplicable: Callable[[Dynamics], str] = lambda dynamics: ""
 
     @property
     def statement(self) -> str:
@@ -64,22 +66,46 @@ def check(
 
 
 def not_applicable(case: Case) -> dict[str, str]:
-    """The case checks that do not apply to ``case``, each with the reason."""
-    found = {name: spec.inapplicable(case) for name, spec in CHECKS.items()}
+    """The checks that do not apply to ``case``, each with the reason."""
+    found = {name: spec.inapplicable(case.dynamics) for name, spec in CHECKS.items()}
     return {name: reason for name, reason in found.items() if reason}
 
 
-def _defined_as_pi_grad_h(case: Case) -> str:
-    if case.system.hamiltonian_form:
+def _needs_bracket(dynamics: Dynamics) -> str:
+    if dynamics.bracket is None:
+        return "not applicable: the system has no Poisson bracket (it is given by its equations)"
+    return ""
+
+
+def _needs_hamiltonian(dynamics: Dynamics) -> str:
+    if dynamics.hamiltonian is None:
+        return "not applicable: the system has no Hamiltonian (it is given by its equations)"
+    return ""
+
+
+def _needs_c1(dynamics: Dynamics) -> str:
+    if dynamics.c1 is None:
         return (
-            "not applicable: the case gives H (system.hamiltonian), and its vector field "
-            "is defined as Pi grad H"
+            "not applicable: C1 is the Casimir of the brackets of e(3), so(4) and so(3,1); "
+            "this system's bracket is another"
+            if dynamics.bracket is not None
+            else _needs_bracket(dynamics)
         )
     return ""
 
 
+def _given_on_its_own(dynamics: Dynamics) -> str:
+    if dynamics.from_bracket:
+        return (
+            "not applicable: the case gives H (system.hamiltonian), and its vector field "
+            "is defined as Pi grad H"
+        )
+    return _needs_bracket(dynamics) or _needs_hamiltonian(dynamics)
+
+
 def _result(
     name: str,
+    m: CaseMechanics,
     test: ZeroTest,
     residuals: Mapping[str, sp.Expr],
     started: float,
@@ -88,7 +114,7 @@ def _result(
 ) -> CheckResult:
     residual = None
     if test.verdict is Verdict.REFUTED and test.component is not None:
-        residual = _text(readable(residuals[test.component]))
+        residual = _text(readable(residuals[test.component], m.dynamics.shorthands))
     return CheckResult(
         check=name,
         verdict=test.verdict,
@@ -110,9 +136,10 @@ FACTOR_LIMIT = 100
 COMBINE_LIMIT = 3000
 
 
-def readable(expr: sp.Expr) -> sp.Expr:
-    """A residual in a form a person can read: s expanded, combined and factored."""
-    expanded = symengine_bridge.expand(expr.subs(mech.s, mech.S_VALUE))
+def readable(expr: sp.Expr, shorthands=mech.SHORTHANDS) -> sp.Expr:
+    """A residual in a form a person can read: shorthands (s) written out, combined and
+    factored."""
+    expanded = symengine_bridge.expand(expr.subs(dict(shorthands)))
     size = sp.count_ops(expanded)
     if size > COMBINE_LIMIT:
         return expr
@@ -137,39 +164,43 @@ def _decide(m: CaseMechanics, name: str, residuals, claim: Claim | None = None) 
     return decide(residuals, domain, seed=m.seed(name, None if claim is None else claim.label))
 
 
-@check("jacobi", cost="expensive")
+@check("jacobi", cost="expensive", inapplicable=_needs_bracket)
 def jacobi(m: CaseMechanics) -> CheckResult:
-    """Pi_mu satisfies the Jacobi identity, i.e. it is a Poisson tensor (all 20 components)."""
+    """Pi satisfies the Jacobi identity, i.e. it is a Poisson tensor (every component)."""
     started = time.perf_counter()
     residuals = m.jacobiator
-    return _result("jacobi", _decide(m, "jacobi", residuals), residuals, started)
+    return _result("jacobi", m, _decide(m, "jacobi", residuals), residuals, started)
 
 
-@check("energy")
+@check("energy", inapplicable=_needs_hamiltonian)
 def energy(m: CaseMechanics) -> CheckResult:
     """The Hamiltonian H (M.I^-1 M/2 + U, or the case's own) is conserved: dH/dt = 0."""
     started = time.perf_counter()
-    residuals = {"dH/dt": mech.time_derivative(m.hamiltonian, m.field)}
-    return _result("energy", _decide(m, "energy", residuals), residuals, started)
+    residuals = {"dH/dt": m.time_derivative(m.hamiltonian)}
+    return _result("energy", m, _decide(m, "energy", residuals), residuals, started)
 
 
-@check("c1")
+@check("c1", inapplicable=_needs_c1)
 def c1(m: CaseMechanics) -> CheckResult:
     """C1 = (kappa |M|^2 + |gamma|^2)/2 is a Casimir of Pi: Pi grad C1 = 0."""
     started = time.perf_counter()
     residuals = m.casimir_residual(m.c1)
-    return _result("c1", _decide(m, "c1", residuals), residuals, started)
+    return _result("c1", m, _decide(m, "c1", residuals), residuals, started)
 
 
-@check("hamiltonian", inapplicable=_defined_as_pi_grad_h)
+@check("hamiltonian", inapplicable=_given_on_its_own)
 def hamiltonian(m: CaseMechanics) -> CheckResult:
     """System (2.2) is Hamiltonian for Pi: its vector field equals Pi grad H."""
     started = time.perf_counter()
-    generated = mech.hamiltonian_vector_field(m.pi, m.hamiltonian)
+    dynamics = m.dynamics
+    generated = flow.hamiltonian_field(
+        dynamics.bracket, dynamics.hamiltonian, dynamics.variables, dynamics.shorthands
+    )
     residuals = {
-        f"X-Pi grad H[{v}]": x - y for v, x, y in zip(mech.STATE, m.field, generated, strict=True)
+        f"X-Pi grad H[{v}]": x - y
+        for v, x, y in zip(dynamics.variables, m.field, generated, strict=True)
     }
-    return _result("hamiltonian", _decide(m, "hamiltonian", residuals), residuals, started)
+    return _result("hamiltonian", m, _decide(m, "hamiltonian", residuals), residuals, started)
 
 
 @check("invariant", per_claim=True, applies=lambda claim: bool(claim.on))
@@ -178,16 +209,16 @@ def invariant(m: CaseMechanics, claim: Claim) -> CheckResult:
 
     def compute() -> CheckResult:
         started = time.perf_counter()
-        residuals = {f"d/dt({eq.text})": mech.time_derivative(eq.expr, m.field) for eq in claim.on}
+        residuals = {f"d/dt({eq.text})": m.time_derivative(eq.expr) for eq in claim.on}
         test = _decide(m, "invariant", residuals, claim)
-        return _result("invariant", test, residuals, started, claim.label)
+        return _result("invariant", m, test, residuals, started, claim.label)
 
     return m.once(("invariant", claim.label), compute)
 
 
 @check("integral", per_claim=True)
 def integral(m: CaseMechanics, claim: Claim) -> CheckResult:
-    """The claimed expression I is conserved: dI/dt = 0 along (2.2) (on its level set)."""
+    """The claimed expression I is conserved: dI/dt = 0 along the flow (on its level set)."""
     started = time.perf_counter()
     residuals = m.integral_residual(claim.expression.expr)
     test = _decide(m, "integral", residuals, claim)
@@ -202,13 +233,13 @@ def integral(m: CaseMechanics, claim: Claim) -> CheckResult:
             )
             test = ZeroTest(Verdict.INCONCLUSIVE, test.method)
             reason = f"dI/dt vanishes on the level set, but {why}"
-    return _result("integral", test, residuals, started, claim.label, reason)
+    return _result("integral", m, test, residuals, started, claim.label, reason)
 
 
-@check("casimir", per_claim=True)
+@check("casimir", per_claim=True, inapplicable=_needs_bracket)
 def casimir(m: CaseMechanics, claim: Claim) -> CheckResult:
-    """The claimed expression I is a Casimir of Pi_mu: Pi_mu grad I = 0 (on its level set)."""
+    """The claimed expression I is a Casimir of Pi: Pi grad I = 0 (on its level set)."""
     started = time.perf_counter()
     residuals = m.casimir_residual(claim.expression.expr)
     test = _decide(m, "casimir", residuals, claim)
-    return _result("casimir", test, residuals, started, claim.label)
+    return _result("casimir", m, test, residuals, started, claim.label)

@@ -21,7 +21,9 @@ from dataclasses import replace
 
 import sympy as sp
 
+from ..language.forms import with_torque
 from ..language.printer import to_text
+from ..mathematics import flow
 from ..mathematics import mechanics as mech
 from ..mathematics.case_mechanics import CaseMechanics
 from ..mathematics.factoring import factor
@@ -52,7 +54,9 @@ def corrected_casimir(
     expr = tidy(_prettier(family.casimir))
     probe = Claim("corrected Casimir", ClaimKind.CASIMIR, Expression(to_text(expr), expr))
     check = casimir(m, probe)
-    independent = decide({f"d/d{v}": mech.total_diff(expr, v) for v in MOMENTUM}, m.domain)
+    independent = decide(
+        {f"d/d{v}": flow.total_diff(expr, v, mech.SHORTHANDS) for v in MOMENTUM}, m.domain
+    )
     if check.verdict is not Verdict.VERIFIED or independent.verdict is not Verdict.REFUTED:
         return None
     return Correction(
@@ -80,7 +84,7 @@ def corrected_torque(m: CaseMechanics, claim: Claim) -> Correction | None:
     satisfies the Jacobi identity and I re-checks as a Casimir of Pi_mu'.
     """
     i = claim.expression.expr
-    grad_m = [mech.total_diff(i, v) for v in MOMENTUM]
+    grad_m = [flow.total_diff(i, v, mech.SHORTHANDS) for v in MOMENTUM]
     # I depends on M through s only: grad_M I = (d_s I) gamma
     ds_i = sp.cancel(mech.dot(grad_m, AXIS) / mech.dot(AXIS, AXIS))
     through_s = mech.cross(AXIS, grad_m)
@@ -93,16 +97,18 @@ def corrected_torque(m: CaseMechanics, claim: Claim) -> Correction | None:
         return None
     if decide({"d_s I": ds_i}, m.domain).verdict is not Verdict.REFUTED:
         return None  # d_s I = 0: no torque makes I a Casimir independent of C1
-    grad_g = [mech.total_diff(i, g) - ds_i * mv for g, mv in zip(AXIS, MOMENTUM, strict=True)]
+    grad_g = [
+        flow.total_diff(i, g, mech.SHORTHANDS) - ds_i * mv
+        for g, mv in zip(AXIS, MOMENTUM, strict=True)
+    ]
     w = [sp.cancel(g / ds_i) for g in grad_g]  # grad_gamma I / d_s I, at fixed s
     lam, kept = _best_lambda(m, w)
-    new = [
-        m.case.system.torque[k] if k in kept else _expression(tidy(w[k] + lam * AXIS[k]))
-        for k in range(3)
-    ]
+    own = m.dynamics.torque
+    assert own is not None  # corrections are sought only for the paper's Pi_mu
+    new = [own[k] if k in kept else _expression(tidy(w[k] + lam * AXIS[k])) for k in range(3)]
     torque = (new[0], new[1], new[2])
     changed = tuple(k for k in range(3) if k not in kept)
-    repaired = CaseMechanics(replace(m.case, system=replace(m.case.system, torque=torque)))
+    repaired = CaseMechanics(with_torque(m.case, torque))
     poisson = jacobi(repaired)
     holds = casimir(repaired, claim)
     if poisson.verdict is not Verdict.VERIFIED or holds.verdict is not Verdict.VERIFIED:
@@ -127,7 +133,9 @@ def _best_lambda(m: CaseMechanics, w: list[sp.Expr]) -> tuple[sp.Expr, set[int]]
     Component k stays unchanged for lambda_k = (mu_k - w_k)/gamma_k; components whose
     lambda_k agree identically can stay unchanged together.
     """
-    lams = [sp.cancel((m.mu[k] - w[k]) / AXIS[k]) for k in range(3)]
+    mu = m.mu
+    assert mu is not None  # corrections are sought only for the paper's Pi_mu
+    lams = [sp.cancel((mu[k] - w[k]) / AXIS[k]) for k in range(3)]
     agree = {k: {k} for k in range(3)}
     for i, j in ((0, 1), (0, 2), (1, 2)):
         if decide({"d": lams[i] - lams[j]}, m.domain).verdict is Verdict.VERIFIED:
@@ -168,7 +176,7 @@ def _irrational_parts(term: sp.Expr) -> frozenset:
 
 def holds_when(residuals, m: CaseMechanics, target: str) -> Conditions:
     """The parameter conditions under which ``residuals`` vanish, as case-file equations."""
-    found = parameter_conditions(residuals, m.domain, m.inertia)
+    found = parameter_conditions(residuals, m.domain, m.dynamics.nonzero)
     branches = tuple(tuple(equations_text(b, to_text)) for b in found.branches)
     return Conditions(target, branches, found.reason)
 
@@ -195,6 +203,12 @@ NOT_E3 = (
     "not applicable: the torque families, corrected Casimirs and corrected torques are the "
     "reference paper's, for the bracket of e(3) (kappa = 0); this case has kappa = {}"
 )
+#: Why they are not sought where the bracket is not the paper's Pi_mu at all.
+NO_TORQUE = (
+    "not applicable: the torque families, corrected Casimirs and corrected torques are the "
+    "reference paper's, for its bracket Pi_mu of e(3); this system has no gyroscopic torque "
+    "in that bracket"
+)
 
 
 def corrections(
@@ -203,12 +217,14 @@ def corrections(
     """The family of the torque, the corrections of every refuted claim and the conditions
     under which failed identities hold, for an audited case."""
     verdict = {(r.check, r.claim): r.verdict for r in results}
-    e3 = m.kappa == 0
-    family = (
-        recognise(m.mu, m.domain)
-        if e3
-        else Family("none", reason=NOT_E3.format(m.case.system.kappa.text))
-    )
+    mu = m.mu
+    e3 = mu is not None and m.kappa == 0
+    if mu is None:
+        family = Family("none", reason=NO_TORQUE)
+    elif e3:
+        family = recognise(mu, m.domain)
+    else:
+        family = Family("none", reason=NOT_E3.format(m.dynamics.kappa.text))
     corrections: list[Correction] = []
     conditions: list[Conditions] = []
     poisson = verdict.get(("jacobi", None))
@@ -224,9 +240,9 @@ def corrections(
         if own is not None:
             corrections.append(replace(own, claim=claim.label))
         if e3 and verdict.get(("casimir", claim.label)) is Verdict.REFUTED:
-            torque = corrected_torque(m, claim)
-            if torque is not None:
-                corrections.append(torque)
+            repaired = corrected_torque(m, claim)
+            if repaired is not None:
+                corrections.append(repaired)
         if claim.on:
             conditions.append(Conditions(claim.label, reason="not sought on level sets"))
             continue

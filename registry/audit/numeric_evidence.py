@@ -51,7 +51,6 @@ import numpy as np
 import sympy as sp
 
 from ..language.parser import FUNCTIONS
-from ..mathematics import mechanics as mech
 from ..mathematics.case_mechanics import CaseMechanics
 from ..mathematics.sampling import concrete_functions, sample_point, substitute_functions
 from ..model import Claim, Evidence, Verdict
@@ -217,7 +216,7 @@ def _setup(m: CaseMechanics, claim: Claim, rng: random.Random):
     of a family, and the vector field, H, I and the set's equations ready to evaluate."""
     funcs = concrete_functions(m.case.functions, rng)
     exprs = [*m.field, m.hamiltonian, claim.expression.expr, *(eq.expr for eq in claim.on)]
-    exprs = [substitute_functions(e, funcs).subs(mech.s, mech.S_VALUE) for e in exprs]
+    exprs = [m.dynamics.expanded(substitute_functions(e, funcs)) for e in exprs]
     return m.claim_domain(claim), funcs, exprs
 
 
@@ -240,20 +239,21 @@ def _gradient_norm(f: Callable, y: np.ndarray) -> float:
     return norm if math.isfinite(norm) else 0.0
 
 
-def _compile(exprs: list[sp.Expr]) -> _Compiled:
+def _compile(exprs: list[sp.Expr], state: Sequence[sp.Symbol]) -> _Compiled:
     """numpy functions of the state for the field, H, I and the set's equations with
     their Jacobian."""
-    _only_numeric(exprs)
-    field, h, i, on = exprs[:6], exprs[6], exprs[7], exprs[8:]
+    _only_numeric(exprs, state)
+    n = len(state)
+    field, h, i, on = exprs[:n], exprs[n], exprs[n + 1], exprs[n + 2 :]
 
     def fn(e):
-        return sp.lambdify([mech.STATE], e, modules="numpy")
+        return sp.lambdify([list(state)], e, modules="numpy")
 
     g = g_terms = jacobian = None
     if on:
         g = fn(on)
         g_terms = fn([_terms(e) for e in on])
-        jacobian = fn([[sp.diff(e, v) for v in mech.STATE] for e in on])
+        jacobian = fn([[sp.diff(e, v) for v in state] for e in on])
     return _Compiled(fn(field), fn(h), fn(i), fn(_terms(h)), fn(_terms(i)), g, g_terms, jacobian)
 
 
@@ -287,8 +287,9 @@ def claim_drift(
             if point is None:
                 continue
         params = {p: point[p] for p in m.domain.parameters}
-        compiled = _compile([e.xreplace(params) for e in exprs])
-        run = _solve(compiled, [float(point[v]) for v in mech.STATE], T_END, project)
+        state = m.dynamics.variables
+        compiled = _compile([e.xreplace(params) for e in exprs], state)
+        run = _solve(compiled, [float(point[v]) for v in state], T_END, project)
         if isinstance(run, str):
             notes.append(run)
             continue
@@ -358,8 +359,9 @@ def trajectory(
         if point is None:
             continue
         params = {p: point[p] for p in m.domain.parameters}
-        y0 = [float(point[v]) for v in mech.STATE]
-        run = _solve(_compile([e.xreplace(params) for e in exprs]), y0, t_end, project)
+        state = m.dynamics.variables
+        y0 = [float(point[v]) for v in state]
+        run = _solve(_compile([e.xreplace(params) for e in exprs], state), y0, t_end, project)
         if isinstance(run, str):
             continue
         start = {str(k): float(v) for k, v in point.items()}
@@ -367,11 +369,11 @@ def trajectory(
     raise ValueError(f"no trajectory could be integrated for claim {claim.label!r}")
 
 
-def _only_numeric(exprs: list[sp.Expr]) -> None:
+def _only_numeric(exprs: list[sp.Expr], state: Sequence[sp.Symbol]) -> None:
     """Refuse to generate code for anything but the state variables, numbers, arithmetic
     and the elementary functions of the case-file language (defence in depth: the trees
     come from the whitelist parser, with parameters and functions already replaced)."""
-    allowed = set(mech.STATE)
+    allowed = set(state)
     for e in exprs:
         if not e.free_symbols <= allowed:
             raise ValueError(f"unexpected symbols {e.free_symbols - allowed} in {e}")

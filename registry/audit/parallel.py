@@ -21,13 +21,14 @@ from .case_audit import as_audit, audit_case, count_checks
 def estimated_cost(case: Case) -> int:
     """A rough size of the work a case needs: its expressions' operation counts, with
     families of arbitrary functions weighted up. Used to start the largest cases first."""
-    exprs = [*case.system.torque, case.system.potential, *(c.expression for c in case.claims)]
-    return sum(sp.count_ops(e.expr) for e in exprs) + 100 * len(case.functions)
+    exprs = [*(g.expr for g in case.dynamics.given), *(c.expression.expr for c in case.claims)]
+    return sum(sp.count_ops(e) for e in exprs) + 100 * len(case.functions)
 
 
 def _torque(case: Case) -> tuple:
     """What cases sharing a torque share: its components and the parameters' assumptions."""
-    return tuple(e.text for e in case.system.torque), tuple(sorted(case.assumptions.items()))
+    torque = case.dynamics.torque or ()
+    return tuple(e.text for e in torque), tuple(sorted(case.assumptions.items()))
 
 
 def batches(cases: Sequence[Case]) -> list[list[tuple[int, Case]]]:

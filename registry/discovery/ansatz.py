@@ -30,8 +30,8 @@ from ..mathematics import mechanics as mech
 from .ring import NotInRingError, SystemRing
 from .symmetry import Decomposition, decompose
 
-#: Exponents of the six state variables (M1, M2, M3, gamma1, gamma2, gamma3).
-Monomial = tuple[int, int, int, int, int, int]
+#: Exponents of the ring's variables (the adjoined ones, then the state variables).
+Monomial = tuple[int, ...]
 #: A polynomial in the parameters: exponents (in the system's parameter order) -> rational.
 ParamPoly = Mapping[tuple[int, ...], "object"]
 
@@ -51,7 +51,7 @@ class NotPolynomialError(DiscoveryError):
 
 
 def count_monomials(max_weight: int, weights: Sequence[int]) -> int:
-    """How many monomials of the six state variables have weighted degree <= max_weight."""
+    """How many monomials of variables of these weights have weighted degree <= max_weight."""
     counts = [1] + [0] * max_weight  # counts[w]: monomials of weight exactly w so far
     for w in weights:
         for total in range(w, max_weight + 1):
@@ -62,9 +62,8 @@ def count_monomials(max_weight: int, weights: Sequence[int]) -> int:
 def weighted_monomials(
     degree: int, weights: Sequence[int], bounds: Sequence[int | None] | None = None
 ) -> list[Monomial]:
-    """Every monomial of the variables (six state variables unless more weights are
-    given) of exactly this weighted degree; a variable of weight 0 takes the exponents
-    0..its bound."""
+    """Every monomial of variables of these weights of exactly this weighted degree; a
+    variable of weight 0 takes the exponents 0..its bound."""
     n = len(weights)
     bounds = bounds or (None,) * n
     found: list[Monomial] = []
@@ -112,8 +111,10 @@ class Block:
 class PolynomialSystem:
     """A(p) c = 0 for an ansatz of weighted degree <= ``degree`` (see module docstring).
 
-    ``field`` is the vector field (six sympy expressions in the state, ``s`` and the
-    parameters); ``ideal`` the level-set equations (expressions vanishing on the set).
+    ``field`` is the vector field (one sympy expression per variable of ``state``, in
+    the state, its ``shorthands`` and the parameters; by default the reference paper's
+    six variables and s = M.gamma); ``ideal`` the level-set equations (expressions
+    vanishing on the set); ``weights`` the weight of each state variable.
     """
 
     def __init__(
@@ -128,12 +129,22 @@ class PolynomialSystem:
         hamiltonian: sp.Expr | None = None,
         cofactor: sp.Expr | None = None,
         symmetries: bool = True,
+        state: Sequence[sp.Symbol] = mech.STATE,
+        shorthands: Mapping[sp.Symbol, sp.Expr] = mech.SHORTHANDS,
     ):
         self.params = tuple(params)
         self.degree = degree
+        self.state = tuple(state)
+        self.shorthands = dict(shorthands)
         around = [] if hamiltonian is None else [hamiltonian]
         try:
-            self.space = SystemRing([*field, *around], weights, bound_from=around)
+            self.space = SystemRing(
+                [*field, *around],
+                weights,
+                state=self.state,
+                shorthands=self.shorthands,
+                bound_from=around,
+            )
         except NotInRingError as err:
             raise NotPolynomialError(str(err)) from None
         self.variables = self.space.variables
@@ -212,10 +223,10 @@ class PolynomialSystem:
             )
 
     def shift(self) -> int:
-        """How much the field raises the weighted degree of polynomials in M and gamma
-        (the weight of a cofactor, a polynomial in them: the rates of adjoined inverses
+        """How much the field raises the weighted degree of polynomials in the state
+        (the weight of a cofactor, a polynomial in it: the rates of adjoined inverses
         and roots, whose weight 0 is a convention, do not count)."""
-        state = set(mech.STATE)
+        state = set(self.state)
         return max(
             (
                 self.weight_of(m) - self.weights[i]
@@ -242,7 +253,7 @@ class PolynomialSystem:
         """``expr`` as (numerator in the system's ring, not reduced; the parameter
         denominator cleared from it): expr = numerator / denominator in the ring.
         NotPolynomialError if it is not in the ring."""
-        expr = sp.sympify(expr).subs(mech.s, mech.S_VALUE)
+        expr = self.expanded(expr)
         if self.space.extended:
             try:
                 expr = self.space.lift(expr)
@@ -262,12 +273,17 @@ class PolynomialSystem:
         plain = {v: k for k, v in self._plain.items()}
         return sp.sympify(poly.as_expr()).xreplace(plain)
 
+    def expanded(self, expr: sp.Expr) -> sp.Expr:
+        """``expr`` with the shorthands written out (s as M.gamma)."""
+        expr = sp.sympify(expr)
+        return expr.subs(self.shorthands) if self.shorthands else expr
+
     def _polynomial_field(self, field: Sequence[sp.Expr]) -> list[PolyElement]:
-        """Y = D X with one denominator D for all six components (dropping D changes no
+        """Y = D X with one denominator D for all components (dropping D changes no
         conserved quantity where X is defined)."""
         numers, denoms = [], []
         for x in field:
-            n, d = sp.fraction(sp.together(sp.expand(sp.sympify(x).subs(mech.s, mech.S_VALUE))))
+            n, d = sp.fraction(sp.together(sp.expand(self.expanded(x))))
             numers.append(n)
             denoms.append(d)
         common = sp.lcm_list(denoms)
@@ -291,9 +307,7 @@ class PolynomialSystem:
             return []
         polys = []
         for g in ideal:
-            numer, denom = sp.fraction(
-                sp.together(sp.expand(sp.sympify(g).subs(mech.s, mech.S_VALUE)))
-            )
+            numer, denom = sp.fraction(sp.together(sp.expand(self.expanded(g))))
             if denom.free_symbols & set(self.variables):
                 raise NotPolynomialError("a level-set equation is not polynomial")
             polys.append(sp.expand(numer).xreplace(self._plain))

@@ -21,7 +21,6 @@ from sympy.polys.rings import PolyElement
 
 from ..errors import DiscoveryError
 from ..language.printer import to_text
-from ..mathematics import mechanics as mech
 from ..model import IntegralStatus
 from .ansatz import PolynomialSystem
 from .integrals import vector
@@ -61,12 +60,13 @@ def known(
         return None
     if symbol is None:
         symbol = sp.Symbol(name if claim or name.isidentifier() else f"({name})")
-    return Known(name, symbol, sp.sympify(expr), poly, system.weight(poly), claim, _scale(expr))
+    scale = _scale(system, expr)
+    return Known(name, symbol, sp.sympify(expr), poly, system.weight(poly), claim, scale)
 
 
-def _scale(expr: sp.Expr) -> sp.Expr:
+def _scale(system: PolynomialSystem, expr: sp.Expr) -> sp.Expr:
     """The parameter denominator ``PolynomialSystem.polynomial`` clears from ``expr``."""
-    return sp.fraction(sp.together(sp.expand(sp.sympify(expr).subs(mech.s, mech.S_VALUE))))[1]
+    return sp.fraction(sp.together(sp.expand(system.expanded(expr))))[1]
 
 
 def _products(system: PolynomialSystem, gens: Sequence[Known]) -> list[tuple[tuple, PolyElement]]:
@@ -178,7 +178,7 @@ def checked(
     With ``parts`` (combination = sum k * prod gens^exps, as (k, exps) pairs) the
     identity is computed with ring arithmetic (``_difference``); where that does not
     show it, or without ``parts``, by expanding the expressions."""
-    outside = {*system.variables, mech.s}
+    outside = {*system.variables, *system.shorthands}
     if parts is not None and not any(k.free_symbols & outside for k, _ in parts):
         rest, common = _difference(system, expr, parts, gens)
         if not any(any(m[: system.n]) for m in rest.monoms()):
@@ -194,7 +194,7 @@ def checked(
             f"the identity {to_text(expr)} = {to_text(combination)} failed its check"
         )
     if rest:
-        _, denominator = sp.fraction(sp.together(sp.expand(difference.subs(mech.s, mech.S_VALUE))))
+        _, denominator = sp.fraction(sp.together(sp.expand(system.expanded(difference))))
         constant = system.expression(rest) / denominator
         combination += sp.factor(constant)
     return combination
@@ -224,7 +224,7 @@ def statuses(
                 gens = [*base, *chosen]
                 if not _in_span(system, fld, gens, target):
                     continue
-                relation = _relation(system, fld, gens, poly, target, _scale(expr))
+                relation = _relation(system, fld, gens, poly, target, _scale(system, expr))
                 if relation is None:
                     continue
                 combination, used, parts = relation
@@ -241,7 +241,14 @@ def statuses(
         if status is None:
             status = IntegralStatus("new")
             base.append(
-                Known(to_text(expr), expr, expr, poly, system.weight(poly), scale=_scale(expr))
+                Known(
+                    to_text(expr),
+                    expr,
+                    expr,
+                    poly,
+                    system.weight(poly),
+                    scale=_scale(system, expr),
+                )
             )
         out.append(status)
     return out

@@ -64,10 +64,9 @@ class Adjoined:
     bound: int | None
 
 
-def _polynomial(expr: sp.Expr) -> bool:
+def _polynomial(expr: sp.Expr, state: set[sp.Symbol]) -> bool:
     """Whether ``expr`` is visibly polynomial in the state (no state in a denominator, a
     root or a function): the common case, which needs no ring beyond the state's."""
-    state = set(mech.STATE)
     for node in sp.preorder_traversal(expr):
         if isinstance(node, sp.Pow):
             if not (node.exp.is_Integer and node.exp >= 0) and node.base.free_symbols & state:
@@ -77,9 +76,9 @@ def _polynomial(expr: sp.Expr) -> bool:
     return True
 
 
-def _primitive(poly: sp.Expr) -> sp.Expr:
+def _primitive(poly: sp.Expr, state: Sequence[sp.Symbol]) -> sp.Expr:
     """A state polynomial up to a constant factor: primitive, leading coefficient positive."""
-    p = sp.Poly(sp.expand(poly), *mech.STATE)
+    p = sp.Poly(sp.expand(poly), *state)
     _, p = p.primitive()
     if p.LC().could_extract_minus_sign():
         p = -p
@@ -88,9 +87,22 @@ def _primitive(poly: sp.Expr) -> sp.Expr:
 
 class SystemRing:
     """The variables of a system's ring and their relations (module docstring), found from
-    the expressions the system is built from (the field and the Hamiltonian)."""
+    the expressions the system is built from (the field and the Hamiltonian). ``state``
+    are the state variables and ``shorthands`` the names standing for expressions of them
+    (s = M.gamma), written out before anything else."""
 
-    def __init__(self, expressions: Sequence[sp.Expr], weights: Sequence[int], *, bound_from=()):
+    def __init__(
+        self,
+        expressions: Sequence[sp.Expr],
+        weights: Sequence[int],
+        *,
+        state: Sequence[sp.Symbol] = mech.STATE,
+        shorthands=mech.SHORTHANDS,
+        bound_from=(),
+    ):
+        self.state = tuple(state)
+        self._state_set = set(self.state)
+        self.shorthands = dict(shorthands or {})
         self.state_weights = tuple(weights)
         self.roots: dict[sp.Expr, tuple[sp.Symbol, sp.Symbol]] = {}
         self.inverses: dict[sp.Expr, sp.Symbol] = {}
@@ -115,40 +127,40 @@ class SystemRing:
 
     # ------------------------------------------------------------------ finding
 
-    @staticmethod
-    def _prepare(expr: sp.Expr) -> sp.Expr:
-        return sp.sympify(expr).subs(mech.s, mech.S_VALUE)
+    def _prepare(self, expr: sp.Expr) -> sp.Expr:
+        expr = sp.sympify(expr)
+        return expr.subs(self.shorthands) if self.shorthands else expr
 
     def _weight(self, poly: sp.Expr) -> int:
-        p = sp.Poly(poly, *mech.STATE)
+        p = sp.Poly(poly, *self.state)
         return max(
             sum(a * w for a, w in zip(m, self.state_weights, strict=True)) for m in p.monoms()
         )
 
     def _collect(self, expr: sp.Expr) -> None:
         """Record the radicands and denominator factors of ``expr``."""
-        if _polynomial(expr):
+        if _polynomial(expr, self._state_set):
             return
         for node in sp.preorder_traversal(expr):
             if isinstance(node, sp.Pow) and not node.exp.is_Integer:
                 self._root_of(node)
             elif isinstance(node, (sp.Function, sp.Derivative)) and (
-                node.free_symbols & set(mech.STATE)
+                node.free_symbols & self._state_set
             ):
                 raise NotInRingError(_outside(node))
         rooted = self._roots_replaced(expr)
         _, denominator = sp.fraction(sp.together(rooted))
         for factor, _ in sp.factor_list(denominator)[1]:
-            if factor.free_symbols & set(mech.STATE) and not self._rooted_factor(factor):
-                f = _primitive(factor)
+            if factor.free_symbols & self._state_set and not self._rooted_factor(factor):
+                f = _primitive(factor, self.state)
                 if f not in self.inverses:
                     self.inverses[f] = sp.Symbol(f"ring_u{len(self.inverses) + 1}")
 
     def _root_of(self, node: sp.Pow) -> tuple[sp.Symbol, sp.Symbol] | None:
         base = node.base
-        if not (base.free_symbols & set(mech.STATE)):
+        if not (base.free_symbols & self._state_set):
             return None
-        if node.exp.is_Rational and node.exp.q == 2 and base.is_polynomial(*mech.STATE):
+        if node.exp.is_Rational and node.exp.q == 2 and base.is_polynomial(*self.state):
             b = sp.expand(base)
             if b not in self.roots:
                 i = len(self.roots) + 1
@@ -176,7 +188,7 @@ class SystemRing:
         )
 
     def _known_root(self, node: sp.Pow):
-        if not (node.base.free_symbols & set(mech.STATE)):
+        if not (node.base.free_symbols & self._state_set):
             return None
         pair = self.roots.get(sp.expand(node.base))
         if pair is None or not (node.exp.is_Rational and node.exp.q == 2):
@@ -185,9 +197,9 @@ class SystemRing:
 
     def _rooted_factor(self, factor: sp.Expr) -> sp.Symbol | None:
         """The r of a radicand equal to ``factor`` up to a constant (1/b = r^2)."""
-        f = _primitive(factor)
+        f = _primitive(factor, self.state)
         for b, (_, r) in self.roots.items():
-            if _primitive(b) == f:
+            if _primitive(b, self.state) == f:
                 return r
         return None
 
@@ -200,7 +212,7 @@ class SystemRing:
     @property
     def variables(self) -> tuple[sp.Symbol, ...]:
         """The ring's variables: the adjoined ones first, then the state."""
-        return (*(a.symbol for a in self.adjoined), *mech.STATE)
+        return (*(a.symbol for a in self.adjoined), *self.state)
 
     @property
     def weights(self) -> tuple[int, ...]:
@@ -208,7 +220,7 @@ class SystemRing:
 
     @property
     def bounds(self) -> tuple[int | None, ...]:
-        return (*(a.bound for a in self.adjoined), *(None,) * 6)
+        return (*(a.bound for a in self.adjoined), *(None,) * len(self.state))
 
     def relations(self) -> list[sp.Expr]:
         """The relations of the adjoined variables (expressions that vanish)."""
@@ -229,7 +241,7 @@ class SystemRing:
         e = self._prepare(expr)
         for node in sp.preorder_traversal(e):
             if isinstance(node, (sp.Function, sp.Derivative)) and (
-                node.free_symbols & set(mech.STATE)
+                node.free_symbols & self._state_set
             ):
                 raise NotInRingError(_outside(node))
         rooted = self._roots_replaced(e, learn=False)
@@ -237,11 +249,11 @@ class SystemRing:
         coefficient, factors = sp.factor_list(denominator)
         out = numerator / coefficient
         for factor, k in factors:
-            if not (factor.free_symbols & set(mech.STATE)):
+            if not (factor.free_symbols & self._state_set):
                 out /= factor**k
                 continue
             r = self._rooted_factor(factor)
-            f = _primitive(factor)
+            f = _primitive(factor, self.state)
             if r is not None:
                 (b,) = [b for b, (_, rr) in self.roots.items() if rr == r]
                 scale = sp.cancel(factor / b)
@@ -267,7 +279,7 @@ class SystemRing:
 
         def along(poly: sp.Expr) -> sp.Expr:
             return sp.expand(
-                sum(sp.diff(poly, v) * x for v, x in zip(mech.STATE, lifted, strict=True))
+                sum(sp.diff(poly, v) * x for v, x in zip(self.state, lifted, strict=True))
             )
 
         out = []

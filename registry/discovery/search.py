@@ -23,9 +23,9 @@ from __future__ import annotations
 import itertools
 import random
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
-from typing import Any, cast
+from typing import Any
 
 import sympy as sp
 from sympy import QQ
@@ -36,12 +36,13 @@ from ..errors import DiscoveryError
 from ..execution.local import local_mapper
 from ..execution.mapping import MAPPER_GRACE, Mapper, in_order
 from ..execution.time_budget import BudgetExceeded, time_limit
+from ..language.forms import with_values
 from ..language.parser import Namespace, parse_equation
 from ..language.printer import to_text
-from ..mathematics import mechanics as mech
 from ..mathematics.case_mechanics import CaseMechanics
 from ..mathematics.factoring import factor
 from ..mathematics.families import recognise
+from ..mathematics.grading import grading_note, homogeneous_weights, per_variable
 from ..mathematics.zero_test import decide
 from ..model import (
     Case,
@@ -53,10 +54,11 @@ from ..model import (
     Search,
     SearchOptions,
     Verdict,
+    Weights,
+    as_weights,
 )
 from . import novelty
 from .ansatz import PolynomialSystem, weighted_monomials
-from .grading import grading_note, homogeneous_weights
 from .integrals import Analysis, Generator, analyse, products
 from .linear import GF_PRIME, PRIME, Field
 from .locus import Locus, drop_locus, polynomial, same
@@ -144,7 +146,8 @@ def discover(
         )
         state.coefficients = tuple(coefficients)
         free += coefficients
-    note = grading_note(CaseMechanics(case).field, options.weights)
+    dynamics = case.dynamics
+    note = grading_note(dynamics.field, options.weights, dynamics.vectors, dynamics.shorthands)
     elsewhere = None
     if mapper is not None:
         seconds = None if budget is None else budget + MAPPER_GRACE
@@ -183,20 +186,40 @@ def search_options(
     case: Case,
     *,
     degree: int = 4,
-    weights: tuple[int, int] = (1, 2),
+    weights: Weights | Mapping[str, int] | tuple[int, int] | None = None,
     on: Sequence[str | Equation] = (),
     free: Sequence[str] = (),
     relations: bool = False,
 ) -> SearchOptions:
     """Options for searching ``case``: level-set equations given as text (``"s = 0"``)
-    are parsed in the case's own names (an ExpressionError names a bad one)."""
+    are parsed in the case's own names (an ExpressionError names a bad one); ``weights``
+    name vectors of the case's state (``{"M": 1, "gamma": 2}``, or the reference paper's
+    two numbers), each vector not named keeping its own default weight (a DiscoveryError
+    names one the state does not have)."""
     ns = Namespace(case.parameters, case.functions)
     equations = tuple(
         e if isinstance(e, Equation) else Equation(e, *parse_equation(e, ns)) for e in on
     )
-    return SearchOptions(
-        degree, cast(tuple[int, int], tuple(weights)), equations, tuple(free), relations
-    )
+    return SearchOptions(degree, full_weights(case, weights), equations, tuple(free), relations)
+
+
+def full_weights(
+    case: Case, weights: Weights | Mapping[str, int] | tuple[int, int] | None
+) -> Weights:
+    """A weight for every vector of the case's state: those given, the others' defaults."""
+    vectors = case.dynamics.vectors
+    try:
+        given = dict(as_weights(weights)) if weights is not None else {}
+    except ValueError as err:
+        raise DiscoveryError(f"--weights: {err}") from None
+    names = [v.name for v in vectors]
+    unknown = [n for n in given if n not in names]
+    if unknown:
+        raise DiscoveryError(
+            f"--weights names {', '.join(map(repr, unknown))}, which the case's state does not "
+            f"have (its vectors: {', '.join(names)})"
+        )
+    return tuple((v.name, given.get(v.name, v.weight)) for v in vectors)
 
 
 def _search(
@@ -317,11 +340,12 @@ def _step(
         Generator(system.polynomial(e), d)
         for e, (_, d) in zip(integrals, generic.extras, strict=True)
     ]
-    general = m.hamiltonian_form or m.kappa != 0
+    # the paper's own e(3) form, whose known integrals never meet (``_locus``)
+    general = m.dynamics.from_bracket or m.kappa != 0 or m.dynamics.torque is None
     locus = _locus(state, system, params, len(free), generic, known, extras, rnd, general)
     candidates = divided
     for assignment in locus.maximal():
-        sub = substituted(case, assignment)
+        sub = with_values(case, assignment)
         if sub is None:
             continue
         composed = _composed(values, assignment)
@@ -405,10 +429,12 @@ def _system(
     with a ``cofactor``, the system of its Darboux polynomials; ``values`` are the
     parameter values of the set searched, put in the level set's equations."""
     on = [sp.sympify(eq.expr).xreplace(values or {}) for eq in options.on]
-    present = set().union(*(sp.sympify(e).free_symbols for e in (*m.field, m.hamiltonian, *on)))
+    around = [] if m.hamiltonian is None else [m.hamiltonian]
+    present = set().union(*(sp.sympify(e).free_symbols for e in (*m.field, *around, *on)))
     symbolic = sorted((set(m.case.parameters.values()) - set(free)) & present, key=str)
     params = [*free, *symbolic]
-    weights = (options.weights[0],) * 3 + (options.weights[1],) * 3
+    dynamics = m.dynamics
+    weights = per_variable(options.weights, dynamics.vectors)
     system = PolynomialSystem(
         m.field,
         params,
@@ -418,6 +444,8 @@ def _system(
         hamiltonian=m.hamiltonian,
         cofactor=cofactor,
         symmetries=symmetries,
+        state=dynamics.variables,
+        shorthands=dynamics.shorthands,
     )
     return system, list(system.params)
 
@@ -440,7 +468,7 @@ def _divided(state: _State, case: Case, system: PolynomialSystem, when, values) 
                 f"the level set's basis divides by {to_text(c)}; where it vanishes is not searched"
             )
             continue
-        sub = substituted(case, solved)
+        sub = with_values(case, solved)
         if sub is None:  # the assumptions exclude c = 0
             continue
         composed = _composed(values or {}, solved)
@@ -478,7 +506,8 @@ def _cofactor(
     shift = system.shift()
     if shift < 0:
         raise DiscoveryError("the field lowers the weighted degree: no cofactor is polynomial")
-    weights = (options.weights[0],) * 3 + (options.weights[1],) * 3
+    dynamics = m.dynamics
+    weights = per_variable(options.weights, dynamics.vectors)
     if system.space.extended:
         monomials = weighted_monomials(shift, weights)
     else:
@@ -489,11 +518,11 @@ def _cofactor(
     lower = [e for e in monomials if sum(a * w for a, w in zip(e, weights, strict=True)) < shift]
     monomials = [e for e in monomials if e not in lower]
     if lower and undecided is not None:
-        better = homogeneous_weights(m.field)
+        better = homogeneous_weights(m.field, dynamics.vectors, dynamics.shorthands)
+        text = None if better is None else ",".join(f"{n}={w}" for n, w in better)
         hint = (
-            f"; it is for M={better[0]}, gamma={better[1]}: search with --weights "
-            f"M={better[0]},gamma={better[1]}"
-            if better is not None and better != tuple(options.weights)
+            f"; it is for {text}: search with --weights {text}"
+            if better is not None and dict(better) != dict(options.weights)
             else ""
         )
         undecided.append(
@@ -503,7 +532,7 @@ def _cofactor(
         )
     coefficients, cofactor = [], sp.Integer(0)
     for exps in monomials:
-        monomial = sp.Mul(*(x**e for x, e in zip(mech.STATE, exps, strict=True)))
+        monomial = sp.Mul(*(x**e for x, e in zip(dynamics.variables, exps, strict=True)))
         k = sp.Symbol("K_" + (str(monomial).replace("**", "").replace("*", "_")), real=True)
         if k.name in m.case.parameters:
             raise DiscoveryError(f"the case names a parameter {k.name}, the cofactor's own name")
@@ -550,7 +579,7 @@ def _proven_relations(state: _State, m: CaseMechanics, when, integrals, cofactor
     not complete."""
     kept = []
     for f in integrals:
-        residual = mech.time_derivative(f, m.field) - cofactor * f
+        residual = m.time_derivative(f) - cofactor * f
         verdict = decide({"dF/dt - K F": residual}, m.domain).verdict
         if verdict is Verdict.VERIFIED:
             kept.append(to_text(f))
@@ -567,22 +596,22 @@ def _proven_relations(state: _State, m: CaseMechanics, when, integrals, cofactor
 
 
 def _known_integrals(m: CaseMechanics) -> list[tuple[str, sp.Expr]]:
-    """H and the bracket's Casimirs, named: on e(3) |gamma|^2 and the torque's Casimir
-    (s where there is no torque); on so(4) and so(3,1) kappa |M|^2 + |gamma|^2 and s,
-    each where it is a Casimir of Pi (always for mu = 0; decided by the zero test for a
-    torque, which may destroy them)."""
-    named: list[tuple[str | None, sp.Expr]] = [("H", m.hamiltonian)]
-    if m.kappa == 0:
+    """H and the bracket's known Casimirs, named: those of the system's ``casimirs`` that
+    are Casimirs of its bracket (on e(3) |gamma|^2, for every torque; on so(4) and
+    so(3,1) kappa |M|^2 + |gamma|^2 and s, which a torque may destroy: decided by the zero
+    test) and, on e(3), the Casimir of the torque's family (s where there is no torque)."""
+    dynamics = m.dynamics
+    named: list[tuple[str, sp.Expr]] = []
+    if m.hamiltonian is not None:
+        named.append(("H", m.hamiltonian))
+    for name, expr in dynamics.casimirs:
+        if decide(m.casimir_residual(expr), m.domain).verdict is Verdict.VERIFIED:
+            named.append((name, expr))
+    if m.mu is not None and m.kappa == 0:
         family = recognise(m.mu, m.domain)
-        named.append((None, 2 * mech.C1))
         if family.casimir is not None:
-            named.append((None, family.casimir))
-    else:
-        untwisted = all(mu == 0 for mu in m.mu)
-        for expr in (2 * m.c1, mech.S_VALUE):
-            if untwisted or decide(m.casimir_residual(expr), m.domain).verdict is Verdict.VERIFIED:
-                named.append((None, expr))
-    return [(name or to_text(sp.expand(expr)), expr) for name, expr in named]
+            named.append((to_text(sp.expand(family.casimir)), family.casimir))
+    return named
 
 
 def _known(m: CaseMechanics, system: PolynomialSystem) -> tuple[list[Generator], list[str]]:
@@ -671,58 +700,6 @@ def _expression(system: PolynomialSystem, vec, fld: Field) -> sp.Expr:
     if primitive.LC().could_extract_minus_sign():
         primitive = -primitive
     return system.space.lower(primitive.as_expr())
-
-
-def substituted(case: Case, values: dict[sp.Symbol, sp.Expr]) -> Case | None:
-    """The case with these parameter values (its claims dropped), or None where it is
-    not defined: an assumption broken (a positive parameter not positive, ...), a
-    moment of inertia zero or undefined, a potential or torque undefined."""
-    values = {p: sp.sympify(v) for p, v in values.items()}
-    for p, v in values.items():
-        if v.is_number and (
-            (p.is_positive and not v > 0)
-            or (p.is_nonzero and v == 0)
-            or (p.is_integer and not v.is_integer)
-        ):
-            return None
-
-    def put(e: Expression) -> Expression:
-        new = sp.sympify(e.expr).xreplace(values)
-        if new.has(sp.zoo, sp.nan, sp.oo):
-            raise _Undefined
-        return Expression(to_text(new), new)
-
-    try:
-        inertia = tuple(put(e) for e in case.system.inertia)  # none in the Hamiltonian form
-        if any(sp.simplify(e.expr) == 0 for e in inertia):
-            return None
-        given = case.system.hamiltonian
-        system = replace(
-            case.system,
-            inertia=inertia,
-            potential=put(case.system.potential),
-            torque=(
-                put(case.system.torque[0]),
-                put(case.system.torque[1]),
-                put(case.system.torque[2]),
-            ),
-            hamiltonian=None if given is None else put(given),
-            kappa=put(case.system.kappa),
-        )
-    except _Undefined:  # a value where a denominator vanishes
-        return None
-    kept = {n: s for n, s in case.parameters.items() if s not in values}
-    return replace(
-        case,
-        system=system,
-        claims=(),
-        parameters=kept,
-        assumptions={n: a for n, a in case.assumptions.items() if n in kept},
-    )
-
-
-class _Undefined(Exception):
-    """A parameter value where an expression of the case is undefined."""
 
 
 def _proven(state: _State, case: Case, when, integrals: Sequence[sp.Expr]) -> IntegralSet:

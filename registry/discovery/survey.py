@@ -7,15 +7,12 @@ from __future__ import annotations
 
 from collections.abc import Iterator, Sequence
 
-import sympy as sp
-
+from ..dynamics import Dynamics
 from ..errors import DiscoveryError
 from ..execution.local import local_mapper
 from ..execution.mapping import MAPPER_GRACE, Mapper, in_order
-from ..mathematics import mechanics as mech
-from ..mathematics.case_mechanics import CaseMechanics
-from ..model import Case, Claim, IntegralSet, Provenance, Search, SearchOptions
-from .grading import homogeneous_weights
+from ..mathematics.grading import ring_degree, weights_by_symbol
+from ..model import Case, Claim, IntegralSet, Provenance, Search, SearchOptions, Weights
 from .search import discover
 
 #: The smallest degree searched: below it no integral beyond H and |gamma|^2 can show.
@@ -25,25 +22,22 @@ LEAST_DEGREE = 2
 def stated_options(case: Case) -> list[SearchOptions]:
     """The searches recorded for ``case``, whole phase space first.
 
-    Weights M: 1, gamma: 1 where the potential has terms of degree >= 2 in gamma (which
-    make H homogeneous there), else M: 1, gamma: 2; for a case that gives H or a deformed
-    bracket, the weights that make its vector field homogeneous (``grading``), else
-    M: 1, gamma: 1. The degree is the largest weighted degree of its polynomial claims
-    (the literature's, where it has any), at least 2.
+    The weights are the system's grading (``Dynamics.grading``: for the reference paper's
+    form M: 1, gamma: 1 where the potential has terms of degree >= 2 in gamma, which make
+    H homogeneous there, else M: 1, gamma: 2; for the other forms the weights that make
+    the vector field homogeneous, where some do). The degree is the largest weighted
+    degree of its polynomial claims (the literature's, where it has any), at least 2.
     """
-    weights = _weights(case)
+    weights = case.dynamics.grading
     claims = [c for c in case.claims if c.provenance is Provenance.LITERATURE] or list(case.claims)
-    degree = max([LEAST_DEGREE, *(d for c in claims if (d := _degree(c, weights)) is not None)])
+    degree = max(
+        [
+            LEAST_DEGREE,
+            *(d for c in claims if (d := _degree(c, weights, case.dynamics)) is not None),
+        ]
+    )
     level_sets = list(dict.fromkeys(c.on for c in claims if c.on))
     return [SearchOptions(degree, weights, on) for on in [(), *level_sets]]
-
-
-def _weights(case: Case) -> tuple[int, int]:
-    """The grading of the recorded searches of ``case`` (see ``stated_options``)."""
-    system = case.system
-    if not system.hamiltonian_form and system.kappa_expr == 0:
-        return (1, 1) if _gamma_degree(system.potential.expr) >= 2 else (1, 2)
-    return homogeneous_weights(CaseMechanics(case).field) or (1, 1)
 
 
 def not_searched(case: Case, options: SearchOptions, reason: str) -> Search:
@@ -106,38 +100,6 @@ def _searched_apart(work) -> Search:
     return _searched(*work)
 
 
-def _degree(claim: Claim, weights: tuple[int, int]) -> int | None:
-    """The weighted degree of a claim in the system's ring (``ring_degree``)."""
-    return ring_degree(claim.expression.expr, weights)
-
-
-def ring_degree(expr: sp.Expr, weights: tuple[int, int]) -> int | None:
-    """The weighted degree of an expression in a system's ring (``ring``): of its terms'
-    polynomial parts in (M, gamma), inverses weighing nothing and sqrt(b) half of b;
-    None for an expression outside such a ring. ``s`` counts as a constant (it is a
-    known integral wherever it is one)."""
-    expr = sp.expand(sp.sympify(expr))
-    w = dict(zip(mech.STATE, (weights[0],) * 3 + (weights[1],) * 3, strict=True))
-
-    def weight(e: sp.Expr) -> int | None:
-        if e in w:
-            return w[e]
-        if e.is_number or not (e.free_symbols & set(mech.STATE)):
-            return 0
-        if isinstance(e, sp.Mul):
-            parts = [weight(f) for f in e.args]
-            return None if None in parts else sum(parts)  # type: ignore[arg-type]
-        if isinstance(e, sp.Pow) and e.exp.is_Rational:
-            if e.exp < 0:
-                return 0
-            inner = [weight(t) for t in sp.Add.make_args(sp.expand(e.base))]
-            return None if None in inner else int(max(inner) * e.exp)  # type: ignore[type-var]
-        return None
-
-    degrees = [weight(t) for t in sp.Add.make_args(expr)]
-    return None if None in degrees else max(degrees, default=0)  # type: ignore[type-var]
-
-
-def _gamma_degree(potential: sp.Expr) -> int:
-    """The degree of a potential in gamma, in its ring (0 where it is in none)."""
-    return ring_degree(potential, (0, 1)) or 0
+def _degree(claim: Claim, weights: Weights, dynamics: Dynamics) -> int | None:
+    """The weighted degree of a claim in the system's ring (``grading.ring_degree``)."""
+    return ring_degree(claim.expression.expr, weights_by_symbol(weights, dynamics.vectors))

@@ -89,10 +89,8 @@ def derived_case_text(case: Case, found: IntegralSet, options: SearchOptions) ->
     data["parameters"] = {k: v for k, v in data.get("parameters", {}).items() if k not in names}
     if not data["parameters"]:
         del data["parameters"]
-    ansatz = (
-        f"weighted degree <= {options.degree}, weights M: {options.weights[0]}, "
-        f"gamma: {options.weights[1]}"
-        + (f", on {', '.join(e.text for e in options.on)}" if options.on else "")
+    ansatz = f"weighted degree <= {options.degree}, weights {options.weights_text()}" + (
+        f", on {', '.join(e.text for e in options.on)}" if options.on else ""
     )
     data["claims"] = [
         {

@@ -58,6 +58,7 @@ from ..model import (
     Source,
     System,
 )
+from . import forms
 from .limits import MAX_DIGITS, ParseBudget
 from .parser import (
     RESERVED_NAMES,
@@ -503,6 +504,7 @@ class _Reader:
             title=title,
             source=source,
             system=system,
+            dynamics=forms.dynamics(system, parameters, functions),
             claims=claims,
             parameters=parameters,
             assumptions=assumptions,

@@ -1,10 +1,11 @@
 """The symbolic objects of one case, computed once and shared by its checks and corrections.
 
-``CaseMechanics(case)`` holds Pi (Pi_mu of the paper, deformed by kappa), the vector
-field dx/dt = Pi grad H (written as (2.2) for the inertia form), H, the components of
-the Jacobi identity and the domain where the case's residuals live. The residuals
-of a claimed expression (dI/dt along the flow, Pi_mu grad I) are memoized per
-expression: the corrections of a refuted claim read the residual its check computed.
+``CaseMechanics(case)`` reads the case's ``Dynamics`` (its state, vector field, bracket
+and Hamiltonian, whatever form the file gave them in) and holds what the checks share:
+the components of the Jacobi identity and the domain where the case's residuals live.
+The residuals of a claimed expression (dI/dt along the flow, Pi grad I) are memoized
+per expression: the corrections of a refuted claim read the residual its check
+computed.
 """
 
 from __future__ import annotations
@@ -16,8 +17,9 @@ from types import MappingProxyType
 
 import sympy as sp
 
+from ..dynamics import Dynamics
 from ..model import Case, CheckResult, Claim
-from . import mechanics as mech
+from . import flow
 from .domain import Domain
 
 #: Residuals by component name; read-only, since every check and repair shares them.
@@ -25,71 +27,61 @@ Residuals = Mapping[str, sp.Expr]
 
 
 class CaseMechanics:
-    """The symbolic objects of one case, computed once: Pi_mu, X, H, the domain and the
+    """The symbolic objects of one case, computed once: its dynamics, the domain and the
     residuals of the expressions checked on it."""
 
     def __init__(self, case: Case):
         self.case = case
-        system = case.system
-        self.inertia = system.inertia_exprs
-        self.potential = system.potential.expr
-        self.mu = system.torque_exprs
-        self.kappa = system.kappa_expr
-        self.given_hamiltonian = None if system.hamiltonian is None else system.hamiltonian.expr
+        self.dynamics: Dynamics = case.dynamics
         self._memo: dict[tuple, CheckResult] = {}
         self._residuals: dict[tuple[str, sp.Expr], Residuals] = {}
 
+    # the system's parts, as the checks name them
+
     @property
-    def hamiltonian_form(self) -> bool:
-        """Whether the case gives H itself, so that its vector field is defined as Pi grad H."""
-        return self.given_hamiltonian is not None
+    def field(self) -> tuple[sp.Expr, ...]:
+        return self.dynamics.field
+
+    @property
+    def pi(self) -> sp.MatrixBase | None:
+        """The bracket's Poisson tensor (None where the system has none)."""
+        return self.dynamics.bracket
+
+    @property
+    def hamiltonian(self) -> sp.Expr | None:
+        return self.dynamics.hamiltonian
+
+    @property
+    def mu(self) -> tuple[sp.Expr, ...] | None:
+        """The paper's gyroscopic torque (None where the bracket is not Pi_mu)."""
+        return self.dynamics.torque_exprs
+
+    @property
+    def kappa(self) -> sp.Expr:
+        """The bracket's deformation parameter (0 on e(3) and for other brackets)."""
+        return self.dynamics.kappa.expr
+
+    @property
+    def c1(self) -> sp.Expr | None:
+        """The bracket's second Casimir (kappa |M|^2 + |gamma|^2)/2 for mu = 0."""
+        return self.dynamics.c1
 
     @cached_property
     def domain(self) -> Domain:
-        return Domain(
-            parameters=tuple(self.case.parameters.values()),
-            functions=dict(self.case.functions),
-            nonzero=tuple(self.inertia),
-            defined=(
-                self.given_hamiltonian if self.hamiltonian_form else self.potential,
-                *self.mu,
-                *([self.kappa] if self.kappa != 0 else []),
-            ),
-        )
-
-    @cached_property
-    def pi(self) -> sp.Matrix:
-        return mech.poisson_tensor(self.mu, self.kappa)
-
-    @cached_property
-    def field(self) -> tuple[sp.Expr, ...]:
-        return mech.equations_of_motion(
-            self.mu,
-            self.kappa,
-            h=self.given_hamiltonian,
-            inertia=self.inertia,
-            potential=self.potential,
-        )
-
-    @cached_property
-    def hamiltonian(self) -> sp.Expr:
-        if self.hamiltonian_form:
-            return self.given_hamiltonian
-        return mech.hamiltonian(self.inertia, self.potential)
-
-    @cached_property
-    def c1(self) -> sp.Expr:
-        """The bracket's second Casimir (kappa |M|^2 + |gamma|^2)/2 for mu = 0."""
-        return mech.casimir_c1(self.kappa)
+        return Domain.of(self.dynamics)
 
     @cached_property
     def jacobiator(self) -> dict[str, sp.Expr]:
-        """The 20 components of the Jacobi identity for Pi_mu, by index triple."""
-        names = [str(v) for v in mech.STATE]
+        """The components of the Jacobi identity of the bracket, by index triple."""
+        names = [str(v) for v in self.dynamics.variables]
         return {
             f"J[{names[i]},{names[j]},{names[k]}]": value
-            for (i, j, k), value in mech.jacobiator(self.pi).items()
+            for (i, j, k), value in flow.jacobiator(self.dynamics).items()
         }
+
+    def time_derivative(self, expr: sp.Expr) -> sp.Expr:
+        """d expr/dt along the flow."""
+        return flow.time_derivative(self.dynamics, expr)
 
     def claim_domain(self, claim: Claim) -> Domain:
         """Where a claim is decided: the case's domain on the claim's level set (its ``on``
@@ -99,18 +91,16 @@ class CaseMechanics:
         )
 
     def integral_residual(self, expr: sp.Expr) -> Residuals:
-        """dI/dt = grad I . X along the flow of (2.2), as the one component ``dI/dt``
+        """dI/dt = grad I . X along the flow, as the one component ``dI/dt``
         (computed once per expression)."""
-        return self._residual(
-            "integral", expr, lambda: {"dI/dt": mech.time_derivative(expr, self.field)}
-        )
+        return self._residual("integral", expr, lambda: {"dI/dt": self.time_derivative(expr)})
 
     def casimir_residual(self, expr: sp.Expr) -> Residuals:
-        """Pi_mu nabla f, by component (row of Pi_mu; computed once per expression)."""
+        """Pi grad f, by component (row of Pi; computed once per expression)."""
 
         def compute() -> dict[str, sp.Expr]:
-            values = self.pi * sp.Matrix(mech.gradient(expr))
-            return {f"Pi grad[{v}]": values[i] for i, v in enumerate(mech.STATE)}
+            values = flow.bracket_gradient(self.dynamics, expr)
+            return {f"Pi grad[{v}]": values[i] for i, v in enumerate(self.dynamics.variables)}
 
         return self._residual("casimir", expr, compute)
 

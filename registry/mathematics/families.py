@@ -28,7 +28,7 @@ from . import mechanics as mech
 from . import symengine_bridge
 from .domain import Domain
 from .factoring import factor
-from .mechanics import AXIS, MOMENTUM, Vector, s
+from .mechanics import AXIS, MOMENTUM, Vector3, s
 from .potentials import closed_form, tangential_potential
 from .zero_test import decide
 
@@ -78,7 +78,7 @@ def recognise(mu: Sequence[sp.Expr], domain: Domain) -> Family:
     return found
 
 
-def _recognise(mu: Vector, domain: Domain) -> Family:
+def _recognise(mu: Vector3, domain: Domain) -> Family:
     shape = _shape(mu)
     if shape == "none":
         return Family("none", reason="the torque depends on M other than through s")
@@ -133,7 +133,7 @@ def _combined(expr: sp.Expr) -> sp.Expr:
     return factor(symengine_bridge.expand(expr))
 
 
-def _shape(mu: Vector) -> str:
+def _shape(mu: Vector3) -> str:
     """The family the form of mu suggests, before any function is found."""
     if any(m.has(*MOMENTUM) for m in mu):
         return "none"
@@ -147,7 +147,7 @@ def _shape(mu: Vector) -> str:
     return "general"
 
 
-def _is_affine(mu: Vector) -> bool:
+def _is_affine(mu: Vector3) -> bool:
     return all(
         not m.has(s, AppliedUndef)
         and m.is_polynomial(*AXIS)
@@ -156,7 +156,7 @@ def _is_affine(mu: Vector) -> bool:
     )
 
 
-def _single_axis(mu: Vector) -> int | None:
+def _single_axis(mu: Vector3) -> int | None:
     nonzero = [i for i, m in enumerate(mu) if m != 0]
     return nonzero[0] if len(nonzero) == 1 else None
 
@@ -189,7 +189,7 @@ def _antiderivative(f: sp.Expr, domain: Domain) -> sp.Expr | None:
 # --- separating the dependence on s -------------------------------------------
 
 
-def separate_s(mu: Vector, domain: Domain) -> tuple[sp.Expr, Vector] | None:
+def separate_s(mu: Vector3, domain: Domain) -> tuple[sp.Expr, Vector3] | None:
     """(a(s), nu(gamma)) with gamma x mu = a(s) gamma x nu, or None.
 
     a(s) is read off a component of gamma x mu: its factors that depend on s
@@ -211,7 +211,7 @@ def separate_s(mu: Vector, domain: Domain) -> tuple[sp.Expr, Vector] | None:
     return None
 
 
-def _candidate_factors(w: Vector):
+def _candidate_factors(w: Vector3):
     state = set(AXIS) | set(MOMENTUM)
     for c in w:
         if c == 0:

@@ -21,6 +21,7 @@ from itertools import combinations
 
 import sympy as sp
 
+from ..dynamics import Vector
 from . import symengine_bridge
 
 M1, M2, M3 = sp.symbols("M1 M2 M3", real=True)
@@ -33,7 +34,17 @@ STATE: tuple[sp.Symbol, ...] = MOMENTUM + AXIS
 #: s = M . gamma, the value the shorthand ``s`` stands for.
 S_VALUE: sp.Expr = M1 * gamma1 + M2 * gamma2 + M3 * gamma3
 
-Vector = tuple[sp.Expr, sp.Expr, sp.Expr]
+Vector3 = tuple[sp.Expr, sp.Expr, sp.Expr]
+
+#: The reference paper's state as vectors: M (weight 1 in a search by default) and gamma
+#: (weight 2; sample points put it on a sphere of rational radius, so that |gamma| and
+#: one planar radius are rational).
+VECTORS: tuple[Vector, ...] = (
+    Vector("M", MOMENTUM, weight=1),
+    Vector("gamma", AXIS, weight=2, rational_norm=True),
+)
+#: The paper's shorthand: s stands for M . gamma.
+SHORTHANDS = {s: S_VALUE}
 
 
 def total_diff(expr: sp.Expr, var: sp.Symbol) -> sp.Expr:
@@ -52,7 +63,7 @@ def gradient(expr: sp.Expr) -> tuple[sp.Expr, ...]:
     return tuple(total_diff(expr, v) for v in STATE)
 
 
-def cross(a: Sequence[sp.Expr], b: Sequence[sp.Expr]) -> Vector:
+def cross(a: Sequence[sp.Expr], b: Sequence[sp.Expr]) -> Vector3:
     """a x b for 3-vectors of expressions."""
     return (
         a[1] * b[2] - a[2] * b[1],
@@ -86,7 +97,7 @@ def poisson_tensor(mu: Sequence[sp.Expr], kappa: sp.Expr = 0) -> sp.Matrix:
     return top.col_join(bottom)
 
 
-def angular_velocity(inertia: Sequence[sp.Expr]) -> Vector:
+def angular_velocity(inertia: Sequence[sp.Expr]) -> Vector3:
     """omega = I^{-1} M for principal moments (A, B, C)."""
     return tuple(m / i for m, i in zip(MOMENTUM, inertia, strict=True))  # type: ignore[return-value]
 
@@ -185,7 +196,7 @@ def jacobiator(pi: sp.Matrix) -> dict[tuple[int, int, int], sp.Expr]:
     }
 
 
-def _curl(field: Sequence[sp.Expr], wrt: Sequence[sp.Symbol], diff=total_diff) -> Vector:
+def _curl(field: Sequence[sp.Expr], wrt: Sequence[sp.Symbol], diff=total_diff) -> Vector3:
     d = [[diff(f, x) for x in wrt] for f in field]
     return (d[2][1] - d[1][2], d[0][2] - d[2][0], d[1][0] - d[0][1])
 
@@ -224,7 +235,7 @@ def casimir_system(mu: Sequence[sp.Expr], c: sp.Expr) -> tuple[sp.Expr, ...]:
     return tuple(upper) + cross(AXIS, grad[:3])
 
 
-def casimir_condition(mu: Sequence[sp.Expr], c: sp.Expr) -> Vector:
+def casimir_condition(mu: Sequence[sp.Expr], c: sp.Expr) -> Vector3:
     """The Casimir condition equation (3.4) for C = C(gamma, s).
 
     gamma x ((d_s C) mu - grad_gamma C), partial derivatives at fixed s.

@@ -10,20 +10,22 @@ same numerator (``numerator``, ``reduce_radical``).
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from typing import Any
 
 import sympy as sp
 from sympy.core.function import AppliedUndef
 
-from .mechanics import S_VALUE, s
+from .mechanics import SHORTHANDS
 
 
 class Atoms:
     """Rewrites an expression as a rational function of new symbols for its
     radicals (rho**q = base) and its transcendental or arbitrary-function terms."""
 
-    def __init__(self) -> None:
+    def __init__(self, shorthands: Mapping[sp.Symbol, sp.Expr] = SHORTHANDS) -> None:
+        #: names that stand for expressions of the state (the paper's s = M.gamma)
+        self.shorthands = dict(shorthands)
         self.radicals: dict[tuple[sp.Expr, int], sp.Symbol] = {}
         self.others: dict[sp.Expr, sp.Symbol] = {}
         self._memo: dict[sp.Expr, sp.Expr] = {}
@@ -39,7 +41,7 @@ class Atoms:
         return hit
 
     def _key(self, expr: sp.Expr) -> sp.Expr:
-        return sp.expand(self.rewrite(expr).xreplace({s: S_VALUE}))
+        return sp.expand(self.rewrite(expr).xreplace(self.shorthands))
 
     def _rewrite(self, expr: sp.Expr) -> sp.Expr:
         if expr.is_Atom:
@@ -76,7 +78,11 @@ class Atoms:
         return sym
 
 
-def prove_zero(expr: sp.Expr, on: Sequence[sp.Expr] = ()) -> str | None:
+def prove_zero(
+    expr: sp.Expr,
+    on: Sequence[sp.Expr] = (),
+    shorthands: Mapping[sp.Symbol, sp.Expr] = SHORTHANDS,
+) -> str | None:
     """Prove ``expr`` == 0 (on the level set ``on``); return the method, or None.
 
     The rewritten residual becomes an element of the field Q(x1, ..., xn) of
@@ -84,7 +90,7 @@ def prove_zero(expr: sp.Expr, on: Sequence[sp.Expr] = ()) -> str | None:
     (sparse polynomial arithmetic, far cheaper than manipulating expression
     trees); its numerator is then reduced modulo rho**q - base for every radical.
     """
-    atoms = Atoms()
+    atoms = Atoms(shorthands)
     numer, ring = _numerator_poly(atoms.rewrite(expr), atoms)
     if not numer:
         return "rational normal form"
@@ -96,7 +102,7 @@ def prove_zero(expr: sp.Expr, on: Sequence[sp.Expr] = ()) -> str | None:
         if relations and not numer.rem(relations):
             return "algebraic normal form"
         return None
-    eqs = [numerator(atoms.rewrite(e)).xreplace(_CONSTANTS) for e in on]
+    eqs = [numerator(atoms.rewrite(e), atoms.shorthands).xreplace(_CONSTANTS) for e in on]
     eqs += [rho**q - base.xreplace(_CONSTANTS) for rho, q, base in atoms.relations()]
     numer_expr = numer.as_expr()
     gens = sorted(set().union(*(e.free_symbols for e in [numer_expr, *eqs])), key=str)
@@ -108,7 +114,7 @@ def prove_zero(expr: sp.Expr, on: Sequence[sp.Expr] = ()) -> str | None:
 def _numerator_poly(rewritten: sp.Expr, atoms: Atoms):
     """The numerator of the rewritten expression as a sparse polynomial over QQ, with
     the radical symbols first in a lex order (so rho**q leads its relation)."""
-    expr = rewritten.xreplace({s: S_VALUE, **_CONSTANTS})
+    expr = rewritten.xreplace({**atoms.shorthands, **_CONSTANTS})
     radicals = list(reversed(atoms.radicals.values()))  # outer radicals before inner ones
     bases = set().union(*(b.xreplace(_CONSTANTS).free_symbols for b, _ in atoms.radicals))
     others = sorted((expr.free_symbols | bases) - set(radicals), key=str)
@@ -170,9 +176,10 @@ def _fraction(expr: sp.Expr, ring, cache: dict):
 _CONSTANTS = {sp.pi: sp.Dummy("pi"), sp.E: sp.Dummy("E")}
 
 
-def numerator(rewritten: sp.Expr) -> sp.Expr:
-    """The expanded numerator of an expression rewritten by ``Atoms`` (s as M . gamma)."""
-    rational = rewritten.xreplace({s: S_VALUE})
+def numerator(rewritten: sp.Expr, shorthands: Mapping[sp.Symbol, sp.Expr] = SHORTHANDS) -> sp.Expr:
+    """The expanded numerator of an expression rewritten by ``Atoms`` (shorthands such as
+    s written out as M . gamma)."""
+    rational = rewritten.xreplace(dict(shorthands))
     return sp.expand(sp.numer(sp.together(rational)))
 
 

@@ -22,11 +22,11 @@ from ..model import Verdict
 from . import mechanics as mech
 from . import symengine_bridge
 from .domain import Domain
-from .mechanics import AXIS, Vector
+from .mechanics import AXIS, Vector3
 from .zero_test import decide
 
 
-def tangential_potential(nu: Vector, domain: Domain) -> tuple[sp.Expr, str] | None:
+def tangential_potential(nu: Vector3, domain: Domain) -> tuple[sp.Expr, str] | None:
     """phi(gamma) with gamma x (nu - grad phi) = 0, and the construction that found it.
 
     Terms of nu are grouped by their non-polynomial factors and each group is
@@ -50,7 +50,7 @@ def tangential_potential(nu: Vector, domain: Domain) -> tuple[sp.Expr, str] | No
     return _solve_group(nu, domain)
 
 
-def _groups(nu: Vector) -> list[Vector]:
+def _groups(nu: Vector3) -> list[Vector3]:
     """nu split by the non-polynomial factors of its terms (sqrt(...), sin(...), ...)."""
     keyed: dict[frozenset, list[list[sp.Expr]]] = {}
     for i, component in enumerate(nu):
@@ -77,7 +77,7 @@ def _non_polynomial(term: sp.Expr) -> set:
     return found
 
 
-def _solve_group(nu: Vector, domain: Domain) -> tuple[sp.Expr, str] | None:
+def _solve_group(nu: Vector3, domain: Domain) -> tuple[sp.Expr, str] | None:
     for method, construct in _CONSTRUCTIONS:
         try:
             phi = construct(nu, domain)
@@ -88,14 +88,14 @@ def _solve_group(nu: Vector, domain: Domain) -> tuple[sp.Expr, str] | None:
     return None
 
 
-def _is_potential(phi: sp.Expr, nu: Vector, domain: Domain) -> bool:
+def _is_potential(phi: sp.Expr, nu: Vector3, domain: Domain) -> bool:
     grad = [sp.diff(phi, g) for g in AXIS]
     residual = mech.cross(AXIS, [n - d for n, d in zip(nu, grad, strict=True)])
     test = decide({f"[{i}]": r for i, r in enumerate(residual)}, domain)
     return test.verdict is Verdict.VERIFIED
 
 
-def _polynomial_ansatz(nu: Vector, domain: Domain) -> sp.Expr | None:
+def _polynomial_ansatz(nu: Vector3, domain: Domain) -> sp.Expr | None:
     """phi as a polynomial one degree above nu: gamma x grad phi = gamma x nu is a
     linear system for phi's coefficients, with a rational matrix that depends only
     on the degree (solved once, see ``_ansatz_system``)."""
@@ -165,7 +165,7 @@ def _meridian(axis: int):
     a, b = (i for i in range(3) if i != axis)
     ga, gb, z = AXIS[a], AXIS[b], AXIS[axis]
 
-    def construct(nu: Vector, domain: Domain) -> sp.Expr | None:
+    def construct(nu: Vector3, domain: Domain) -> sp.Expr | None:
         swirl = ga * nu[b] - gb * nu[a]
         if decide({"swirl": swirl}, domain).verdict is not Verdict.VERIFIED:
             return None
@@ -189,7 +189,7 @@ def _meridian(axis: int):
     return construct
 
 
-def _radial_homotopy(nu: Vector, domain: Domain) -> sp.Expr | None:
+def _radial_homotopy(nu: Vector3, domain: Domain) -> sp.Expr | None:
     """phi(gamma) = int_0^1 nu(t gamma) . gamma dt, the potential of a gradient field.
 
     Not tried on a family's arbitrary functions: no closed form integrates f(t gamma)
@@ -201,7 +201,7 @@ def _radial_homotopy(nu: Vector, domain: Domain) -> sp.Expr | None:
     return closed_form(sp.integrate(sp.expand(integrand), (t, 0, 1)))
 
 
-def _declared_functions(nu: Vector, domain: Domain) -> sp.Expr | None:
+def _declared_functions(nu: Vector3, domain: Domain) -> sp.Expr | None:
     """phi as a combination of the family's declared functions of gamma found in nu:
     the functions themselves, else each also times gamma1, gamma2, gamma3 (Yehia's
     torques, mu = -(div l) gamma + grad(l . gamma), have phi = l . gamma)."""
@@ -217,7 +217,7 @@ def _declared_functions(nu: Vector, domain: Domain) -> sp.Expr | None:
     )
 
 
-def _combination(nu: Vector, functions, candidates) -> sp.Expr | None:
+def _combination(nu: Vector3, functions, candidates) -> sp.Expr | None:
     """phi = sum of k_i candidates_i with gamma x (nu - grad phi) = 0: a linear system for
     the k_i once the functions and their derivatives stand as independent unknowns."""
     coeffs = sp.symbols(f"k0:{len(candidates)}", cls=sp.Dummy)

@@ -22,7 +22,6 @@ from sympy.core.function import AppliedUndef
 
 from .certified_evaluation import OutsideDomain, evaluate, exact_root
 from .domain import Domain
-from .mechanics import AXIS, MOMENTUM, S_VALUE, STATE, s
 
 
 def _rational(rng: random.Random, *, positive=False, nonzero=False, integer=False) -> Fraction:
@@ -92,19 +91,31 @@ def _exact_radicals(point: Mapping, bases: Sequence[tuple[sp.Expr, int]]) -> int
 def sample_point(domain: Domain, rng: random.Random, funcs, bases=()) -> dict | None:
     """A random exact point of the domain (on the level set), or None.
 
-    Of the candidate arrangements of gamma, the one where most of the ``bases``
-    (radicals of the residuals) are rational is taken, so values stay exact.
+    Parameters get values that respect their assumptions; each state vector then gets
+    random rationals, except that a vector sampled with a rational norm gets three
+    arrangements of a point on a sphere of rational radius (``_axis_points``), and of
+    their combinations the one where most of the ``bases`` (radicals of the residuals)
+    are rational is taken, so values stay exact. Shorthands (s = M.gamma) get their
+    values last.
     """
     point: dict[sp.Symbol, sp.Expr] = {}
     for sym in domain.parameters:
         point[sym] = sp.Rational(_parameter_value(sym, rng))
-    for sym in MOMENTUM:
-        point[sym] = sp.Rational(_rational(rng))
+    spheres = []
+    for vector in domain.vectors:
+        if vector.rational_norm and len(vector.components) == 3:
+            spheres.append(vector.components)
+            continue
+        for sym in vector.components:
+            point[sym] = sp.Rational(_rational(rng))
+    arrangements = [[(c, a) for a in _axis_points(rng)] for c in spheres]
     best: dict[sp.Symbol, sp.Expr] | None = None
     best_score = -1
-    for axis in _axis_points(rng):
-        candidate = {**point, **{g: sp.Rational(v) for g, v in zip(AXIS, axis, strict=True)}}
-        candidate[s] = sp.expand(S_VALUE.xreplace(candidate))
+    for chosen in itertools.product(*arrangements):
+        candidate = dict(point)
+        for components, values in chosen:
+            candidate.update({g: sp.Rational(v) for g, v in zip(components, values, strict=True)})
+        _put_shorthands(candidate, domain)
         score = _exact_radicals(candidate, bases) if bases else 0
         if score > best_score:
             best, best_score = candidate, score
@@ -112,10 +123,11 @@ def sample_point(domain: Domain, rng: random.Random, funcs, bases=()) -> dict | 
         return None
     point = best
     if domain.on:
-        del point[s]
-        if not _place_on_set(point, domain.on, rng, funcs):
+        for name in domain.shorthands:
+            del point[name]
+        if not _place_on_set(point, domain, rng, funcs):
             return None
-        point[s] = sp.expand(S_VALUE.xreplace(point))
+        _put_shorthands(point, domain)
     try:
         if not all(evaluate(e, point).certainly_nonzero() for e in domain.nonzero):
             return None
@@ -126,26 +138,38 @@ def sample_point(domain: Domain, rng: random.Random, funcs, bases=()) -> dict | 
     return point
 
 
-def _place_on_set(point: dict, equations: Sequence[sp.Expr], rng, funcs) -> bool:
+def _put_shorthands(point: dict, domain: Domain) -> None:
+    """The value of each shorthand (s = M.gamma) at the point."""
+    for name, value in domain.shorthands.items():
+        point[name] = sp.expand(value.xreplace(point))
+
+
+def _place_on_set(point: dict, domain: Domain, rng, funcs) -> bool:
     """Move ``point`` onto the level set, solving the equations one variable at a time.
 
     Each equation pins unpinned state variables: linearly, by scaling a homogeneous
-    group (M or gamma), or by a real root of a quadratic. Orders are tried until the
-    exact point satisfies every equation.
+    group (a vector: gamma, M), or by a real root of a quadratic. Orders are tried until
+    the exact point satisfies every equation.
     """
-    eqs = [substitute_functions(e, funcs).xreplace({s: S_VALUE}) for e in equations]
+    eqs = [domain.expanded(substitute_functions(e, funcs)) for e in domain.on]
+    # vectors with a rational norm are scaled first (gamma before M on the paper's state)
+    groups = [v.components for v in domain.vectors if v.rational_norm] + [
+        v.components for v in domain.vectors if not v.rational_norm
+    ]
     start = dict(point)
     for order in itertools.islice(itertools.permutations(eqs), 6):
         point.clear()
         point.update(start)
         pinned: set[sp.Symbol] = set()
-        if all(_pin(eq, point, pinned, rng) for eq in order) and _on_set(point, eqs):
+        if all(_pin(eq, point, pinned, rng, domain.state, groups) for eq in order) and _on_set(
+            point, eqs
+        ):
             return True
     return False
 
 
-def _pin(eq: sp.Expr, point: dict, pinned: set, rng: random.Random) -> bool:
-    free = [v for v in STATE if v not in pinned and eq.has(v)]
+def _pin(eq: sp.Expr, point: dict, pinned: set, rng: random.Random, state, groups) -> bool:
+    free = [v for v in state if v not in pinned and eq.has(v)]
     if not free:
         return False
     known = {k: v for k, v in point.items() if k not in free}
@@ -161,7 +185,7 @@ def _pin(eq: sp.Expr, point: dict, pinned: set, rng: random.Random) -> bool:
             point[v] = sp.expand(-poly.nth(0) / poly.nth(1))
             pinned.add(v)
             return True
-    for group in (AXIS, MOMENTUM):  # homogeneous in a group: scale the group
+    for group in groups:  # homogeneous in a group: scale the group
         if _scale_group(numer, group, free, point, pinned):
             return True
     for v in free:  # quadratic (or higher) in one variable: a real root

@@ -19,7 +19,7 @@ The decision is made in stages, cheapest first, and the stage is recorded:
 from __future__ import annotations
 
 import random
-from collections.abc import Mapping, Sequence
+from collections.abc import Mapping
 from dataclasses import dataclass
 
 import sympy as sp
@@ -27,7 +27,6 @@ import sympy as sp
 from ..model import Verdict, Witness
 from .certified_evaluation import OutsideDomain, Value, evaluate
 from .domain import Domain
-from .mechanics import S_VALUE, s
 from .normal_form import prove_zero
 from .sampling import concrete_functions, radical_bases, sample_point, substitute_functions
 
@@ -68,7 +67,7 @@ def decide(
         return probe
     methods = set()
     for label, expr in live.items():
-        method = prove_zero(expr, domain.on) or _simplified_to_zero(expr, domain.on)
+        method = prove_zero(expr, domain.on, domain.shorthands) or _simplified_to_zero(expr, domain)
         if method is None:
             more = _probe(live, domain, probes - 1, rng) if probes > 1 else None
             if more is not None:
@@ -89,13 +88,13 @@ _METHOD_ORDER = ["rational normal form", "algebraic normal form", "level-set red
 SIMPLIFY_LIMIT = 400
 
 
-def _simplified_to_zero(expr: sp.Expr, on: Sequence[sp.Expr]) -> str | None:
+def _simplified_to_zero(expr: sp.Expr, domain: Domain) -> str | None:
     """The last resort, for identities outside the normal forms' classes (such as
     sin**2 + cos**2 = 1): sympy's ``simplify``, on small residuals only and, like
     every stage, under the check's time budget."""
-    if on or sp.count_ops(expr) > SIMPLIFY_LIMIT:
+    if domain.on or sp.count_ops(expr) > SIMPLIFY_LIMIT:
         return None
-    return "simplify" if sp.simplify(expr.subs(s, S_VALUE)) == 0 else None
+    return "simplify" if sp.simplify(domain.expanded(expr)) == 0 else None
 
 
 # --- stage 1: exact probes (points from ``sampling``) -------------------------

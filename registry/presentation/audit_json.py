@@ -9,7 +9,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 from ..audit.outcome import CaseOutcome, ClaimOutcome
-from ..model import CheckResult
+from ..model import Case, CheckResult
 
 
 def result_document(result: CheckResult) -> dict:
@@ -59,6 +59,21 @@ def claim_document(outcome: ClaimOutcome) -> dict:
     return entry
 
 
+def system_document(case: Case) -> dict | None:
+    """The system, for a case that is not in the reference paper's own form (e(3) with A,
+    B, C and U): its Hamiltonian and kappa as written where its bracket is the paper's
+    deformed one; otherwise its variables and the parts its file gives (equations,
+    Hamiltonian, bracket entries, definitions)."""
+    dynamics = case.dynamics
+    given = {g.name: g.text for g in dynamics.given}
+    if dynamics.torque is not None:
+        if not dynamics.from_bracket and dynamics.kappa.expr == 0:
+            return None
+        h = {"hamiltonian": given["H"]} if dynamics.from_bracket else {}
+        return {**h, "kappa": dynamics.kappa.text}
+    return {"variables": [str(x) for x in dynamics.variables], "given": given}
+
+
 def case_document(outcome: CaseOutcome) -> dict:
     """One entry of ``cases``: case checks and claim verdicts."""
     doc: dict = {"case": outcome.case_id}
@@ -66,12 +81,9 @@ def case_document(outcome: CaseOutcome) -> dict:
         doc["version"] = outcome.version
     if outcome.case is not None:
         doc["title"] = outcome.case.title
-        system = outcome.case.system
-        if system.hamiltonian is not None or system.kappa_expr != 0:  # issue 20's forms
-            doc["system"] = {
-                **({} if system.hamiltonian is None else {"hamiltonian": system.hamiltonian.text}),
-                "kappa": system.kappa.text,
-            }
+        system = system_document(outcome.case)
+        if system is not None:
+            doc["system"] = system
     if outcome.error is not None:
         doc["error"] = outcome.error
     doc["checks"] = {name: str(r.verdict) for name, r in outcome.checks.items()}

@@ -8,11 +8,12 @@ in a name; Maple's ``D``, ``I``, ``gamma``; the names the file itself defines) a
 and the file says so in a comment. Text from the case file (title, id) is written only as
 string literals of the language, escaped, never as code or inside a comment.
 
-Each file defines, in its language: ``inertia`` (A, B, C; absent for a case that gives
-its Hamiltonian), ``potential``, ``torque`` (mu1, mu2, mu3), ``hamiltonian`` (H,
-from the inertia and potential where the case gives those), ``kappa`` (the bracket's
-parameter: 0 for e(3)), ``sOfState`` (what ``s`` stands for: M1*gamma1 + M2*gamma2 +
-M3*gamma3), and for every claim its expression and level set.
+Each file defines, in its language: ``variables`` (the state), ``equations`` (dx/dt for
+each variable, in that order), ``hamiltonian`` (H, where the system has one),
+``poisson`` (the bracket's matrix {x_i, x_j}, where it has one), ``torque`` (mu1, mu2,
+mu3) and ``kappa`` (0 for e(3)) where the bracket is the reference paper's, ``sOfState``
+(what ``s`` stands for: M1*gamma1 + M2*gamma2 + M3*gamma3) where the case may use it,
+and for every claim its expression and level set.
 """
 
 from __future__ import annotations
@@ -29,7 +30,7 @@ from sympy.printing.str import StrPrinter
 
 from ..model import Case
 
-#: The state variables and s, written as they are in every language.
+#: The reference paper's state variables and s, valid as they are in every language.
 VARIABLES = ("M1", "M2", "M3", "gamma1", "gamma2", "gamma3", "s")
 
 #: The names each file defines itself (a parameter of that name is renamed).
@@ -37,8 +38,9 @@ DEFINED = {
     "title",
     "caseId",
     "case_id",
-    "inertia",
-    "potential",
+    "variables",
+    "equations",
+    "poisson",
     "torque",
     "hamiltonian",
     "kappa",
@@ -213,29 +215,15 @@ def _substituted(expr: sp.Basic, names: dict[str, str]) -> sp.Basic:
     )
 
 
-def hamiltonian(case: Case) -> sp.Expr:
-    """H: the case's own, or M.I^-1 M / 2 + U from its inertia and potential."""
-    given = case.system.hamiltonian
-    if given is not None:
-        return given.expr
-    m = sp.symbols("M1 M2 M3", real=True)
-    moments = case.system.inertia_exprs
-    kinetic = sum((mi**2 / (2 * a) for mi, a in zip(m, moments, strict=True)), sp.Integer(0))
-    return kinetic + case.system.potential.expr
-
-
-def kappa(case: Case) -> sp.Expr:
-    """The bracket's parameter kappa (0, e(3), for a case that names none)."""
-    return case.system.kappa.expr
-
-
 def export(case: Case, language: Language) -> str:
     """The case's system and claims as a file of ``language``."""
-    names = renamed([*case.parameters, *case.functions], language)
+    dynamics = case.dynamics
+    state = [str(x) for x in dynamics.variables]
+    names = renamed([*state, *case.parameters, *case.functions], language)
     show = lambda e: language.printer(_substituted(e, names))  # noqa: E731
     lines = [
         language.comment(f"Registry of rigid-body integrability claims: {language.name}."),
-        language.comment("The case's system and claimed integrals; s stands for M.gamma."),
+        language.comment("The case's system and claimed integrals."),
     ]
     for old, new in names.items():
         lines.append(language.comment(f"{new} is the case's {old}"))
@@ -243,19 +231,25 @@ def export(case: Case, language: Language) -> str:
         lines += _python_header(case, names)
     lines.append(language.assign(_name("case_id", language), language.string(case.id)))
     lines.append(language.assign("title", language.string(case.title)))
-    m = sp.symbols("M1 M2 M3", real=True)
-    g = sp.symbols("gamma1 gamma2 gamma3", real=True)
-    state = sum((a * b for a, b in zip(m, g, strict=True)), sp.Integer(0))
-    lines.append(language.assign(_name("s_of_state", language), show(state)))
-    if case.system.hamiltonian is None:
-        inertia = [show(e) for e in case.system.inertia_exprs]
-        lines.append(language.assign("inertia", language.listing(inertia)))
-        lines.append(language.assign("potential", show(case.system.potential.expr)))
     lines.append(
-        language.assign("torque", language.listing([show(e) for e in case.system.torque_exprs]))
+        language.assign("variables", language.listing([show(x) for x in dynamics.variables]))
     )
-    lines.append(language.assign("hamiltonian", show(hamiltonian(case))))
-    lines.append(language.assign("kappa", show(kappa(case))))
+    for name, value in dynamics.shorthands.items():
+        lines.append(language.comment(f"{name} stands for {show(value)}"))
+        lines.append(language.assign(_name(f"{name}_of_state", language), show(value)))
+    lines.append(language.assign("equations", language.listing([show(x) for x in dynamics.field])))
+    if dynamics.hamiltonian is not None:
+        lines.append(language.assign("hamiltonian", show(dynamics.hamiltonian)))
+    if dynamics.bracket is not None:
+        rows = [
+            language.listing([show(dynamics.bracket[i, j]) for j in range(dynamics.dimension)])
+            for i in range(dynamics.dimension)
+        ]
+        lines.append(language.assign("poisson", language.listing(rows)))
+    torque = dynamics.torque_exprs
+    if torque is not None:
+        lines.append(language.assign("torque", language.listing([show(e) for e in torque])))
+        lines.append(language.assign("kappa", show(dynamics.kappa.expr)))
     claims = [(language.string(c.label), show(c.expression.expr)) for c in case.claims]
     lines.append(language.assign("claims", language.table(claims)))
     level_sets = [
@@ -284,12 +278,12 @@ def _equation(eq, show, language: Language) -> str:
 def _python_header(case: Case, names: dict[str, str]) -> list[str]:
     """Imports and the symbols and functions of a case, with their assumptions: a renamed
     one keeps its name in SymPy (``pS = Symbol("S")``), so the expressions are the case's."""
+    dynamics = case.dynamics
     exprs = [
-        *case.system.inertia_exprs,
-        case.system.potential.expr,
-        *case.system.torque_exprs,
-        hamiltonian(case),
-        kappa(case),
+        *dynamics.field,
+        *([] if dynamics.hamiltonian is None else [dynamics.hamiltonian]),
+        *([] if dynamics.bracket is None else list(dynamics.bracket)),
+        *(dynamics.torque_exprs or ()),
         *(c.expression.expr for c in case.claims),
         *(e.expr for c in case.claims for e in c.on),
     ]
@@ -304,8 +298,9 @@ def _python_header(case: Case, names: dict[str, str]) -> list[str]:
     )
     imports = ", ".join(sorted({*_PYTHON_NAMES - {"sympy"}, *ELEMENTARY, *used}))
     lines = [f"from sympy import {imports}", ""]
-    for v in VARIABLES:
-        lines.append(f'{v} = Symbol("{v}", real=True)')
+    for x in (*dynamics.variables, *dynamics.shorthands):
+        v = str(x)
+        lines.append(f'{names.get(v, v)} = Symbol("{v}", real=True)')
     for name, symbol in case.parameters.items():
         flags = ", ".join(f"{k}={v}" for k, v in sorted(symbol._assumptions_orig.items()))
         lines.append(f'{names.get(name, name)} = Symbol("{name}", {flags})')

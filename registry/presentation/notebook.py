@@ -6,7 +6,6 @@ Importing this module installs them as Jupyter reprs (``_repr_html_``,
 
 from __future__ import annotations
 
-from collections.abc import Iterable
 from html import escape
 
 import sympy as sp
@@ -55,21 +54,11 @@ def _claim_html(claim: Claim) -> str:
 
 
 def case_html(case: Case) -> str:
-    """A case as an HTML table: title, id, citation, inertia and potential (or H), torque,
-    kappa, claims."""
-    system = case.system
-    if system.hamiltonian is not None:
-        energy = [_row("Hamiltonian H", _code(system.hamiltonian.text))]
-    else:
-        energy = [
-            _row("inertia (A, B, C)", _code(", ".join(e.text for e in system.inertia))),
-            _row("potential U", _code(system.potential.text)),
-        ]
+    """A case as an HTML table: title, id, citation, the system as its file gives it
+    (moments, potential and torque, a Hamiltonian, equations or a bracket), claims."""
     rows = [
         _row("source", _source_html(case)),
-        *energy,
-        _row("torque μ", _code(", ".join(e.text for e in system.torque))),
-        *([_row("bracket κ", _code(system.kappa.text))] if system.kappa_expr != 0 else []),
+        *(_row(g.label, _code(g.text)) for g in case.dynamics.given),
         *(_row(f"{c.label} ({c.kind})", _claim_html(c)) for c in case.claims),
     ]
     caption = f"<caption><b>{escape(case.title)}</b> {_code(case.id)}</caption>"
@@ -117,10 +106,6 @@ def _tex(expr: sp.Expr) -> str:
     return sp.latex(expr)
 
 
-def _vector(exprs: Iterable[sp.Expr]) -> str:
-    return r"\left(" + r",\ ".join(_tex(e) for e in exprs) + r"\right)"
-
-
 def _text(text: str) -> str:
     return r"\text{" + latex.escape(text, balanced=True) + "}"
 
@@ -136,17 +121,10 @@ def _claim_tex(claim: Claim) -> tuple[str, str]:
 
 def case_latex(case: Case) -> str:
     """A case as a LaTeX array in math mode, expressions typeset by ``sympy.latex``."""
-    system = case.system
     rows = [
         (r"\textbf{" + latex.escape(case.title, balanced=True) + "}", _text(case.id)),
         (_text("source"), _text(case.source.citation)),
-        *(
-            [("H", _tex(system.hamiltonian.expr))]
-            if system.hamiltonian is not None
-            else [("(A, B, C)", _vector(system.inertia_exprs)), ("U", _tex(system.potential.expr))]
-        ),
-        (r"\mu", _vector(system.torque_exprs)),
-        *([(r"\kappa", _tex(system.kappa_expr))] if system.kappa_expr != 0 else []),
+        *((_tex(g.symbol), _tex(g.expr)) for g in case.dynamics.given),
         *(_claim_tex(c) for c in case.claims),
     ]
     body = r" \\ ".join(f"{head} & {cell}" for head, cell in rows)

@@ -32,7 +32,6 @@ from ..model import (
     Evidence,
     FamilyRecord,
     Verdict,
-    component_number,
     nan_to_none,
 )
 from .mathml import NAMES, equation
@@ -148,38 +147,14 @@ def _contents(w: Writer, groups: dict[str, list[CaseOutcome]]) -> None:
 
 
 def _system(w: Writer, case: Case) -> None:
-    """Inertia and potential (or H), torque and kappa in LaTeX, and the declared parameters."""
+    """The system as its file gives it, in LaTeX (moments, potential, torque and kappa; or
+    H; or equations; or a bracket), and the declared parameters."""
     w.heading(3, "System")
-    system = case.system
-    if system.hamiltonian is not None:
-        h = system.hamiltonian
-        w.equation(f"H = {w.tex(h.expr)}", equation(sp.Symbol("H"), h.expr), f"H = {h.text}")
-    else:
-        inertia = tuple(zip("ABC", system.inertia, strict=True))
+    for g in case.dynamics.given:
         w.equation(
-            r",\quad ".join(f"{n} = {w.tex(e.expr)}" for n, e in inertia),
-            tuple(equation(sp.Symbol(n), e.expr) for n, e in inertia),
-            ", ".join(f"{n} = {e.text}" for n, e in inertia),
-        )
-        potential = system.potential
-        w.equation(
-            f"U = {w.tex(potential.expr)}",
-            equation(sp.Symbol("U"), potential.expr),
-            f"U = {potential.text}",
-        )
-    for k, mu in enumerate(system.torque):
-        n = component_number(k)
-        w.equation(
-            rf"\mu_{{{n}}} = {w.tex(mu.expr)}",
-            equation(sp.Symbol(f"mu_{n}"), mu.expr),
-            f"mu{n} = {mu.text}",
-        )
-    if system.kappa_expr != 0:
-        kappa = system.kappa
-        w.equation(
-            rf"\kappa = {w.tex(kappa.expr)}",
-            equation(sp.Symbol("kappa"), kappa.expr),
-            f"kappa = {kappa.text}",
+            f"{w.tex(g.symbol)} = {w.tex(g.expr)}",
+            equation(g.symbol, g.expr),
+            f"{g.name} = {g.text}",
         )
     declared = [f"{name} ({case.assumptions.get(name, 'real')})" for name in case.parameters]
     declared += [

@@ -10,7 +10,7 @@ def statement(search: Search) -> str:
     """The result in one sentence, as a paper would state it: what exists for generic
     values, where more exists, and whether the method guarantees that nothing else does."""
     o = search.options
-    ansatz = f"of weighted degree <= {o.degree} (weights M: {o.weights[0]}, gamma: {o.weights[1]}"
+    ansatz = f"of weighted degree <= {o.degree} (weights {o.weights_text()}"
     ansatz += f"; on {', '.join(eq.text for eq in o.on)})" if o.on else ")"
     values = f"values of {', '.join(o.free)}" if o.free else "values of the parameters"
     if o.relations and search.decided:
@@ -99,7 +99,7 @@ def search_document(search: Search) -> dict:
     document = {
         "case": search.case,
         "degree": o.degree,
-        "weights": {"M": o.weights[0], "gamma": o.weights[1]},
+        "weights": dict(o.weights),
         "on": [eq.text for eq in o.on],
         "free": list(o.free),
         **({"relations": True} if o.relations else {}),
@@ -128,7 +128,7 @@ def search_text(search: Search) -> str:
     o = search.options
     lines = [
         f"{search.case}: integrals of weighted degree <= {o.degree} "
-        f"(weights M={o.weights[0]}, gamma={o.weights[1]})"
+        f"(weights {o.weights_text('=')})"
         + (f" on {', '.join(eq.text for eq in o.on)}" if o.on else "")
         + (f", free {', '.join(o.free)}" if o.free else ""),
         f"known: {', '.join(search.known)}"

@@ -32,10 +32,11 @@ from markupsafe import Markup
 from ..audit.outcome import CaseOutcome, ClaimOutcome
 from ..errors import RegistryError
 from ..language.parser import Namespace, parse_equation, parse_expression
-from ..model import Case, CheckResult, Correction, Verdict, component_number
+from ..language.printer import to_text
+from ..model import Case, CheckResult, Correction, Verdict
 from . import bibtex, latex
 from .audit_json import audit_document
-from .cas_export import LANGUAGES, export, hamiltonian, kappa
+from .cas_export import LANGUAGES, export
 from .mathml import NAMES, equation, mathml
 
 if TYPE_CHECKING:
@@ -127,9 +128,15 @@ def _parsed_equation(text: str, ns: Namespace) -> Formula:
 
 
 def bracket(case: Case) -> tuple[str, str]:
-    """The Lie-Poisson bracket of a case's Pi (CASE_FORMAT.md): e(3) for kappa = 0,
-    so(4) for kappa > 0, so(3,1) for kappa < 0, as (name, how it was decided)."""
-    k = kappa(case)
+    """The bracket of a case's system (CASE_FORMAT.md), as (name, how it was decided):
+    for the reference paper's Pi, e(3) for kappa = 0, so(4) for kappa > 0, so(3,1) for
+    kappa < 0; a bracket given entry by entry; none for a system given by its equations."""
+    dynamics = case.dynamics
+    if dynamics.bracket is None:
+        return "none", "the system is given by its equations of motion"
+    if dynamics.torque is None:
+        return "given", "the case gives its bracket entry by entry"
+    k = dynamics.kappa.expr
     if k == 0:
         return "e(3)", "kappa = 0"
     if k.is_positive:
@@ -326,23 +333,13 @@ def _missing(value: Any) -> bool:
 
 
 def _system(case: Case) -> list[Formula]:
-    """The system: H (or A, B, C and U, then H), the torque, the bracket's kappa."""
-    system, shown = case.system, []
-    given = system.hamiltonian
-    if given is not None:
-        shown.append(_formula(sp.Symbol("H"), given.expr, f"H = {given.text}"))
-    else:
-        for name, e in zip("ABC", system.inertia, strict=True):
-            shown.append(_formula(sp.Symbol(name), e.expr, f"{name} = {e.text}"))
-        shown.append(_formula(sp.Symbol("U"), system.potential.expr, f"U = {system.potential}"))
-        h = hamiltonian(case)
-        shown.append(_formula(sp.Symbol("H"), h, f"H = {h}"))
-    for k, mu in enumerate(system.torque):
-        n = component_number(k)
-        shown.append(_formula(sp.Symbol(f"mu_{n}"), mu.expr, f"mu{n} = {mu.text}"))
-    if system.kappa.expr != 0:
-        kappa_text = f"kappa = {system.kappa.text}"
-        shown.append(_formula(sp.Symbol("kappa"), system.kappa.expr, kappa_text))
+    """The system as its file gives it (moments and potential, H, torque, kappa; or its
+    equations, or its bracket), then H where the file does not give it itself."""
+    dynamics = case.dynamics
+    shown = [_formula(g.symbol, g.expr, f"{g.name} = {g.text}") for g in dynamics.given]
+    h = dynamics.hamiltonian
+    if h is not None and not any(g.name == "H" for g in dynamics.given):
+        shown.append(_formula(sp.Symbol("H"), h, f"H = {to_text(h)}"))
     return shown
 
 

@@ -13,6 +13,7 @@ import json
 from collections.abc import Iterable
 from typing import Any
 
+from ..language import forms
 from ..model import (
     Case,
     CaseAudit,
@@ -73,15 +74,11 @@ def case_row(case: Case, version: int, source_id: int) -> CaseRow:
         content_hash=case.content_hash,
         text=case.text,
         path=case.path,
-        inertia=[e.text for e in case.system.inertia],
-        potential=case.system.potential.text,
-        torque=[e.text for e in case.system.torque],
+        **forms.columns(case.system),
         parameters={n: str(case.assumptions.get(n, "real")) for n in names},
         functions={name: [str(a) for a in args] for name, (_, args) in case.functions.items()},
         added_at=now(),
         topic=case.topic,
-        hamiltonian=case.system.hamiltonian.text if case.system.hamiltonian else None,
-        kappa=case.system.kappa.text,
     )
 
 
@@ -188,7 +185,7 @@ def search(row: SearchRow, case_id: str, content_hash: str, rows, on) -> Search:
         content_hash=content_hash,
         options=SearchOptions(
             degree=options["degree"],
-            weights=(options["weights"]["M"], options["weights"]["gamma"]),
+            weights=tuple(options["weights"].items()),
             on=tuple(on),
             free=tuple(options["free"]),
             relations=bool(options.get("relations", False)),

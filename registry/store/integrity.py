@@ -20,6 +20,7 @@ from sqlalchemy import Table, func, select, text
 from sqlalchemy.engine import Connection
 
 from ..errors import CaseFormatError, ExpressionError
+from ..language import forms
 from ..language.casefile import parse_case_text
 from ..language.parser import Namespace, parse_equation, parse_expression
 from ..model import Case
@@ -332,14 +333,7 @@ def _reparse(stored: StoredText, ns: Namespace) -> str | None:
 
 def _columns_agree(case: Case, stored: list[StoredText]) -> list[str]:
     """Differences between a case version's columns and the parse of its text."""
-    expected = {"potential": case.system.potential.text}
-    for i in range(3):
-        expected[f"torque[{i}]"] = case.system.torque[i].text
-    for i, moment in enumerate(case.system.inertia):  # none in the Hamiltonian form
-        expected[f"inertia[{i}]"] = moment.text
-    if case.system.hamiltonian is not None:
-        expected["hamiltonian"] = case.system.hamiltonian.text
-    expected["kappa"] = case.system.kappa.text
+    expected = forms.stored_texts(case.system)
     for claim in case.claims:
         where = f"claim {claim.label!r}"
         expected[f"{where} expression"] = claim.expression.text

@@ -107,11 +107,11 @@ def test_code_is_generated_only_for_state_numbers_and_language_functions():
     from registry.audit.numeric_evidence import _only_numeric
 
     g1, m1 = mech.AXIS[0], mech.MOMENTUM[0]
-    _only_numeric([sp.sin(m1) + sp.sqrt(g1) * sp.atan(g1) / 3 + sp.Abs(m1)])
+    _only_numeric([sp.sin(m1) + sp.sqrt(g1) * sp.atan(g1) / 3 + sp.Abs(m1)], mech.STATE)
     with pytest.raises(ValueError, match="unexpected symbols"):
-        _only_numeric([g1 + sp.Symbol("os")])
+        _only_numeric([g1 + sp.Symbol("os")], mech.STATE)
     with pytest.raises(ValueError, match="unexpected function"):
-        _only_numeric([sp.Function("system")(g1)])
+        _only_numeric([sp.Function("system")(g1)], mech.STATE)
 
 
 # --- the comparison rules (issue "evidence that never cries wolf") ---------------------

@@ -30,10 +30,11 @@ from registry.discovery.search import (
     cofactor_monomials,
     discover,
     search_options,
-    substituted,
 )
 from registry.errors import DiscoveryError
 from registry.language.casefile import load_case, parse_case_text
+from registry.language.forms import with_system
+from registry.language.forms import with_values as substituted
 from registry.language.parser import Namespace, parse_expression
 from registry.mathematics import mechanics as mech
 from registry.mathematics.case_mechanics import CaseMechanics
@@ -210,7 +211,7 @@ def test_a_level_set_the_flow_leaves_is_refused():
 def test_a_system_outside_every_ring_of_the_method_is_refused():
     case = family("euler-top")
     potential = replace(case.system.potential, text="exp(gamma1)", expr=sp.exp(mech.gamma1))
-    case = replace(case, system=replace(case.system, potential=potential))
+    case = with_system(case, replace(case.system, potential=potential))
     with pytest.raises(DiscoveryError, match="not rational in the state variables"):
         discover(case, search_options(case, degree=2))
 

@@ -43,9 +43,9 @@ def test_the_degree_is_the_largest_weighted_degree_of_the_claims():
 
 def test_a_quadratic_potential_takes_equal_weights():
     (options,) = stated_options(case("a*gamma1**2 + b*gamma2**2", ("M1*gamma1**2", "")))
-    assert options.weights == (1, 1) and options.degree == 3
+    assert options.weights == (("M", 1), ("gamma", 1)) and options.degree == 3
     (options,) = stated_options(case("a*gamma1 + b*gamma2", ("M1*gamma1**2", "")))
-    assert options.weights == (1, 2) and options.degree == 5
+    assert options.weights == (("M", 1), ("gamma", 2)) and options.degree == 5
 
 
 def test_at_least_degree_two_and_non_polynomial_claims_set_no_degree():

@@ -13,7 +13,7 @@ import sympy as sp
 
 from registry.discovery.integrals import KernelCache
 from registry.discovery.linear import GF_PRIME, Field, Span
-from registry.discovery.search import _system, discover, search_options, substituted
+from registry.discovery.search import _system, discover, search_options
 from registry.discovery.symmetry import (
     Decomposition,
     SignedPermutation,
@@ -22,6 +22,7 @@ from registry.discovery.symmetry import (
     signed_permutations,
 )
 from registry.language.casefile import parse_case_text
+from registry.language.forms import with_values as substituted
 from registry.mathematics import mechanics as mech
 from registry.mathematics.case_mechanics import CaseMechanics
 from tests.helpers.samples import family

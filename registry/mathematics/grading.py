@@ -1,0 +1,160 @@
+"""The grading of a system: weights of its state's vectors under which the vector field is
+weighted-homogeneous, if there are any.
+
+With a weight w_i for each state variable, the field is homogeneous of shift d when every
+monomial of dx_i/dt has weight w_i + d: then d/dt maps each weighted degree to one other,
+the ansatz's system of an integral search splits into independent blocks by degree, and
+an integral's homogeneous parts are integrals of their own. The reference paper's e(3)
+systems with a quadratic kinetic energy and a potential linear in gamma are homogeneous
+for M: 1, gamma: 2; a quadratic potential, and the bracket of so(4) and so(3,1)
+(kappa != 0), need equal weights. Where no grading makes the field homogeneous (a
+Hamiltonian with terms of several degrees, such as Kovalevskaya's on so(4)), an integral
+search's ansatz is still every monomial of weighted degree <= K, but the degrees are
+coupled: an integral found at degree K may have parts of every lower degree, none of them
+conserved alone. The Kovalevskaya exponents need a grading too; there the leading part of
+a field that has none is used (``weighted``).
+"""
+
+from __future__ import annotations
+
+import itertools
+from collections.abc import Mapping, Sequence
+
+import sympy as sp
+
+from ..dynamics import Vector
+from ..model import Weights, as_weights
+from . import mechanics as mech
+
+#: The gradings of the reference paper's state tried, in order of preference (the
+#: survey's usual ones first).
+CANDIDATES: tuple[tuple[int, int], ...] = ((1, 2), (1, 1), (2, 1))
+
+
+def per_variable(weights: Weights | tuple[int, int], vectors: Sequence[Vector]) -> tuple[int, ...]:
+    """The weight of each state variable, vector by vector (a vector the weights do not
+    name keeps its default weight)."""
+    given = dict(as_weights(weights))
+    return tuple(given.get(v.name, v.weight) for v in vectors for _ in v.components)
+
+
+def shift(
+    field: Sequence[sp.Expr],
+    weights: Weights | tuple[int, int],
+    vectors: Sequence[Vector] = mech.VECTORS,
+    shorthands: Mapping[sp.Symbol, sp.Expr] = mech.SHORTHANDS,
+) -> int | None:
+    """d such that every monomial of dx_i/dt has weight w_i + d, or None where there is
+    none (a field that is not weighted-homogeneous for ``weights``, or not rational in
+    the state). ``field`` lists dx/dt for the variables of ``vectors``, in their order."""
+    w = per_variable(weights, vectors)
+    state = [x for v in vectors for x in v.components]
+    shifts: set[int] = set()
+    for wi, x in zip(w, field, strict=True):
+        numer, denom = sp.fraction(sp.together(sp.sympify(x).subs(dict(shorthands))))
+        degree = _degree(numer, w, state)
+        below = _degree(denom, w, state)
+        if degree is None or not below:  # not homogeneous (a denominator is never 0)
+            return None
+        if degree == ():  # the component is zero
+            continue
+        shifts.add(degree[0] - below[0] - wi)
+        if len(shifts) > 1:
+            return None
+    return next(iter(shifts), 0)
+
+
+def _degree(expr: sp.Expr, w: Sequence[int], state: Sequence[sp.Symbol]) -> tuple[int, ...] | None:
+    """(weighted degree,) of a weighted-homogeneous polynomial in the state, () for 0,
+    None for anything else."""
+    expr = sp.expand(expr)
+    if expr == 0:
+        return ()
+    try:
+        poly = sp.Poly(expr, *state)
+    except sp.PolynomialError:
+        return None
+    degrees = {sum(a * b for a, b in zip(m, w, strict=True)) for m in poly.monoms()}
+    return (degrees.pop(),) if len(degrees) == 1 else None
+
+
+def candidates(vectors: Sequence[Vector]) -> list[Weights]:
+    """The gradings tried for a state: the reference paper's CANDIDATES for (M, gamma);
+    for any other, every choice of weight 1 or 2 per vector, fewest 2s first."""
+    names = [v.name for v in vectors]
+    if names == [v.name for v in mech.VECTORS]:
+        return [as_weights(c) for c in CANDIDATES]
+    choices = sorted(itertools.product((1, 2), repeat=len(names)), key=lambda c: (sum(c), c))
+    return [tuple(zip(names, c, strict=True)) for c in choices]
+
+
+def homogeneous_weights(
+    field: Sequence[sp.Expr],
+    vectors: Sequence[Vector] = mech.VECTORS,
+    shorthands: Mapping[sp.Symbol, sp.Expr] = mech.SHORTHANDS,
+) -> Weights | None:
+    """The first of the ``candidates`` under which ``field`` is weighted-homogeneous, or
+    None."""
+    return next(
+        (w for w in candidates(vectors) if shift(field, w, vectors, shorthands) is not None),
+        None,
+    )
+
+
+def grading_note(
+    field: Sequence[sp.Expr],
+    weights: Weights | tuple[int, int],
+    vectors: Sequence[Vector] = mech.VECTORS,
+    shorthands: Mapping[sp.Symbol, sp.Expr] = mech.SHORTHANDS,
+) -> str:
+    """What the ansatz means for these weights: "" for a homogeneous field, else the note
+    that its degrees are coupled (stored with the search and printed by discover)."""
+    if shift(field, weights, vectors, shorthands) is not None:
+        return ""
+    named = ", ".join(f"{name}: {w}" for name, w in _named(weights, vectors))
+    return (
+        f"the vector field is not weighted-homogeneous for {named}: the ansatz is every "
+        "monomial of weighted degree <= K, its degrees are coupled, and an integral's "
+        "degree is that of its leading part"
+    )
+
+
+def _named(weights: Weights | tuple[int, int], vectors: Sequence[Vector]) -> Weights:
+    given = dict(as_weights(weights))
+    return tuple((v.name, given.get(v.name, v.weight)) for v in vectors)
+
+
+def ring_degree(expr: sp.Expr, weight_of: Mapping[sp.Symbol, int]) -> int | None:
+    """The weighted degree of an expression in a system's ring (``discovery.ring``): of its
+    terms' polynomial parts in the state (each variable weighing ``weight_of[x]``),
+    inverses weighing nothing and sqrt(b) half of b; None for an expression outside such
+    a ring. Shorthands such as ``s`` count as constants (a known integral wherever it is
+    one)."""
+    expr = sp.expand(sp.sympify(expr))
+    state = set(weight_of)
+
+    def weight(e: sp.Expr) -> int | None:
+        if e in weight_of:
+            return weight_of[e]
+        if e.is_number or not (e.free_symbols & state):
+            return 0
+        if isinstance(e, sp.Mul):
+            parts = [weight(f) for f in e.args]
+            return None if None in parts else sum(parts)  # type: ignore[arg-type]
+        if isinstance(e, sp.Pow) and e.exp.is_Rational:
+            if e.exp < 0:
+                return 0
+            inner = [weight(t) for t in sp.Add.make_args(sp.expand(e.base))]
+            return None if None in inner else int(max(inner) * e.exp)  # type: ignore[type-var]
+        return None
+
+    degrees = [weight(t) for t in sp.Add.make_args(expr)]
+    return None if None in degrees else max(degrees, default=0)  # type: ignore[type-var]
+
+
+def weights_by_symbol(
+    weights: Weights | tuple[int, int], vectors: Sequence[Vector] = mech.VECTORS
+) -> dict[sp.Symbol, int]:
+    """Each state variable's weight, by symbol."""
+    state = [x for v in vectors for x in v.components]
+    return dict(zip(state, per_variable(weights, vectors), strict=True))
