@@ -1,5 +1,5 @@
-"""Presenting an integral search: the JSON document of CASE_FORMAT.md (section
-Discovery), a plain-text summary, and the result in one sentence."""
+"""Presenting an integral search: the JSON document of docs/json-output.md (section
+Search output), a plain-text summary, and the result in one sentence."""
 
 from __future__ import annotations
 

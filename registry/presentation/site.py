@@ -127,7 +127,7 @@ def _parsed_equation(text: str, ns: Namespace) -> Formula:
 
 
 def bracket(case: Case) -> tuple[str, str]:
-    """The Lie-Poisson bracket of a case's Pi (CASE_FORMAT.md): e(3) for kappa = 0,
+    """The Lie-Poisson bracket of a case's Pi (docs/case-format.md): e(3) for kappa = 0,
     so(4) for kappa > 0, so(3,1) for kappa < 0, as (name, how it was decided)."""
     k = kappa(case)
     if k == 0:

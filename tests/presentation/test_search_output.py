@@ -1,4 +1,4 @@
-"""The output of a search: the JSON document of CASE_FORMAT.md (Discovery), the text
+"""The output of a search: the JSON document of docs/json-output.md (Search output), the text
 summary and the one-sentence statement."""
 
 from __future__ import annotations
