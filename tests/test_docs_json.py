@@ -16,12 +16,12 @@ from __future__ import annotations
 import json
 import re
 import shlex
-import sys
 from pathlib import Path
 
 import pytest
 
 from tests.helpers.docs import DOCS, blocks, catalog_file, prepare, run
+from tests.helpers.processes import registry_command
 
 PAGE = DOCS / "json-output.md"
 MARK = re.compile(r"output of: (?P<command>registry .*)")
@@ -50,13 +50,14 @@ def real_output(command: str, folder: Path) -> dict:
     """The output of ``command`` (``registry ...``) run in ``folder``: the cases named by
     ``--case`` are added from the catalog first, into a database of the folder's own."""
     env = prepare(folder)
+    db = Path(env["REGISTRY_DB"])
     words = shlex.split(command)
-    registry = [sys.executable, "-m", "registry"]
     cases = [words[i + 1] for i, w in enumerate(words) if w == "--case"]
     if cases:
-        added = run([*registry, "add", *map(str, map(catalog_file, cases))], folder, env)
+        files = [str(catalog_file(c)) for c in cases]
+        added = run(registry_command(db, "add", *files), folder, env)
         assert added.returncode == 0, added.stdout
-    done = run([*registry, *words[1:]], folder, env, merge=False)
+    done = run(registry_command(db, *words[1:]), folder, env, merge=False)
     assert done.returncode == 0, done.stderr
     return json.loads(done.stdout)
 
