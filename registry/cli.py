@@ -199,7 +199,7 @@ def add(paths: tuple[str, ...]) -> None:
 
 @main.command()
 @click.option("--case", "case_ids", multiple=True, metavar="ID", help="Audit only this case.")
-@click.option("--json", "as_json", is_flag=True, help="Print the JSON document of CASE_FORMAT.md.")
+@click.option("--json", "as_json", is_flag=True, help="Print JSON (docs/json-output.md).")
 @click.option("--fresh", is_flag=True, help="Recompute instead of reusing stored results.")
 @click.option(
     "--jobs",
@@ -381,7 +381,7 @@ def _weights(text: str) -> tuple[int, int]:
     is_flag=True,
     help="Search invariant relations F = 0 (Darboux polynomials, dF/dt = K F) instead.",
 )
-@click.option("--json", "as_json", is_flag=True, help="Print the JSON document of CASE_FORMAT.md.")
+@click.option("--json", "as_json", is_flag=True, help="Print JSON (docs/json-output.md).")
 @click.option(
     "--record",
     is_flag=True,
@@ -427,8 +427,7 @@ def discover(
     audit's zero test; "complete" means that no other special values exist for this
     ansatz. Stored searches of the same case version and options are reused.
 
-    Example: registry discover data/cases/heavy-top/kovalevskaya-1889-heavy-top.toml
-    --degree 4 --free lam --json
+    Example: registry discover tests/data/families/heavy-top-lam.toml --degree 4 --free lam
     """
     scheduler = _cluster(jobs, scheduler)
     jobs = 1 if jobs is None else jobs

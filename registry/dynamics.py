@@ -1,6 +1,6 @@
 """The system of a case as every layer reads it, whatever form its file gave it in.
 
-A case file states its system in one of several forms (CASE_FORMAT.md): moments of
+A case file states its system in one of several forms (docs/case-format.md): moments of
 inertia, potential and torque (the reference paper's equations (2.2)); a Hamiltonian with
 the bracket parameter kappa; the equations of motion of variables of its own; or a
 Hamiltonian with a Poisson bracket given entry by entry. The case language turns each of

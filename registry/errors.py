@@ -37,7 +37,7 @@ def _quote(text: str, limit: int = 80) -> str:
 
 
 class CaseFormatError(RegistryError, ValueError):
-    """A case file breaks the format of CASE_FORMAT.md; nothing of it is stored."""
+    """A case file breaks the format of docs/case-format.md; nothing of it is stored."""
 
     def __init__(self, file: str, problems: list[Problem]):
         self.file = file

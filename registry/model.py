@@ -118,7 +118,7 @@ class Claim:
 
 @dataclass(frozen=True)
 class System:
-    """The system of a case, in one of two forms (CASE_FORMAT.md).
+    """The system of a case, in one of two forms (docs/case-format.md).
 
     The inertia form: principal moments (A, B, C) and the potential U(gamma), so that
     H = M.I^-1 M/2 + U; the Hamiltonian form: ``hamiltonian`` H itself (``inertia`` is

@@ -1,4 +1,5 @@
-"""The Python API: ``registry.open`` and the ``Registry`` it returns (README, "From a notebook").
+"""The Python API: ``registry.open`` and the ``Registry`` it returns
+(docs/getting-started.md, "From a notebook").
 
 One database with two seed cases is audited once per module (fixture ``audited``);
 tests that need their own history (versions, failing cases) use a fresh database.
@@ -218,7 +219,7 @@ def test_claims_frame(audited):
         for c in toml(case_id)["claims"]
     )
     assert got == expected
-    merged = audited.reg.cases().merge(frame, on="case")  # the README's join
+    merged = audited.reg.cases().merge(frame, on="case")  # the join of docs/getting-started.md
     assert len(merged) == len(expected)
 
 

@@ -1,4 +1,4 @@
-"""The ``registry`` command line (CASE_FORMAT.md, "Command line" and "Audit output for scripts").
+"""The ``registry`` command line (docs/cli.md; its JSON: docs/json-output.md).
 
 Most tests drive ``registry.cli.main`` through click's CliRunner; a few start real
 processes (``python -m registry`` and the ``registry`` console script). One database

@@ -2,7 +2,7 @@
 
 A case may give H itself (``system.hamiltonian``) and the bracket's parameter
 ``system.kappa``; the equations are dx/dt = Pi grad H with
-Pi = [[hat(M + mu), hat(gamma)], [hat(gamma), kappa hat(M)]] (CASE_FORMAT.md).
+Pi = [[hat(M + mu), hat(gamma)], [hat(gamma), kappa hat(M)]] (docs/case-format.md).
 """
 
 from __future__ import annotations
@@ -47,7 +47,7 @@ kappa = "real"
 """
 
 #: Komarov's integral of the Kovalevskaya top on so(4)/so(3,1), in the convention of
-#: CASE_FORMAT.md (Pi is -1 times Sokolov's bracket); derived in ``test_komarov_integral``.
+#: docs/case-format.md (Pi is -1 times Sokolov's bracket); derived in ``test_komarov_integral``.
 K_DEFORMED = "(M1**2 - M2**2 - 2*c*gamma1 + kappa*c**2)**2 + (2*M1*M2 - 2*c*gamma2)**2"
 #: The same without its kappa-dependent term: Kovalevskaya's e(3) integral.
 K_UNDEFORMED = "(M1**2 - M2**2 - 2*c*gamma1)**2 + (2*M1*M2 - 2*c*gamma2)**2"

@@ -1,5 +1,5 @@
 """The package's layout stays walkable: every module with logic has a test file named
-after it, and the README's module map names every module (and nothing else)."""
+after it, and the module map of docs/development.md names every module (and nothing else)."""
 
 from __future__ import annotations
 
@@ -12,6 +12,8 @@ import registry
 PACKAGE = Path(registry.__file__).resolve().parent
 ROOT = PACKAGE.parent
 TESTS = ROOT / "tests"
+#: The page whose "Module map" lists every module of the package.
+MAP_PAGE = ROOT / "docs" / "development.md"
 
 #: Modules with logic but no test file of their own, and why (paths under registry/).
 EXEMPT = {
@@ -102,9 +104,9 @@ def test_no_test_module_imports_another_or_a_conftest():
 
 
 def module_map() -> list[str]:
-    """The entries of the README's module map as paths under registry/ (folders end in /)."""
-    readme = (ROOT / "README.md").read_text(encoding="utf-8")
-    section = readme.split("### Module map", 1)[1]
+    """The entries of the module map as paths under registry/ (folders end in /)."""
+    page = MAP_PAGE.read_text(encoding="utf-8")
+    section = page.split("## Module map", 1)[1]
     block = re.search(r"```text\n(.*?)```", section, re.S).group(1)
     entries, folders = [], []  # folders: (indent, name) of the enclosing folders
     for line in block.splitlines():
@@ -131,15 +133,15 @@ def named_by(path: str) -> str:
     return path
 
 
-def test_the_readme_module_map_names_every_module_once():
+def test_the_module_map_names_every_module_once():
     entries = module_map()
     assert len(entries) == len(set(entries)), "a module is listed twice"
     assert sorted({named_by(m) for m in modules()}) == sorted(entries)
 
 
 def test_every_line_of_the_module_map_says_what_the_module_holds():
-    readme = (ROOT / "README.md").read_text(encoding="utf-8")
-    block = re.search(r"### Module map.*?```text\n(.*?)```", readme, re.S).group(1)
+    page = MAP_PAGE.read_text(encoding="utf-8")
+    block = re.search(r"## Module map.*?```text\n(.*?)```", page, re.S).group(1)
     for line in block.splitlines()[1:]:
         assert len(line.split(maxsplit=1)) == 2, f"no description: {line!r}"
         assert len(line) <= 100, f"too long: {line!r}"

@@ -1,4 +1,4 @@
-"""Writing a case back as a case file (CASE_FORMAT.md), with its provenance.
+"""Writing a case back as a case file (docs/case-format.md), with its provenance.
 
 A torque correction gives the same case with the repaired torque and the
 claim unchanged; a Casimir correction gives the same system with the derived

@@ -1,4 +1,4 @@
-"""Case files: read one TOML file (CASE_FORMAT.md) into a ``registry.model.Case``.
+"""Case files: read one TOML file (docs/case-format.md) into a ``registry.model.Case``.
 
 Everything in a file is validated before anything is built, and every problem
 found is reported at once in one ``CaseFormatError`` (up to MAX_PROBLEMS of them),

@@ -1,6 +1,6 @@
 """The forms a case file may give its system in, turned into one ``Dynamics``.
 
-This is the only module that knows which form a case used (CASE_FORMAT.md): the
+This is the only module that knows which form a case used (docs/case-format.md): the
 reference paper's moments of inertia, potential and torque; a Hamiltonian with the
 bracket parameter kappa. Everything else reads the ``Dynamics`` it builds (the state,
 the vector field, the bracket and Hamiltonian where there are some) and asks what the

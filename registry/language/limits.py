@@ -3,9 +3,9 @@ expressions of one case file together, may hold.
 
 Each limit is checked before the work it bounds is done (on the raw text, on the
 syntax tree, or before each sympy step), so a hostile text is refused in well
-under a second whatever its content. ``parser`` applies them; the README's table
-of limits lists each one. The limits on a case file itself (bytes, claims,
-nesting of the TOML) stay with ``casefile``.
+under a second whatever its content. ``parser`` applies them; the table of
+limits in docs/case-format.md lists each one. The limits on a case file itself (bytes,
+claims, nesting of the TOML) stay with ``casefile``.
 """
 
 from __future__ import annotations

@@ -5,7 +5,7 @@ a whitelist (numbers, names, ``+ - * / **``, calls of known functions),
 building the sympy expression itself. Nothing is ever evaluated as Python:
 no ``eval``, no ``sympify`` of raw text. Every size limit of ``limits`` is
 checked before the work it bounds. ``printer.to_text`` writes an expression
-back in the same language. The language is described in CASE_FORMAT.md,
+back in the same language. The language is described in docs/case-format.md,
 "Expressions".
 
 Examples

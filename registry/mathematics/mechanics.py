@@ -83,7 +83,7 @@ def _hat(v: Sequence[sp.Expr]) -> sp.Matrix:
 
 
 def poisson_tensor(mu: Sequence[sp.Expr], kappa: sp.Expr = 0) -> sp.Matrix:
-    """Pi = [[hat(M + mu), hat(gamma)], [hat(gamma), kappa hat(M)]] (CASE_FORMAT.md).
+    """Pi = [[hat(M + mu), hat(gamma)], [hat(gamma), kappa hat(M)]] (docs/case-format.md).
 
     With kappa = 0 this is Pi_mu of Sec. 3, the K-K-S tensor of e(3) with M replaced
     by M + mu in its upper-left block; kappa > 0 deforms e(3) into so(4), kappa < 0

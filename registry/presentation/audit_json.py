@@ -1,4 +1,4 @@
-"""The JSON document of an audit (CASE_FORMAT.md, "Audit output for scripts").
+"""The JSON document of an audit (docs/json-output.md, "Audit output").
 
 Built from the audit's outcome objects (``audit.outcome``); the shape is a contract
 with scripts, pinned by ``tests/test_golden.py``. Verdicts are written as their text.
@@ -105,5 +105,5 @@ def case_document(outcome: CaseOutcome) -> dict:
 
 
 def audit_document(run: int | None, outcomes: Sequence[CaseOutcome]) -> dict:
-    """The document ``registry audit --json`` prints (shape fixed by CASE_FORMAT.md)."""
+    """The document ``registry audit --json`` prints (shape fixed by docs/json-output.md)."""
     return {"run": run, "cases": [case_document(o) for o in outcomes]}

@@ -1,5 +1,5 @@
-"""Presenting an integral search: the JSON document of CASE_FORMAT.md (section
-Discovery), a plain-text summary, and the result in one sentence."""
+"""Presenting an integral search: the JSON document of docs/json-output.md (section
+Search output), a plain-text summary, and the result in one sentence."""
 
 from __future__ import annotations
 
@@ -136,8 +136,14 @@ def search_text(search: Search) -> str:
     ]
 
     def describe(entry: IntegralSet, where: str) -> None:
+        # a set of invariant relations F = 0 (dF/dt = K F, K not 0) has no Casimir verdicts
+        relations = o.relations and entry.cofactor not in ("", "0")
         if not entry.extra:
-            lines.append(f"{where}: no extra integral")
+            lines.append(f"{where}: no {'invariant relation' if relations else 'extra integral'}")
+            return
+        if relations:
+            lines.append(f"{where}: {entry.extra} invariant relation(s), cofactor {entry.cofactor}")
+            lines.extend(f"    {text} = 0    (dF/dt = K F verified)" for text in entry.integrals)
             return
         lines.append(f"{where}: {entry.extra} extra integral(s)")
         status = entry.status or (None,) * len(entry.integrals)

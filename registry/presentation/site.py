@@ -128,7 +128,7 @@ def _parsed_equation(text: str, ns: Namespace) -> Formula:
 
 
 def bracket(case: Case) -> tuple[str, str]:
-    """The bracket of a case's system (CASE_FORMAT.md), as (name, how it was decided):
+    """The bracket of a case's system (docs/case-format.md), as (name, how it was decided):
     for the reference paper's Pi, e(3) for kappa = 0, so(4) for kappa > 0, so(3,1) for
     kappa < 0; a bracket given entry by entry; none for a system given by its equations."""
     dynamics = case.dynamics

@@ -52,7 +52,7 @@ class AuditReport:
         return outcomes(self.audits, self.cases, self.versions)
 
     def document(self) -> dict:
-        """The JSON document of CASE_FORMAT.md for this run."""
+        """The JSON document of docs/json-output.md for this run."""
         return audit_document(self.run, self.outcomes())
 
 

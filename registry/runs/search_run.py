@@ -50,7 +50,7 @@ class SearchReport:
     events: tuple[str, ...] = ()
 
     def document(self) -> dict:
-        """The JSON document of CASE_FORMAT.md (section Discovery) for this search."""
+        """The JSON document of docs/json-output.md (Search output) for this search."""
         document = search_document(self.search)
         if self.number is not None:
             document["search"] = self.number

@@ -1,6 +1,7 @@
-"""Audits and searches on a Dask cluster that requires TLS (the README's recipe): a
-``dask scheduler`` and two ``dask worker`` processes with a certificate made here, and
-``registry`` processes configured through Dask's environment variables.
+"""Audits and searches on a Dask cluster that requires TLS (the recipe of
+docs/operations.md): a ``dask scheduler`` and two ``dask worker`` processes with a
+certificate made here, and ``registry`` processes configured through Dask's environment
+variables.
 
 With the cluster's certificate the verdicts and the search are the local pool's; a
 command without a TLS configuration, with a CA the scheduler's certificate is not

@@ -176,7 +176,7 @@ class Certificate:
 
     def client_environment(self, ca: Certificate | None = None) -> dict[str, str]:
         """Dask's environment variables that make a client present this certificate and
-        trust ``ca`` (default: this one), as the README's recipe sets them."""
+        trust ``ca`` (default: this one), as the recipe of docs/operations.md sets them."""
         return {
             "DASK_DISTRIBUTED__COMM__TLS__CA_FILE": str((ca or self).cert),
             "DASK_DISTRIBUTED__COMM__TLS__CLIENT__CERT": str(self.cert),

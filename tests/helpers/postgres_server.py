@@ -13,7 +13,7 @@ without exit handlers (SIGKILL, a CI time limit) leaves both to the test run's
 watchdog (``watchdog.py``), with which the server is registered from its start.
 
 Each test gets a database of its own (``create_database``), named by a URL of the form
-the README gives: ``postgresql+psycopg://registry@/NAME?host=/socket/dir``.
+docs/operations.md gives: ``postgresql+psycopg://registry@/NAME?host=/socket/dir``.
 """
 
 from __future__ import annotations

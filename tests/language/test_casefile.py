@@ -14,7 +14,7 @@ from registry.mathematics.mechanics import AXIS, gamma1, gamma2, gamma3, s
 from registry.model import Assumption, ClaimKind
 
 FULL = """\
-# The example of CASE_FORMAT.md, with every field filled in.
+# Yehia's singular case, shortened, with every field of docs/case-format.md filled in.
 id = "yehia-2003-kovalevskaya-singular"
 title = "Kovalevskaya configuration, singular potential and nonlinear torque"
 notes = "Shortened; the real case has more terms."

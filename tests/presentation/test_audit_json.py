@@ -1,4 +1,4 @@
-"""The JSON document of an audit, from its outcome objects: the shape CASE_FORMAT.md
+"""The JSON document of an audit, from its outcome objects: the shape docs/json-output.md
 fixes (the seed catalog's whole document is pinned by tests/test_golden.py)."""
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""The output of a search: the JSON document of CASE_FORMAT.md (Discovery), the text
+"""The output of a search: the JSON document of docs/json-output.md (Search output), the text
 summary and the one-sentence statement."""
 
 from __future__ import annotations
@@ -50,6 +50,18 @@ def test_the_text_lists_each_set_with_its_integrals(kovalevskaya):
     assert "lam = 2: 1 extra integral(s)" in text
     assert "    M1    (integral verified; casimir refuted)" in text
     assert "complete: yes" in text
+
+
+def test_the_text_lists_invariant_relations_with_their_cofactor():
+    """A search for relations (Hess's, under his condition): each set lists F = 0 and its
+    cofactor K; a relation has no Casimir verdict (the text once failed on that)."""
+    hess = FAMILIES.parents[2] / "data" / "cases" / "heavy-top" / "hess-1890-heavy-top.toml"
+    search = discover_file(hess, degree=1, relations=True).search
+    lines = search_text(search).splitlines()
+    assert "generic: no invariant relation" in lines
+    (where,) = [x for x in lines if "1 invariant relation(s), cofactor " in x]
+    assert where.startswith("K_M1 = 0, K_M3 = 0, K_M2 = ") and "cofactor M2*b*x0*z0**3/" in where
+    assert "    M1*x0 + M3*z0 = 0    (dF/dt = K F verified)" in lines
 
 
 def test_the_text_says_which_symmetries_split_the_ansatz():

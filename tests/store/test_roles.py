@@ -236,7 +236,7 @@ def test_only_the_owner_upgrades_the_schema(postgres_server):
     assert invoke(found.url("reader"), "cases").exit_code == 0
 
 
-def test_the_readme_gives_the_roles_recipe():
-    readme = (ROOT / "README.md").read_text(encoding="utf-8")
+def test_the_operations_page_gives_the_roles_recipe():
+    page = (ROOT / "docs" / "operations.md").read_text(encoding="utf-8")
     for line in ("registry grant --reader", "registry grant --writer", "registry grant --revoke"):
-        assert line in readme
+        assert line in page
