@@ -16,8 +16,8 @@ This module holds data only (sympy expressions and symbols); the algebra on it l
 
 from __future__ import annotations
 
-from collections.abc import Mapping
 import dataclasses
+from collections.abc import Mapping
 from dataclasses import dataclass
 
 import sympy as sp
