@@ -12,44 +12,107 @@
 from __future__ import annotations
 
 import os
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from contextlib import AbstractContextManager
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Literal
+from typing import TYPE_CHECKING, Any, Literal
 
-from .audit.outcome import outcomes
+from . import settings
 from .errors import CaseFormatError, RegistryError
-from .execution.time_budget import TimeBudget
-from .language.casefile import load_case
-from .model import Case, Equation, Verdict, VerdictChange
-from .runs.audit_run import AuditReport, audit_run, corrected_case, run_diff, stored_run
-from .runs.interruption import interruptible
-from .runs.search_run import (  # noqa: F401 - discover_file: a search without a registry
-    DEFAULT_SEARCH_BUDGET,
-    SearchReport,
-    discover_file,
-    search_run,
-    survey_run,
-)
-from .store import frames
-from .store.database import Store
-from .store.integrity import Verification, verify
-from .version import code_version, source_digest  # noqa: F401 - the code version's names
+from .execution.executor import check_options, open_executor
+from .execution.time_budget import TimeBudget, default_budget
+from .settings import DEFAULT_SEARCH_SECONDS as DEFAULT_SEARCH_BUDGET
 
+# The facade is imported by ``registry --help`` and ``--version``, which must stay quick:
+# sympy, SQLAlchemy and pandas are imported by the methods that use them, not here.
 if TYPE_CHECKING:
     import pandas as pd
     from distributed import Client
 
+    from .model import Case, Equation, Verdict, VerdictChange, Weights
     from .presentation.site import Catalog
+    from .runs.audit_run import AuditReport
+    from .runs.search_run import SearchReport
+    from .store.database import Store
+    from .store.integrity import Verification
 
-#: Where the registry lives when neither --db nor REGISTRY_DB says otherwise.
-DEFAULT_DB = Path("data") / "registry.sqlite"
+#: Names of the facade whose modules are imported on first use (PEP 562).
+_LAZY = {
+    "AuditReport": "runs.audit_run",
+    "SearchReport": "runs.search_run",
+    "Verification": "store.integrity",
+}
 
 
-def default_target() -> str:
-    """--db default: the REGISTRY_DB environment variable, else data/registry.sqlite."""
-    return os.environ.get("REGISTRY_DB") or str(DEFAULT_DB)
+def __getattr__(name: str) -> Any:
+    if name in _LAZY:
+        import importlib
+
+        return getattr(importlib.import_module(f".{_LAZY[name]}", __package__), name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+__all__ = [
+    "DEFAULT_SEARCH_BUDGET",
+    "AddResult",
+    "AuditReport",
+    "CheckInfo",
+    "Registry",
+    "SearchReport",
+    "TimeBudget",
+    "check_where",
+    "checks",
+    "diff_text",
+    "discover_file",
+    "open_registry",
+    "time_budget",
+    "version",
+]
+
+
+@dataclass(frozen=True)
+class CheckInfo:
+    """A mathematical check the audit runs: its name, whether it runs once per claim, its
+    cost note, and the statement it tests (its docstring's first line)."""
+
+    name: str
+    per_claim: bool
+    cost: str
+    statement: str
+
+
+def checks() -> list[CheckInfo]:
+    """Every check the audit runs, in the order it runs them (``registry list-checks``)."""
+    from .audit.checks import CHECKS
+
+    return [CheckInfo(c.name, c.per_claim, c.cost, c.statement) for c in CHECKS.values()]
+
+
+def version() -> str:
+    """The package's release and the digest of its code, as ``registry --version`` says."""
+    from .version import code_version, release
+
+    return f"registry {release()} (code digest {code_version().rpartition('+')[2]})"
+
+
+def diff_text(changes: Sequence[VerdictChange], run_a: int, run_b: int) -> str:
+    """The verdicts that changed between two runs as a table (``Registry.diff``)."""
+    from .presentation.verdict_table import diff_table
+
+    return diff_table(changes, run_a, run_b)
+
+
+def check_where(jobs: int | None, scheduler: str | None) -> None:
+    """UsageError where ``jobs`` and ``scheduler`` cannot go together (both given, or a
+    ``jobs`` that is no number of worker processes): what a command checks first."""
+    check_options(jobs, scheduler)
+
+
+def time_budget(check: float | None = None, corrections: float | None = None) -> TimeBudget:
+    """The time budget of an audit: seconds for each check and for each case's
+    corrections, where given, else from the environment or the defaults (``settings``)."""
+    return default_budget(check=check, corrections=corrections)
 
 
 @dataclass(frozen=True)
@@ -82,6 +145,8 @@ class Registry:
 
     def add(self, *paths: str | os.PathLike) -> list[AddResult]:
         """Load case files (or folders of them); each file is stored whole or not at all."""
+        from .language.casefile import load_case
+
         self.store.require_writer("add cases")
         results = []
         for path in case_files(paths):
@@ -122,31 +187,26 @@ class Registry:
 
         Results of a case version already audited by this code version are reused
         (recorded as reused) unless ``fresh``. The others are audited in ``jobs``
-        worker processes (default: one per core; 0 audits in this process), each
-        check under ``budget``. With ``numeric``, each claim also gets numerical
-        evidence (drift of I against that of H along integrated trajectories).
-        Each case's results are committed as it finishes;
-        a case that fails to load or crashes is recorded as ``error``, one that
-        overruns its budget as ``inconclusive``, and the others go on.
+        worker processes (default: one per core; 1 audits in this process), each
+        check under ``budget`` (``time_budget``). With ``numeric``, each claim also gets
+        numerical evidence (drift of I against that of H along integrated trajectories).
+        Each case's results are committed as it finishes (``progress`` hears its id); a
+        case that fails to load or crashes is recorded as ``error``, one that overruns
+        its budget as ``inconclusive``, and the others go on.
 
         With ``scheduler`` (a Dask scheduler's address ``tcp://HOST:PORT``, ``local:N``
         for a LocalCluster of N worker processes started for this audit, or a
         ``distributed.Client`` already connected), the cases are audited on that Dask
-        cluster instead of ``jobs`` local workers, with the same results case by
-        case; only this process writes to the database. The run's options record
-        the scheduler, the cluster and what happened on it (``events``: workers
-        lost, cases retried elsewhere).
+        cluster instead of local workers, with the same results case by case; only this
+        process writes to the database. The run's options record the scheduler, the
+        cluster and what happened on it (``events``: workers lost, cases retried
+        elsewhere).
         """
-        return audit_run(
-            self.store,
-            case_ids,
-            fresh=fresh,
-            jobs=jobs,
-            budget=budget,
-            numeric=numeric,
-            progress=progress,
-            scheduler=scheduler,
-        )
+        from .runs.audit_run import AuditRequest, audit_run
+
+        request = AuditRequest(tuple(case_ids or ()), fresh, budget or time_budget(), numeric)
+        with open_executor(jobs, scheduler) as executor:
+            return audit_run(self.store, request, executor, progress)
 
     # --- discovering --------------------------------------------------------
 
@@ -155,19 +215,20 @@ class Registry:
         target: str | os.PathLike | Case,
         *,
         degree: int = 4,
-        weights: tuple[int, int] = (1, 2),
+        weights: Weights | Mapping[str, int] | tuple[int, int] | None = None,
         on: Sequence[str | Equation] = (),
         free: Sequence[str] = (),
         relations: bool = False,
         record: bool = False,
         fresh: bool = False,
         budget: float | None = DEFAULT_SEARCH_BUDGET,
-        jobs: int = 1,
+        jobs: int | None = None,
         progress: Callable[[int, int, str], None] | None = None,
         scheduler: str | Client | None = None,
     ) -> SearchReport:
         """Search a case (a case file, a stored case's id, or a ``Case``) for first
-        integrals of weighted ``degree`` <= K (``weights`` of M and gamma), on the level
+        integrals of weighted ``degree`` <= K (``weights`` by vector of the state, such as
+        ``{"M": 1, "gamma": 2}``; a vector not named keeps its default), on the level
         set ``on`` (equations as text, like ``"s = 0"``), with the parameters ``free``
         whose special values are sought (``registry.discovery.search.discover``). With
         ``relations``, Darboux polynomials (invariant relations F = 0, dF/dt = K F) are
@@ -179,26 +240,18 @@ class Registry:
         searched version, and each special set a derived case holding its integrals as
         claims, so that the next audit decides them like any literature claim.
 
-        With ``scheduler`` (as for ``audit``: an address, ``local:N`` or a connected
-        ``distributed.Client``), the candidate parameter sets are searched on that Dask
-        cluster instead of ``jobs`` local processes, with the same result; the report's
-        ``events`` say what happened there. Only this process writes to the database.
+        The candidate parameter sets are searched in ``jobs`` worker processes (default:
+        one per core; 1 in this process), or on the Dask cluster of ``scheduler`` (as for
+        ``audit``), with the same result; the report's ``events`` say what happened on a
+        cluster. Only this process writes to the database.
         """
-        return search_run(
-            self.store,
-            target,
-            degree=degree,
-            weights=weights,
-            on=on,
-            free=free,
-            relations=relations,
-            record=record,
-            fresh=fresh,
-            budget=budget,
-            jobs=jobs,
-            progress=progress,
-            scheduler=scheduler,
+        from .runs.search_run import SearchRequest, search_run
+
+        request = SearchRequest(
+            degree, weights, tuple(on), tuple(free), relations, budget, record, fresh
         )
+        with open_executor(jobs, scheduler) as executor:
+            return search_run(self.store, target, request, executor, progress)
 
     def survey(
         self,
@@ -218,26 +271,27 @@ class Registry:
         core), or the Dask cluster of ``scheduler`` (as for ``audit``), one task per
         search; each search is stored as it finishes, and only this process writes.
         """
-        return survey_run(
-            self.store,
-            case_ids,
-            fresh=fresh,
-            budget=budget,
-            jobs=jobs,
-            progress=progress,
-            scheduler=scheduler,
-        )
+        from .runs.search_run import survey_run
+
+        with open_executor(jobs, scheduler) as executor:
+            return survey_run(
+                self.store, case_ids, executor, fresh=fresh, budget=budget, progress=progress
+            )
 
     def searches(self) -> pd.DataFrame:
         """One row per recorded integral search: the case, the ansatz, what exists for
         generic values, how many special sets, completeness, coverage, the result in
         one sentence (negative results included), code version and time."""
+        from .store import frames
+
         return frames.searches_frame(self.store)
 
     def discoveries(self) -> pd.DataFrame:
         """One row per set of parameter values a recorded search found integrals on (the
         generic values too): the equations, the integrals, their casimir verdicts, and
         the case that holds them as claims."""
+        from .store import frames
+
         return frames.discoveries_frame(self.store)
 
     # --- queries ----------------------------------------------------------
@@ -258,6 +312,9 @@ class Registry:
         or journal), ``author`` (text in an author's name), ``year`` (a year or an
         inclusive range), ``topic``, ``family`` (exact), ``verdict`` (some claim has it).
         Text filters ignore case."""
+        from .model import Verdict
+        from .store import frames
+
         return frames.case_table(
             self.store,
             source=source,
@@ -270,14 +327,20 @@ class Registry:
 
     def claims(self) -> pd.DataFrame:
         """One row per claim of the latest case versions."""
+        from .store import frames
+
         return frames.claims_frame(self.store)
 
     def verdicts(self, run: int | None = None) -> pd.DataFrame:
         """The newest verdict of every check and claim (or those of one run)."""
+        from .store import frames
+
         return frames.verdicts_frame(self.store, run)
 
     def corrections(self, run: int | None = None) -> pd.DataFrame:
         """Families, re-checked corrections and parameter conditions of a run (default: newest)."""
+        from .store import frames
+
         return frames.corrections_frame(self.store, run)
 
     def export_case(self, case_id: str, claim: str | None = None, kind: str = "torque") -> str:
@@ -286,6 +349,8 @@ class Registry:
         ``kind`` is ``torque`` (the claim becomes a Casimir of a repaired torque) or
         ``casimir`` (the case's own torque with its derived Casimir as the claim).
         """
+        from .runs.audit_run import corrected_case
+
         return corrected_case(self.store, case_id, claim, kind)
 
     def run_report(self, run: int) -> AuditReport:
@@ -293,6 +358,8 @@ class Registry:
         and the case versions they audited, parsed (a version whose text no longer parses
         is left out: it shows as a case that could not be audited). UnknownRunError for a
         run that does not exist."""
+        from .runs.audit_run import stored_run
+
         return stored_run(self.store, run)
 
     # --- publishing ------------------------------------------------------
@@ -307,11 +374,26 @@ class Registry:
         """A report of one audit run (default: the newest) as Markdown, HTML or LaTeX
         (``presentation.report_content``); drift plots go to ``out_dir`` (md, tex) or
         into the file (html). UnknownRunError for a run that does not exist."""
+        from .audit.numeric_evidence import drift_curves
         from .presentation import report_content  # pandas, matplotlib: only for reports
 
         row = report_content.run_row(self.runs(), run)
         outcomes = self.run_report(int(row["run"])).outcomes()
-        return report_content.build_report(row, outcomes, fmt, out_dir, plots)
+        curves = drift_curves(report_content.plotted(outcomes)) if plots else None
+        return report_content.build_report(row, outcomes, fmt, out_dir, curves)
+
+    def plot(self, case_id: str, claim: str, path: str | os.PathLike, seed: int = 0) -> Path:
+        """Write a PNG of I(t) - I(0) and H(t) - H(0) of a claim along one integrated
+        trajectory (the first the numerical evidence integrates with ``seed``); its path.
+        UnknownClaimError for a claim the case does not make."""
+        from .audit.numeric_evidence import drift_curve
+        from .errors import UnknownClaimError
+        from .presentation.plots import drift_plot
+
+        case = self.case(case_id)
+        if claim not in {c.label for c in case.claims}:
+            raise UnknownClaimError(case_id, claim, [c.label for c in case.claims])
+        return drift_plot(drift_curve(case, claim, seed), path)
 
     def bibtex(self) -> str:
         """The sources of the cases as BibTeX (``presentation.bibtex``)."""
@@ -321,6 +403,8 @@ class Registry:
 
     def tables(self) -> dict[str, pd.DataFrame]:
         """The published tables by name (``data_export.TABLES``, in that order)."""
+        from .store import frames
+
         return {
             "cases": self.cases(),
             "claims": self.claims(),
@@ -340,7 +424,9 @@ class Registry:
     def catalog(self) -> Catalog:
         """What the static site shows: every case's newest version with the newest audit
         of that version, the version history, the searches and discoveries."""
+        from .audit.outcome import outcomes
         from .presentation.site import CaseEntry, Catalog
+        from .store import frames
 
         entries = []
         for stored in self.store.case_versions():
@@ -372,15 +458,21 @@ class Registry:
         """The verdicts that differ between two runs, on the cases both runs audited, sorted
         by case, claim (case checks first) and check. UnknownRunError for a run that
         does not exist."""
+        from .runs.audit_run import run_diff
+
         return run_diff(self.store, run_a, run_b)
 
     def runs(self) -> pd.DataFrame:
         """One row per audit run: when, status, code and sympy versions."""
+        from .store import frames
+
         return frames.runs_frame(self.store)
 
     def verify_db(self) -> Verification:
         """Verify the database itself (``registry verify-db``): schema, integrity, foreign
         keys, hashes of the stored case texts, and every stored expression re-parsed."""
+        from .store.integrity import verify
+
         return verify(self.store)
 
     # --- who may write (a shared server) -------------------------------------
@@ -421,6 +513,8 @@ class Registry:
     def interruptible(self) -> AbstractContextManager[None]:
         """A context in which SIGTERM and SIGINT end a run as Ctrl-C does, never in the
         middle of a database session (``runs.interruption``)."""
+        from .runs.interruption import interruptible
+
         return interruptible(self.store)
 
     def close(self) -> None:
@@ -434,8 +528,33 @@ class Registry:
 
 
 def open_registry(target: str | os.PathLike | None = None, *, create: bool = True) -> Registry:
-    """Open the registry at a path or SQLAlchemy URL, creating it if needed (unless
-    ``create`` is False: then a missing file is a DatabaseMissingError). An older
-    database is upgraded to the current schema, after a backup copy."""
-    where = default_target() if target is None else target
+    """Open the registry at a path or SQLAlchemy URL (default: ``$REGISTRY_DB``, else
+    data/registry.sqlite), creating it if needed (unless ``create`` is False: then a
+    missing file is a DatabaseMissingError). An older database is upgraded to the current
+    schema, after a backup copy."""
+    from .store.database import Store
+
+    where = settings.database() if target is None else target
     return Registry(Store(Path(where) if isinstance(where, os.PathLike) else where, create=create))
+
+
+def discover_file(
+    path: str | os.PathLike,
+    *,
+    degree: int = 4,
+    weights: Weights | Mapping[str, int] | tuple[int, int] | None = None,
+    on: Sequence[str | Equation] = (),
+    free: Sequence[str] = (),
+    relations: bool = False,
+    budget: float | None = DEFAULT_SEARCH_BUDGET,
+    jobs: int | None = None,
+    progress: Callable[[int, int, str], None] | None = None,
+    scheduler: str | Client | None = None,
+) -> SearchReport:
+    """Search a case file without a database: nothing is reused or recorded
+    (``Registry.discover`` has the options)."""
+    from .runs.search_run import SearchRequest, search_run
+
+    request = SearchRequest(degree, weights, tuple(on), tuple(free), relations, budget)
+    with open_executor(jobs, scheduler) as executor:
+        return search_run(None, path, request, executor, progress)

@@ -1,8 +1,9 @@
-"""The ``registry`` command: a thin layer over ``registry.api``.
+"""The ``registry`` command: a thin layer over the facade, ``registry.api``.
 
-Each command opens the database, calls one API function and formats the
-result. User errors print one line per problem, starting ``Error:``, and exit
-with status 1; ``--debug`` shows the traceback instead.
+Each command opens the database, calls one facade function and prints what it returns;
+the command line imports nothing else of the package but the settings and the errors
+(``tests/test_layers.py``). User errors print one line per problem, starting ``Error:``,
+and exit with status 1; ``--debug`` shows the traceback instead.
 """
 
 from __future__ import annotations
@@ -12,22 +13,14 @@ import sys
 from collections import Counter
 from collections.abc import Iterator
 from contextlib import contextmanager
-from dataclasses import replace
 from functools import wraps
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Literal
 
 import click
 
-from .distributed.scheduler import SCHEDULER_ENV, scheduler_option
-from .errors import DatabaseMissingError, RegistryError, UnknownClaimError, printable
-from .execution.time_budget import (
-    BUDGET_ENV,
-    CORRECTIONS_BUDGET_ENV,
-    DEFAULT_BUDGET,
-    default_budget,
-)
-from .runs import DEFAULT_SEARCH_BUDGET
+from . import settings
+from .errors import DatabaseMissingError, RegistryError, printable
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -93,9 +86,9 @@ def _registry(create: bool = False) -> Registry:
     """The registry named by --db; only ``add`` creates a database that does not exist."""
     ctx = click.get_current_context()
     if "registry" not in ctx.obj:
-        from .api import default_target, open_registry  # only for commands that use them
+        from .api import open_registry
 
-        reg = ctx.with_resource(open_registry(ctx.obj["db"] or default_target(), create=create))
+        reg = ctx.with_resource(open_registry(settings.database(ctx.obj["db"]), create=create))
         if reg.upgraded_from is not None:
             click.echo(_upgraded(reg), err=True)
         ctx.obj["registry"] = reg
@@ -122,26 +115,37 @@ def _upgraded(reg: Registry) -> str:
     )
 
 
-def _scheduler_flag(what: str):
-    """The --scheduler option of a command that can send its work to a Dask cluster."""
-    return click.option(
-        "--scheduler",
-        metavar="ADDRESS",
-        default=None,
-        help=f"{what} on a Dask cluster: a scheduler's address (tcp://HOST:PORT) or "
-        "scheduler file (FILE.json), or local:N to start N local Dask worker processes "
-        f"for this command (default: ${SCHEDULER_ENV}; --jobs overrides the variable).",
-    )
+def _where(what: str):
+    """The --jobs and --scheduler options of a command whose work runs in worker processes
+    or on a Dask cluster: the same meaning and default in every command."""
+
+    def options(fn):
+        fn = click.option(
+            "--scheduler",
+            metavar="ADDRESS",
+            default=None,
+            help=f"{what} on a Dask cluster: a scheduler's address (tcp://HOST:PORT) or "
+            "scheduler file (FILE.json), or local:N to start N local Dask worker processes "
+            f"for this command (default: ${settings.SCHEDULER_ENV}; --jobs overrides the "
+            "variable).",
+        )(fn)
+        return click.option(
+            "--jobs",
+            type=click.IntRange(min=1),
+            default=None,
+            help=f"{what} in N worker processes (default: one per core; 1: in this process).",
+        )(fn)
+
+    return options
 
 
 def _print_version(ctx: click.Context, param: click.Parameter, value: bool) -> None:
     """``registry --version``: the release and the code version runs are recorded with."""
     if not value or ctx.resilient_parsing:
         return
-    from .version import code_version, release
+    from .api import version
 
-    digest = code_version().rpartition("+")[2]
-    click.echo(f"registry {release()} (code digest {digest})")
+    click.echo(version())
     ctx.exit(0)
 
 
@@ -150,7 +154,8 @@ def _print_version(ctx: click.Context, param: click.Parameter, value: bool) -> N
     "--db",
     metavar="PATH|URL",
     default=None,
-    help="Database file or SQLAlchemy URL (default: $REGISTRY_DB, else data/registry.sqlite).",
+    help=f"Database file or SQLAlchemy URL (default: ${settings.DB_ENV}, else "
+    f"{settings.DEFAULT_DB.as_posix()}).",
 )
 @click.option("--debug", is_flag=True, help="Show tracebacks instead of one-line errors.")
 @click.option(
@@ -201,19 +206,14 @@ def add(paths: tuple[str, ...]) -> None:
 @click.option("--case", "case_ids", multiple=True, metavar="ID", help="Audit only this case.")
 @click.option("--json", "as_json", is_flag=True, help="Print JSON (docs/json-output.md).")
 @click.option("--fresh", is_flag=True, help="Recompute instead of reusing stored results.")
-@click.option(
-    "--jobs",
-    type=click.IntRange(min=0),
-    default=None,
-    help="Worker processes (default: one per core; 0: in this process).",
-)
-@_scheduler_flag("Audit")
+@_where("Audit the cases")
 @click.option(
     "--budget",
     "check_budget",
     type=click.FloatRange(min=0, min_open=True),
     default=None,
-    help=f"Seconds allowed to each check (default ${BUDGET_ENV}, else {DEFAULT_BUDGET.check:g}).",
+    help=f"Seconds allowed to each check (default ${settings.BUDGET_ENV}, else "
+    f"{settings.DEFAULT_CHECK_SECONDS:g}).",
 )
 @click.option(
     "--corrections-budget",
@@ -221,7 +221,8 @@ def add(paths: tuple[str, ...]) -> None:
     type=click.FloatRange(min=0, min_open=True),
     default=None,
     help="Seconds allowed to the corrections and conditions of each case "
-    f"(default ${CORRECTIONS_BUDGET_ENV}, else {DEFAULT_BUDGET.corrections:g}).",
+    f"(default ${settings.CORRECTIONS_BUDGET_ENV}, else "
+    f"{settings.DEFAULT_CORRECTIONS_SECONDS:g}).",
 )
 @click.option(
     "--numeric",
@@ -282,7 +283,9 @@ def audit(
 
     Example: registry audit --case yehia-2003-kovalevskaya-b --json
     """
-    scheduler = _cluster(jobs, scheduler, local="workers")
+    from .api import check_where, time_budget
+
+    check_where(jobs, scheduler)
     reg = _registry()
     total = reg.count_cases(list(case_ids) or None)
     quiet = as_json or not sys.stderr.isatty()
@@ -292,11 +295,7 @@ def audit(
         bar.set_postfix_str(case_id, refresh=False)
         bar.update()
 
-    budget = default_budget()
-    if check_budget:
-        budget = replace(budget, check=check_budget)
-    if corrections_budget:
-        budget = replace(budget, corrections=corrections_budget)
+    budget = time_budget(check_budget, corrections_budget)
     try:
         with reg.interruptible():
             report = reg.audit(
@@ -315,12 +314,8 @@ def audit(
     if as_json:
         click.echo(json.dumps(report.document(), indent=2, ensure_ascii=False))
     else:
-        from .presentation.verdict_table import verdict_table
-
-        click.echo(verdict_table(report.outcomes(), report.run))
-    from .presentation.verdict_table import disagreements
-
-    contradicted = disagreements(report.outcomes())
+        click.echo(report.table())
+    contradicted = report.contradicted()
     if strict and contradicted:
         click.echo(
             f"Error: numerical evidence contradicts the verdict of {', '.join(contradicted)}",
@@ -329,21 +324,24 @@ def audit(
         sys.exit(1)
 
 
-def _weights(text: str) -> tuple[int, int]:
-    """``M=1,gamma=2`` as (1, 2); a click error names what is wrong."""
-    found = {}
+def _weights(text: str | None) -> dict[str, int] | None:
+    """``M=1,gamma=2`` as {"M": 1, "gamma": 2} (None: not given); a click error names what
+    is wrong. Which vectors the case's state has is the search's to check."""
+    if text is None:
+        return None
+    found: dict[str, int] = {}
     for part in text.split(","):
         name, _, value = part.partition("=")
         name = name.strip()
-        if name not in ("M", "gamma") or not value.strip().isdigit() or int(value) < 1:
+        if not name.isidentifier() or not value.strip().isdigit() or int(value) < 1:
             raise click.BadParameter(
-                f"{text!r}: expected M=<positive integer>,gamma=<positive integer>",
+                f"{text!r}: expected VECTOR=<positive integer>,... (M=1,gamma=2)",
                 param_hint="--weights",
             )
+        if name in found:
+            raise click.BadParameter(f"{text!r}: {name} given twice", param_hint="--weights")
         found[name] = int(value)
-    if set(found) != {"M", "gamma"}:
-        raise click.BadParameter(f"{text!r}: give both M and gamma", param_hint="--weights")
-    return found["M"], found["gamma"]
+    return found
 
 
 @main.command()
@@ -358,9 +356,10 @@ def _weights(text: str) -> tuple[int, int]:
 @click.option(
     "--weights",
     "weights_text",
-    default="M=1,gamma=2",
-    show_default=True,
-    help="Weights of M1..M3 and of gamma1..gamma3.",
+    default=None,
+    metavar="VECTOR=W,...",
+    help="Weights of the state's vectors (default: their own; M=1,gamma=2 for the "
+    "reference paper's state; a vector not named keeps its default).",
 )
 @click.option(
     "--on",
@@ -392,17 +391,11 @@ def _weights(text: str) -> tuple[int, int]:
     "--budget",
     "seconds",
     type=click.FloatRange(min=0, min_open=True),
-    default=DEFAULT_SEARCH_BUDGET,
+    default=settings.DEFAULT_SEARCH_SECONDS,
     show_default=True,
     help="Seconds the whole search may take; then what is proven is reported.",
 )
-@click.option(
-    "--jobs",
-    type=click.IntRange(min=1),
-    default=None,
-    help="Processes searching the candidate parameter values (default: 1).",
-)
-@_scheduler_flag("Search the candidate parameter values")
+@_where("Search the candidate parameter values")
 @_user_errors
 def discover(
     target: str,
@@ -429,8 +422,9 @@ def discover(
 
     Example: registry discover tests/data/families/heavy-top-lam.toml --degree 4 --free lam
     """
-    scheduler = _cluster(jobs, scheduler)
-    jobs = 1 if jobs is None else jobs
+    from .api import check_where
+
+    check_where(jobs, scheduler)
     weights = _weights(weights_text)
     free = tuple(f.strip() for f in free_text.split(",") if f.strip())
     is_file = Path(target).is_file()
@@ -461,9 +455,7 @@ def discover(
     if as_json:
         click.echo(json.dumps(report.document(), indent=2, ensure_ascii=False))
         return
-    from .presentation.search_output import search_text
-
-    click.echo(search_text(report.search))
+    click.echo(report.text())
     if report.reused:
         click.echo(f"(reused stored search {report.number}; --fresh searches again)")
     elif report.number is not None:
@@ -476,20 +468,14 @@ def discover(
 @click.option("--case", "case_ids", multiple=True, metavar="ID", help="Search only this case.")
 @click.option("--fresh", is_flag=True, help="Search again instead of reusing stored searches.")
 @click.option(
-    "--jobs",
-    type=click.IntRange(min=1),
-    default=None,
-    help="Processes searching (default: one per core).",
-)
-@click.option(
     "--budget",
     "seconds",
     type=click.FloatRange(min=0, min_open=True),
-    default=DEFAULT_SEARCH_BUDGET,
+    default=settings.DEFAULT_SEARCH_SECONDS,
     show_default=True,
     help="Seconds each search may take; then what is proven is recorded.",
 )
-@_scheduler_flag("Search, one task per search,")
+@_where("Search, one task per search,")
 @_user_errors
 def survey(
     case_ids: tuple[str, ...],
@@ -515,7 +501,9 @@ def survey(
 
     Example: registry survey --case kovalevskaya-1889-heavy-top
     """
-    scheduler = _cluster(jobs, scheduler)
+    from .api import check_where
+
+    check_where(jobs, scheduler)
     reg = _registry()
     with _counting_bar("search") as progress, reg.interruptible():
         reports = reg.survey(
@@ -526,11 +514,9 @@ def survey(
             progress=progress,
             scheduler=scheduler,
         )
-    from .presentation.search_output import statement
-
     for r in reports:
         on = f" on {', '.join(e.text for e in r.search.options.on)}" if r.search.options.on else ""
-        click.echo(f"{r.search.case}{on}: {statement(r.search)}")
+        click.echo(f"{r.search.case}{on}: {r.statement}")
     fresh_ones = sum(not r.reused for r in reports)
     undecided = sum(not r.search.decided for r in reports)
     click.echo(
@@ -555,14 +541,6 @@ def searches(case_id: str | None) -> None:
         weights=[f"M={w['M']},gamma={w['gamma']}" for w in frame["weights"]],
     )
     _print_frame(frame[["search", "case", "degree", "weights", "on", "complete", "statement"]])
-
-
-def _cluster(jobs: int | None, scheduler: str | None, local: str = "processes") -> str | None:
-    """The Dask scheduler to use: --scheduler, else $REGISTRY_SCHEDULER unless --jobs
-    asks for local ``local``; both options at once is a usage error."""
-    if jobs is not None and scheduler is not None:
-        raise click.UsageError(f"give --jobs (local {local}) or --scheduler (Dask), not both")
-    return None if jobs is not None else scheduler_option(scheduler)
 
 
 def _progress_bar(**options: Any) -> Any:
@@ -790,12 +768,7 @@ def plot(case_id: str, claim: str, output: str | None, seed: int) -> None:
 
     Example: registry plot yehia-2003-kovalevskaya-b I2 -o I2.png
     """
-    from .presentation.plots import drift_plot
-
-    case = _registry().case(case_id)
-    if claim not in {c.label for c in case.claims}:
-        raise UnknownClaimError(case_id, claim, [c.label for c in case.claims])
-    path = drift_plot(case, claim, output or f"drift-{case_id}-{claim}.png", seed=seed)
+    path = _registry().plot(case_id, claim, output or f"drift-{case_id}-{claim}.png", seed)
     click.echo(str(path))
 
 
@@ -807,9 +780,9 @@ def list_checks() -> None:
 
     Example: registry list-checks
     """
-    from .audit.checks import CHECKS
+    from .api import checks
 
-    for spec in CHECKS.values():
+    for spec in checks():
         scope = "per claim" if spec.per_claim else "per case"
         click.echo(f"{spec.name:12} {scope:9} {spec.cost:9} {spec.statement}")
 
@@ -854,11 +827,11 @@ def report(
 
     Example: registry report --format html -o audit.html
     """
-    from .presentation.verdict_table import diff_table
+    from .api import diff_text
 
     reg = _registry()
     if diff is not None:
-        click.echo(diff_table(reg.diff(*diff), *diff))
+        click.echo(diff_text(reg.diff(*diff), *diff))
         return
     path = Path(output or f"report.{fmt}")
     path.parent.mkdir(parents=True, exist_ok=True)

@@ -7,7 +7,6 @@ as fields and builds its message from them, so the CLI can print
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 
@@ -317,9 +316,9 @@ class DaskMissingError(SchedulerError, ImportError):
         )
 
 
-class BudgetSettingError(RegistryError, ValueError):
-    """An environment variable meant to set a default number of seconds (a time budget,
-    the wait for a database lock) holds no positive number of seconds."""
+class SettingError(RegistryError, ValueError):
+    """An environment variable meant to set a number of seconds (a time budget, the wait
+    for a database lock) holds no positive number of seconds (``registry.settings``)."""
 
     def __init__(self, variable: str, text: str):
         self.variable, self.text = variable, text
@@ -329,13 +328,6 @@ class BudgetSettingError(RegistryError, ValueError):
         )
 
 
-def seconds_setting(variable: str, text: str) -> float:
-    """The positive, finite number of seconds ``text`` (the value of ``$variable``) says,
-    or BudgetSettingError."""
-    try:
-        seconds = float(text)
-    except ValueError:
-        raise BudgetSettingError(variable, text) from None
-    if not (seconds > 0 and math.isfinite(seconds)):
-        raise BudgetSettingError(variable, text)
-    return seconds
+class UsageError(RegistryError, ValueError):
+    """Options that do not go together, or a value an option cannot take (``--jobs 0``,
+    ``--jobs`` with ``--scheduler``)."""

@@ -401,6 +401,18 @@ class Evidence:
 
 
 @dataclass(frozen=True)
+class DriftCurve:
+    """One integrated trajectory of a claim, as data to draw: the times and the changes
+    I(t) - I(0) and H(t) - H(0) there (H's is empty for a system without one)."""
+
+    case: str
+    claim: str
+    t: tuple[float, ...]
+    di: tuple[float, ...]
+    dh: tuple[float, ...] = ()
+
+
+@dataclass(frozen=True)
 class CaseAudit:
     """All check results for one case version, with the corrections derived from them."""
 

@@ -30,7 +30,8 @@ import sympy as sp
 
 import registry
 from registry.audit.case_audit import audit_case
-from registry.audit.parallel import audit_in_workers
+from registry.audit.parallel import audit_cases
+from registry.execution.executor import LocalPool
 from registry.execution.local import default_jobs
 from registry.execution.time_budget import TimeBudget
 from registry.language.printer import to_text
@@ -98,7 +99,7 @@ def naive_audit(cases) -> tuple[float, dict]:
 def our_audit(cases, jobs: int = 0) -> tuple[float, dict]:
     started = time.perf_counter()
     if jobs:
-        audits = [a for _, a in audit_in_workers(cases, jobs, TimeBudget())]
+        audits = [a for _, a in audit_cases(cases, LocalPool(jobs), TimeBudget())]
     else:
         audits = [audit_case(c, checks=CHECKS, repair=False) for c in cases]
     elapsed = time.perf_counter() - started
@@ -301,7 +302,7 @@ def main() -> None:
         f"on so(4), so(3,1)), {claims} claims, {args.jobs} workers"
     )
     started = time.perf_counter()
-    full = dict(audit_in_workers(catalog, args.jobs, TimeBudget()))
+    full = dict(audit_cases(catalog, LocalPool(args.jobs), TimeBudget()))
     wall = time.perf_counter() - started
     lean_t, lean = lean_audit(catalog, args.jobs)
     ours = {(a.case, r.check, r.claim): str(r.verdict) for a in full.values() for r in a.results}
@@ -325,7 +326,7 @@ def main() -> None:
     seed = [registry.load_case(p) for p in sorted((ROOT / "data" / "cases").glob("*.toml"))]
     print(f"== seed catalog: {len(seed)} cases, {args.jobs} workers")
     started = time.perf_counter()
-    full = dict(audit_in_workers(seed, args.jobs, TimeBudget()))
+    full = dict(audit_cases(seed, LocalPool(args.jobs), TimeBudget()))
     wall = time.perf_counter() - started
     print(f"fresh audit, all checks and repairs: {wall:.2f} s wall (target < 3 s)")
     refuted = sum(r.verdict is Verdict.REFUTED for a in full.values() for r in a.results)
@@ -364,7 +365,7 @@ def main() -> None:
     for n in args.sizes:
         cases = stress_catalog(n)
         started = time.perf_counter()
-        audits = dict(audit_in_workers(cases, args.jobs, TimeBudget()))
+        audits = dict(audit_cases(cases, LocalPool(args.jobs), TimeBudget()))
         wall = time.perf_counter() - started
         inconclusive = sum(
             r.verdict is Verdict.INCONCLUSIVE for a in audits.values() for r in a.results

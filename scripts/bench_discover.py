@@ -159,11 +159,11 @@ def naive_timed(name: str, options: dict, cap: float) -> tuple[float, bool, list
 def ours_timed(name: str, options: dict, repeat: int) -> tuple[float, object]:
     """Median seconds of ``repeat`` searches (after one warm-up), and the last result."""
     path = FAMILIES / f"{name}.toml"
-    discover_file(path, **options)
+    discover_file(path, jobs=1, **options)
     times = []
     for _ in range(repeat):
         started = time.perf_counter()
-        report = discover_file(path, **options)
+        report = discover_file(path, jobs=1, **options)
         times.append(time.perf_counter() - started)
     return statistics.median(times), report.search
 
@@ -300,14 +300,14 @@ def with_and_without_symmetries(name: str, options: dict) -> tuple[float, float,
 def scale(repeat: int) -> None:
     """Searches 6-8: one process, two processes, a local Dask cluster of two workers, and
     one process without symmetries."""
-    from registry.distributed.scheduler import cluster_client
+    from registry.execution.cluster import cluster_client
 
     reference, _ = ours_timed("heavy-top-lam", dict(degree=4, free=["lam"]), repeat)
     print(f"reference (search 1, 1 parameter, degree 4): {reference:.3f} s")
     with cluster_client("local:2") as client:
         once("heavy-top-lam", dict(degree=4, free=["lam"]), scheduler=client)  # warm workers
         for label, name, options, target in SCALE:
-            one, search = once(name, options)
+            one, search = once(name, options, jobs=1)
             two, search2 = once(name, options, jobs=2)
             dask, search3 = once(name, options, scheduler=client)
             found = "; ".join(", ".join(s.when) for s in search.special)

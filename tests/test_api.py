@@ -358,9 +358,9 @@ def test_module_doctest(monkeypatch):
 def test_unchanged_cases_are_reused_and_fresh_recomputes(db_target):
     reg = registry.open(db_target)
     reg.add(CASES / "yehia-2003-kovalevskaya-b.toml", CASES / "zhukovsky-gyrostat.toml")
-    first = reg.audit(jobs=0)
-    second = reg.audit(jobs=0)
-    third = reg.audit(jobs=0, fresh=True)
+    first = reg.audit(jobs=1)
+    second = reg.audit(jobs=1)
+    third = reg.audit(jobs=1, fresh=True)
     runs = reg.runs().set_index("run")
     assert runs.loc[first.run, "n_reused"] == 0
     assert runs.loc[second.run, "n_reused"] == runs.loc[second.run, "n_results"] > 0
@@ -402,7 +402,7 @@ def two_runs(tmp_path_factory, module_databases) -> str:
             path = folder / f"{ZHUKOVSKY}.toml"
             path.write_text(text, encoding="utf-8")
             reg.add(path)
-            reg.audit(jobs=0)
+            reg.audit(jobs=1)
     return target
 
 

@@ -557,7 +557,7 @@ def test_checks_lists_every_registered_check_with_its_statement():
         (["bogus"], "No such command 'bogus'. (see: registry --help)"),
         (
             ["audit", "--jobs", "-1"],
-            "Invalid value for '--jobs': -1 is not in the range x>=0. (see: registry audit --help)",
+            "Invalid value for '--jobs': -1 is not in the range x>=1. (see: registry audit --help)",
         ),
         (
             ["verdicts", "--run", "x"],
@@ -619,7 +619,7 @@ def recording_bar(monkeypatch):
 
 
 def test_audit_json_is_quiet_and_parsable(audited, recording_bar):
-    result = CliRunner().invoke(main, ["--db", str(audited.db), "audit", "--json", "--jobs", "0"])
+    result = CliRunner().invoke(main, ["--db", str(audited.db), "audit", "--json", "--jobs", "1"])
     assert result.exit_code == 0, result.output
     assert json.loads(result.output)["cases"]
     (bar,) = recording_bar
@@ -627,7 +627,7 @@ def test_audit_json_is_quiet_and_parsable(audited, recording_bar):
 
 
 def test_audit_json_with_the_real_bar_prints_only_json(audited):
-    result = CliRunner().invoke(main, ["--db", str(audited.db), "audit", "--json", "--jobs", "0"])
+    result = CliRunner().invoke(main, ["--db", str(audited.db), "audit", "--json", "--jobs", "1"])
     assert result.exit_code == 0, result.output
     assert json.loads(result.output)["run"] > 0
     assert result.stderr == ""
@@ -638,7 +638,7 @@ def test_audit_on_a_terminal_shows_each_case(db_target, monkeypatch, recording_b
     runner = CliRunner()
     assert runner.invoke(main, ["--db", db, "add", str(CASES / f"{ZHUKOVSKY}.toml")]).exit_code == 0
     monkeypatch.setattr("registry.cli.sys", SimpleNamespace(stderr=_Tty(), exit=sys.exit))
-    result = runner.invoke(main, ["--db", db, "audit", "--fresh", "--jobs", "0"])
+    result = runner.invoke(main, ["--db", db, "audit", "--fresh", "--jobs", "1"])
     assert result.exit_code == 0, result.output
     (bar,) = recording_bar
     assert bar.kwargs["disable"] is False and bar.kwargs["total"] == 1
@@ -685,7 +685,7 @@ def test_the_corrections_budget_bounds_the_corrections_alone(module_databases):
     case = "yehia-2003-kovalevskaya-b"
     db = module_databases.new("corrections-budget")
     assert invoke(db, "add", str(case_file(case))).exit_code == 0
-    args = ("audit", "--case", case, "--json", "--fresh", "--jobs", "0", *PATIENT_OPTIONS)
+    args = ("audit", "--case", case, "--json", "--fresh", "--jobs", "1", *PATIENT_OPTIONS)
     patient = json.loads(invoke(db, *args).stdout)
     cut = invoke(db, *args, "--corrections-budget", "1e-9")
     assert cut.exit_code == 0, cut.output

@@ -26,7 +26,7 @@ def test_record_then_audit_verifies_every_discovered_claim(db_target):
             "family-heavy-top-lam-where-lam-1",
             "family-heavy-top-lam-where-lam-4",
         )
-        reg.audit(jobs=0)
+        reg.audit(jobs=1)
         claims = reg.claims()
         found = claims[claims.provenance == "discovered"]
         assert set(found.case) == set(report.derived)
@@ -43,7 +43,7 @@ def test_generic_integrals_become_claims_of_the_searched_version(db_target):
         case = reg.case("family-lagrange-lam")
         (discovered,) = [c for c in case.claims if c.provenance == "discovered"]
         assert discovered.expression.text == "M3"
-        run = reg.audit(jobs=0)
+        run = reg.audit(jobs=1)
         outcome = [o for o in run.outcomes() if o.case_id == "family-lagrange-lam"][0]
         (claim,) = [c for c in outcome.claims if c.label == discovered.label]
         assert str(claim.integral.verdict) == "verified"
@@ -112,7 +112,11 @@ def test_the_cli_records_and_says_so(db_target):
     "args,message",
     [
         (["--free", "mu"], "Error: --free names 'mu', which the case does not declare"),
-        (["--weights", "M=1"], "Error: Invalid value for --weights: 'M=1': give both M and gamma"),
+        (
+            ["--weights", "omega=1"],
+            "Error: --weights names 'omega', which the case's state does not have "
+            "(its vectors: M, gamma)",
+        ),
         (["--on", "M1 = 0", "--degree", "2"], "Error: the flow does not keep the level set"),
         (["--on", "bogus = 0"], "Error: unknown name 'bogus'"),
     ],
@@ -193,7 +197,7 @@ def test_an_invariant_relation_is_recorded_and_its_claim_verified_by_the_audit(d
         (derived,) = report.derived
         frame = reg.searches()
         assert list(frame.n_special) == [1]
-        reg.audit(jobs=0)
+        reg.audit(jobs=1)
         claims = reg.claims()
         (claim,) = claims[claims.case == derived].itertuples()
         assert claim.expression == "M1*x0 + M3*z0"

@@ -37,9 +37,9 @@ def audit_outputs(db: Path) -> tuple[dict, str]:
     runner = CliRunner()
     added = runner.invoke(main, ["--db", str(db), "add", *map(str, SEED_FILES)])
     assert added.exit_code == 0, added.output
-    as_json = runner.invoke(main, ["--db", str(db), "audit", "--fresh", "--json", "--jobs", "0"])
+    as_json = runner.invoke(main, ["--db", str(db), "audit", "--fresh", "--json", "--jobs", "1"])
     assert as_json.exit_code == 0, as_json.output
-    table = runner.invoke(main, ["--db", str(db), "audit", "--fresh", "--jobs", "0"])
+    table = runner.invoke(main, ["--db", str(db), "audit", "--fresh", "--jobs", "1"])
     assert table.exit_code == 0, table.output
     document = without_timings(json.loads(as_json.stdout))
     document["run"] = None

@@ -475,7 +475,7 @@ def test_the_fixtures_verdicts():
 def test_a_database_of_either_backend_stores_the_local_verdicts(db_target):
     with registry.open(db_target) as reg:
         reg.add(HAMILTONIAN)
-        report = reg.audit(jobs=0)
+        report = reg.audit(jobs=1)
         assert stored_verdicts(reg, report.run) == local_verdicts()
         stored = reg.case("test-kovalevskaya-so4")
         assert stored.system.hamiltonian.text == "M1**2 + M2**2 + 2*M3**2 + 2*c*gamma1"
@@ -497,7 +497,7 @@ def test_the_audit_json_carries_h_and_kappa():
 def test_the_survey_searches_new_form_cases(tmp_path):
     with registry.open(tmp_path / "r.sqlite") as reg:
         reg.add(HAMILTONIAN)
-        reports = {r.search.case: r.search for r in reg.survey(jobs=0)}
+        reports = {r.search.case: r.search for r in reg.survey(jobs=1)}
     so4 = reports["test-kovalevskaya-so4"]
     assert (
         dict(so4.options.weights) == {"M": 1, "gamma": 1} and so4.options.degree == 4

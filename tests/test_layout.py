@@ -19,7 +19,6 @@ MAP_PAGE = ROOT / "docs" / "development.md"
 EXEMPT = {
     "__init__.py": "re-exports the public API; tests/test_api.py tests it through them",
     "__main__.py": "only calls the CLI; tests/test_cli.py runs `python -m registry`",
-    "runs/__init__.py": "only DEFAULT_SEARCH_BUDGET, light for --help; test_search_run uses it",
     "store/migrations/": "Alembic's revisions; tests/store/test_migrate.py runs every one",
 }
 

@@ -264,7 +264,7 @@ def browsed_db(module_databases):
     db = module_databases.new("browse")
     with registry.open(db) as reg:
         reg.add(*[p for p in topic_files() if p.parent.name in BROWSED])
-        reg.audit(jobs=0)
+        reg.audit(jobs=1)
     return db
 
 

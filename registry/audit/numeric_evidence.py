@@ -53,7 +53,7 @@ import sympy as sp
 from ..language.parser import FUNCTIONS
 from ..mathematics.case_mechanics import CaseMechanics
 from ..mathematics.sampling import concrete_functions, sample_point, substitute_functions
-from ..model import Claim, Evidence, Verdict
+from ..model import Case, Claim, DriftCurve, Evidence, Verdict
 
 #: Integration time, tolerances and runs per claim.
 T_END = 5.0
@@ -367,6 +367,35 @@ def trajectory(
         start = {str(k): float(v) for k, v in point.items()}
         return Trajectory(claim.label, run.t, run.i - run.i[0], run.h - run.h[0], start)
     raise ValueError(f"no trajectory could be integrated for claim {claim.label!r}")
+
+
+def drift_curve(case: Case, label: str, seed: int = 0, points: int = 200) -> DriftCurve:
+    """The first trajectory the numerical evidence of claim ``label`` integrates (same
+    seed, same start), at about ``points`` times, as data a plot draws. KeyError for an
+    unknown claim, ValueError when nothing could be integrated."""
+    run = trajectory(CaseMechanics(case), case.claim(label), seed)
+    step = max(1, len(run.t) // points)
+    return DriftCurve(
+        case.id,
+        label,
+        tuple(float(x) for x in run.t[::step]),
+        tuple(float(x) for x in run.di[::step]),
+        tuple(float(x) for x in run.dh[::step]),
+    )
+
+
+def drift_curves(
+    claims: Sequence[tuple[Case, str]], seed: int = 0
+) -> dict[tuple[str, str], DriftCurve | str]:
+    """The drift curve of each (case, claim label), by (case id, label), or why there is
+    none (nothing could be integrated)."""
+    out: dict[tuple[str, str], DriftCurve | str] = {}
+    for case, label in claims:
+        try:
+            out[case.id, label] = drift_curve(case, label, seed)
+        except (ValueError, KeyError) as exc:
+            out[case.id, label] = str(exc)
+    return out
 
 
 def _only_numeric(exprs: list[sp.Expr], state: Sequence[sp.Symbol]) -> None:

@@ -1,18 +1,21 @@
-"""Auditing many cases at once in local worker processes (``execution.local``).
+"""Auditing many cases at once, wherever the executor runs its calls.
 
 The audit decides only what is particular to cases: which cases go to one worker in a
-row (those sharing a torque, largest first), each case's deadline (its checks' budget),
-and what a call without a result becomes (``case_audit.as_audit``).
+row (those sharing a torque, largest first: the worker recognises the torque's family
+once, with sympy's caches warm), each case's deadline (its checks' budget), and what a
+call without a result becomes (``case_audit.as_audit``). Where the calls run (this
+process, local workers, a Dask cluster) is the executor's business
+(``execution.executor``): the verdicts do not depend on it.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Callable, Generator, Sequence
 from functools import partial
 
 import sympy as sp
 
-from ..execution.local import run_in_workers
+from ..execution.executor import Executor
 from ..execution.time_budget import TimeBudget
 from ..model import Case, CaseAudit
 from .case_audit import as_audit, audit_case, count_checks
@@ -43,28 +46,29 @@ def batches(cases: Sequence[Case]) -> list[list[tuple[int, Case]]]:
     return sorted(groups.values(), key=lambda g: -sum(cost[i] for i, _ in g))
 
 
-def audit_in_workers(
+def audit_cases(
     cases: Sequence[Case],
-    jobs: int,
+    executor: Executor,
     budget: TimeBudget,
-    started: Callable[[Case], None] | None = None,
     numeric: bool = False,
-) -> Iterator[tuple[int, CaseAudit]]:
-    """Audit ``cases`` in up to ``jobs`` processes; yield (index, audit) as each finishes.
+    on_event: Callable | None = None,
+) -> Generator[tuple[int, CaseAudit], None, None]:
+    """Audit ``cases`` with ``executor``; yield (index, audit) as each finishes.
 
-    A worker that overruns its case's deadline is killed and replaced by a new one (the
-    case is ``inconclusive``); the rest of its batch goes back to the queue.
+    A case whose call overran its deadline (its worker killed), crashed or was lost on a
+    cluster gets the record ``case_audit.as_audit`` makes of it; the others go on.
     """
-    calls = run_in_workers(
+    calls = executor.map(
         partial(audit_case, budget=budget, numeric=numeric),
         cases,
-        jobs,
-        seconds=lambda case: budget.case_deadline(count_checks(case)),
-        batches=[[i for i, _ in group] for group in batches(cases)],
-        started=None if started is None else (lambda index: started(cases[index])),
+        deadline=lambda case: budget.case_deadline(count_checks(case)),
+        groups=[[i for i, _ in group] for group in batches(cases)],
+        label=lambda case: case.id,
+        on_event=on_event,
+        name="registry-audit",
     )
     try:
         for index, outcome in calls:
             yield index, as_audit(cases[index], outcome)
     finally:
-        calls.close()  # type: ignore[attr-defined]
+        calls.close()

@@ -33,8 +33,8 @@ from sympy.polys.rings import PolyElement, PolyRing
 
 from ..audit.case_audit import audit_case
 from ..errors import DiscoveryError
-from ..execution.local import local_mapper
-from ..execution.mapping import MAPPER_GRACE, Mapper, in_order
+from ..execution.executor import Executor, InProcess, in_order, timed
+from ..execution.serving import Failure
 from ..execution.time_budget import BudgetExceeded, time_limit
 from ..language.forms import with_values
 from ..language.parser import Namespace, parse_equation
@@ -112,10 +112,9 @@ def discover(
     options: SearchOptions | None = None,
     *,
     budget: float | None = None,
-    jobs: int = 1,
+    executor: Executor | None = None,
     seed: int = 0,
     progress: Progress | None = None,
-    mapper: Mapper | None = None,
     symmetries: bool = True,
 ) -> Search:
     """Search ``case`` for first integrals (module docstring).
@@ -123,12 +122,12 @@ def discover(
     ``options.free`` names the parameters whose special values are sought; the others
     stay symbolic and generic. ``budget`` bounds the whole search in seconds: when it
     runs out, what was proven so far is returned with ``complete`` false and the
-    coverage saying where the search stopped. ``jobs`` > 1 searches candidate sets in
-    that many processes; a ``mapper`` searches them where it runs its calls (a Dask
-    cluster), with the same results. A candidate set the mapper could not search (its
-    call killed, lost, or failed) is named in the coverage, and the search is then not
-    complete. ``symmetries`` false searches the whole ansatz without splitting it along
-    the field's symmetries (``symmetry``), for comparison: the results are the same.
+    coverage saying where the search stopped. The candidate sets are searched by
+    ``executor`` (default: in this process; local workers or a Dask cluster give the same
+    results). A candidate set the executor could not search (its call killed, lost, or
+    failed) is named in the coverage, and the search is then not complete.
+    ``symmetries`` false searches the whole ansatz without splitting it along the field's
+    symmetries (``symmetry``), for comparison: the results are the same.
     """
     started = time.perf_counter()
     options = options or SearchOptions()
@@ -148,13 +147,10 @@ def discover(
         free += coefficients
     dynamics = case.dynamics
     note = grading_note(dynamics.field, options.weights, dynamics.vectors, dynamics.shorthands)
-    elsewhere = None
-    if mapper is not None:
-        seconds = None if budget is None else budget + MAPPER_GRACE
-        elsewhere = (mapper, seconds)
+    executor = executor or InProcess()
     try:
         with time_limit(budget):
-            _, state.found = _search(state, case, free, jobs, elsewhere)
+            _, state.found = _search(state, case, free, executor, timed(budget))
     except BudgetExceeded:
         state.undecided.append(
             f"time budget exceeded ({budget:g} s) after {state.done} of the "
@@ -226,23 +222,22 @@ def _search(
     state: _State,
     case: Case,
     free: list[sp.Symbol],
-    jobs: int = 1,
-    elsewhere: tuple[Mapper, float | None] | None = None,
+    executor: Executor,
+    seconds: float | None,
 ):
     """(integrals of the family for generic values of ``free``, the special sets).
 
     The candidate sets are searched level by level: those of the family's locus, then
-    those within them, and so on, each level's sets in ``jobs`` processes or by
-    ``elsewhere`` (a mapper and the seconds each of its calls may take). A set reached
-    on two paths is searched once (the searched sets are kept here, for every level),
-    and a set is special when it has more integrals of some degree than the set it was
-    found in."""
+    those within them, and so on, each level's sets by ``executor`` (each call killed
+    past ``seconds``). A set reached on two paths is searched once (the searched sets are
+    kept here, for every level), and a set is special when it has more integrals of some
+    degree than the set it was found in."""
     found, kernel, candidates = _step(state, case, free, (), {})
     queue = [(c, kernel) for c in _fresh(state, candidates)]
     special: list[IntegralSet] = []
     while queue:
         state.total += len(queue)
-        results = _each(state, [c for c, _ in queue], jobs, elsewhere)
+        results = _each(state, [c for c, _ in queue], executor, seconds)
         following: list[tuple[Any, dict[int, int]]] = []
         for (_, parent), (g, dimensions, inner, undecided, cofactors, used) in zip(
             queue, results, strict=True
@@ -371,14 +366,14 @@ def _when(state: _State, values: dict[sp.Symbol, sp.Expr]) -> tuple[str, ...]:
     return tuple(f"{to_text(s)} = {to_text(e)}" for s, e in ordered)
 
 
-def _each(state: _State, candidates, jobs: int, elsewhere=None):
-    """Search each candidate set (``_step``), in this process, in ``jobs`` processes or
-    through the mapper of ``elsewhere``: (integrals, dimensions, sets within, undecided,
-    cofactors of the sets within), in the candidates' order in every case."""
-    if elsewhere is not None and candidates:
-        yield from _each_elsewhere(state, candidates, *elsewhere)
+def _each(state: _State, candidates, executor: Executor, seconds: float | None):
+    """Search each candidate set (``_step``), here or by ``executor``: (integrals,
+    dimensions, sets within, undecided, cofactors of the sets within), in the candidates'
+    order in every case. A single set, or an executor that runs in this process, is
+    searched here (with the search's state shared); sets elsewhere each get a copy."""
+    if not candidates:
         return
-    if jobs <= 1 or len(candidates) <= 1:
+    if executor.local and (executor.workers <= 1 or len(candidates) <= 1):
         for sub, rest, when, values in candidates:
             if state.progress is not None:
                 state.progress(state.done, state.total, ", ".join(when))
@@ -387,24 +382,34 @@ def _each(state: _State, candidates, jobs: int, elsewhere=None):
             state.done += 1
             yield g, dimensions, inner, [u for u in state.undecided if u not in before], {}, {}
         return
-    yield from _each_elsewhere(state, candidates, local_mapper(jobs), None)
+    yield from _each_elsewhere(state, candidates, executor, seconds)
 
 
-def _each_elsewhere(state: _State, candidates, mapper: Mapper, seconds: float | None):
-    """``_each`` through a mapper, in the candidates' order; a candidate set it could
-    not search is undecided."""
+def _each_elsewhere(state: _State, candidates, executor: Executor, seconds: float | None):
+    """``_each`` by an executor, in the candidates' order; a candidate set it could not
+    search is undecided."""
     bare = replace(state, progress=None, found=[], undecided=[], searched=[], used={})
     work = [(bare, *candidate) for candidate in candidates]
-    for index, value in in_order(mapper(_step_apart, work, seconds), len(work)):
+    calls = executor.map(_step_apart, work, deadline=seconds, label=_label, name="registry-search")
+    for index, value in in_order(calls, len(work)):
         when = candidates[index][2]
         if state.progress is not None:
             state.progress(state.done, state.total, ", ".join(when))
         state.done += 1
-        if isinstance(value, BaseException):
-            why = f"candidate set {', '.join(when)} not searched ({value})"
+        if isinstance(value, Failure):
+            where = f" on worker {value.worker}" if value.worker else ""
+            why = (
+                f"candidate set {', '.join(when)} not searched "
+                f"({value.kind}{where}: {value.reason})"
+            )
             yield IntegralSet(when, 0), {}, [], [why], {}, {}
         else:
             yield value
+
+
+def _label(work) -> str:
+    """A candidate's name in a cluster's events: its equations (``lam = 1, z0 = 0``)."""
+    return ", ".join(work[3])
 
 
 def _step_apart(work):

@@ -9,8 +9,8 @@ from collections.abc import Iterator, Sequence
 
 from ..dynamics import Dynamics
 from ..errors import DiscoveryError
-from ..execution.local import local_mapper
-from ..execution.mapping import MAPPER_GRACE, Mapper, in_order
+from ..execution.executor import Executor, InProcess, in_order, timed
+from ..execution.serving import Failure
 from ..mathematics.grading import ring_degree, weights_by_symbol
 from ..model import Case, Claim, IntegralSet, Provenance, Search, SearchOptions, Weights
 from .search import discover
@@ -59,32 +59,23 @@ def searched(
     work: Sequence[tuple[Case, SearchOptions]],
     *,
     budget: float | None,
-    jobs: int = 1,
-    mapper: Mapper | None = None,
+    executor: Executor | None = None,
 ) -> Iterator[Search]:
-    """The search of each (case, options), in order, in this process, in ``jobs``
-    worker processes (which die with this one), or through ``mapper`` (a Dask cluster);
-    a search the method refuses, or that came back with no result, is recorded as
-    ``not_searched`` with the reason."""
-    if mapper is not None:
-        yield from _mapped(work, budget, mapper)
-        return
-    if jobs <= 1 or len(work) <= 1:
-        yield from (_searched(item, budget) for item in work)
-        return
-    yield from _mapped(work, budget, local_mapper(jobs))
-
-
-def _mapped(
-    work: Sequence[tuple[Case, SearchOptions]], budget: float | None, mapper: Mapper
-) -> Iterator[Search]:
-    """``searched`` through a mapper, in the work's order."""
-    seconds = None if budget is None else budget + MAPPER_GRACE
-    calls = mapper(_searched_apart, [(item, budget) for item in work], seconds)
+    """The search of each (case, options), in order, by ``executor`` (default: in this
+    process), one call each; a search the method refuses, or that came back with no
+    result, is recorded as ``not_searched`` with the reason."""
+    executor = executor or InProcess()
+    calls = executor.map(
+        _searched_apart,
+        [(item, budget) for item in work],
+        deadline=timed(budget),
+        label=lambda w: w[0][0].id,
+        name="registry-search",
+    )
     for index, outcome in in_order(calls, len(work)):
-        if isinstance(outcome, BaseException):  # the cluster gave no result for it
+        if isinstance(outcome, Failure):  # the call gave no result
             case, options = work[index]
-            outcome = not_searched(case, options, f"no result came back: {outcome}")
+            outcome = not_searched(case, options, f"no result came back: {outcome.reason}")
         yield outcome
 
 

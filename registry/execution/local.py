@@ -16,12 +16,10 @@ import multiprocessing as mp
 import os
 import threading
 import time
-from collections.abc import Callable, Generator, Iterator, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from multiprocessing.connection import wait
 from typing import Any
 
-from ..errors import DiscoveryError
-from .mapping import Mapper
 from .serving import Failure, serve
 
 
@@ -166,24 +164,3 @@ def run_in_workers(
     finally:
         for w in workers:
             w.stop(kill=bool(w.batch))
-
-
-def local_mapper(jobs: int) -> Mapper:
-    """A ``mapping.Mapper`` over up to ``jobs`` local worker processes, the counterpart
-    of ``distributed.searches.cluster_mapper``: each call killed past ``seconds`` (None:
-    it bounds itself), a call without a result coming back as a DiscoveryError saying
-    why."""
-
-    def mapper(
-        fn: Callable[[Any], Any], items: Sequence[Any], seconds: float | None
-    ) -> Generator[tuple[int, Any], None, None]:
-        calls = run_in_workers(fn, items, jobs, seconds=lambda _: seconds)
-        try:
-            for index, outcome in calls:
-                if isinstance(outcome, Failure):
-                    outcome = DiscoveryError(f"{outcome.kind}: {outcome.reason}")
-                yield index, outcome
-        finally:
-            calls.close()  # type: ignore[attr-defined]
-
-    return mapper

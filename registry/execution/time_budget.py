@@ -9,14 +9,13 @@ processes (``local``, ``children``) are killed from outside when their case over
 
 from __future__ import annotations
 
-import os
 import signal
 import threading
 from collections.abc import Iterator, Mapping
 from contextlib import contextmanager
 from dataclasses import dataclass, replace
 
-from ..errors import seconds_setting
+from .. import settings
 
 
 class BudgetExceeded(BaseException):
@@ -31,8 +30,8 @@ class TimeBudget:
     """Seconds allowed to one check, to the corrections of one case, and the margin a
     worker gets before it is killed."""
 
-    check: float = 5.0
-    corrections: float = 20.0
+    check: float = settings.DEFAULT_CHECK_SECONDS
+    corrections: float = settings.DEFAULT_CORRECTIONS_SECONDS
     margin: float = 10.0
 
     def case_deadline(self, n_checks: int) -> float:
@@ -43,28 +42,29 @@ class TimeBudget:
 #: Budgets used when none is given: a few seconds per check.
 DEFAULT_BUDGET = TimeBudget()
 
-#: Environment variables that replace the built-in defaults of ``check`` and
-#: ``corrections`` (seconds) wherever no budget is given: for a slow or busy machine, or
-#: a test suite that asserts verdicts, not speed. The budgets keep their meaning.
-BUDGET_ENV = "REGISTRY_BUDGET"
-CORRECTIONS_BUDGET_ENV = "REGISTRY_CORRECTIONS_BUDGET"
 
-
-def default_budget(environ: Mapping[str, str] | None = None) -> TimeBudget:
-    """``DEFAULT_BUDGET``, with ``check`` and ``corrections`` from ``$REGISTRY_BUDGET`` and
-    ``$REGISTRY_CORRECTIONS_BUDGET`` where they are set (BudgetSettingError if one is not
-    a positive number of seconds).
+def default_budget(
+    environ: Mapping[str, str] | None = None,
+    *,
+    check: float | None = None,
+    corrections: float | None = None,
+) -> TimeBudget:
+    """The budget of a run: ``check`` and ``corrections`` where given (a command's
+    options), else ``$REGISTRY_BUDGET`` and ``$REGISTRY_CORRECTIONS_BUDGET`` where set
+    (``settings``: for a slow or busy machine, or a test suite that asserts verdicts, not
+    speed), else the built-in defaults (SettingError for a variable that holds no
+    positive number of seconds).
 
     >>> default_budget({"REGISTRY_BUDGET": "60"})
     TimeBudget(check=60.0, corrections=20.0, margin=10.0)
+    >>> default_budget({}, check=2)
+    TimeBudget(check=2, corrections=20.0, margin=10.0)
     """
-    environ = os.environ if environ is None else environ
-    budget = DEFAULT_BUDGET
-    for variable, field in ((BUDGET_ENV, "check"), (CORRECTIONS_BUDGET_ENV, "corrections")):
-        text = environ.get(variable, "").strip()
-        if text:
-            budget = replace(budget, **{field: seconds_setting(variable, text)})
-    return budget
+    return replace(
+        DEFAULT_BUDGET,
+        check=check or settings.check_seconds(environ),
+        corrections=corrections or settings.corrections_seconds(environ),
+    )
 
 
 def _interrupt(signum, frame):

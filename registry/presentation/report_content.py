@@ -14,8 +14,7 @@ import io
 import re
 import tempfile
 from collections import Counter
-from collections.abc import Callable, Iterable, Sequence
-from functools import lru_cache
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from pathlib import Path
 
 import pandas as pd
@@ -29,6 +28,7 @@ from ..model import (
     CheckResult,
     Conditions,
     Correction,
+    DriftCurve,
     Evidence,
     FamilyRecord,
     Verdict,
@@ -38,6 +38,7 @@ from .mathml import NAMES, equation
 from .report_writers import FORMATS, WRITERS, Code, Link, Math, Part, Writer, anchor
 
 #: Makes the drift plot of (case, claim label): the PNG's path, or why there is none.
+#: A claim's drift plot: (case, claim label) -> the image written, or why there is none.
 Plotter = Callable[[Case, str], "Path | str"]
 
 
@@ -339,15 +340,6 @@ def run_row(frame: pd.DataFrame, run: int | None) -> pd.Series:
     return rows.iloc[0]
 
 
-@lru_cache(maxsize=32)
-def _drift_png(case: Case, label: str) -> bytes:
-    """The drift plot of a claim as PNG bytes (cached: reports of one run in several formats)."""
-    from .plots import drift_plot
-
-    with tempfile.TemporaryDirectory() as scratch:
-        return _palette_png(drift_plot(case, label, Path(scratch) / "drift.png").read_bytes())
-
-
 def _palette_png(png: bytes, colours: int = 16) -> bytes:
     """A line plot's PNG with an adaptive palette of ``colours`` (a fifth of the bytes;
     a report embeds several and stays small)."""
@@ -359,15 +351,18 @@ def _palette_png(png: bytes, colours: int = 16) -> bytes:
     return out.getvalue()
 
 
-def _plotter(directory: Path) -> Plotter:
-    """Drift plots written into ``directory`` as drift-<case>-<claim>.png."""
+def _plotter(directory: Path, curves: Mapping[tuple[str, str], DriftCurve | str]) -> Plotter:
+    """Drift plots of the ``curves`` (by case and claim; a text says why there is none)
+    written into ``directory`` as drift-<case>-<claim>.png."""
+    from .plots import drift_plot
 
     def plot(case: Case, label: str) -> Path | str:
+        curve = curves.get((case.id, label), "no trajectory was integrated")
+        if isinstance(curve, str):
+            return curve
         name = re.sub(r"[^A-Za-z0-9-]+", "-", f"drift-{case.id}-{label}") + ".png"
-        try:
-            png = _drift_png(case, label)
-        except (ValueError, KeyError) as exc:
-            return str(exc)
+        with tempfile.TemporaryDirectory() as scratch:
+            png = _palette_png(drift_plot(curve, Path(scratch) / "drift.png").read_bytes())
         directory.mkdir(parents=True, exist_ok=True)
         (directory / name).write_bytes(png)
         return directory / name
@@ -375,19 +370,31 @@ def _plotter(directory: Path) -> Plotter:
     return plot
 
 
+def plotted(outcomes: Sequence[CaseOutcome]) -> list[tuple[Case, str]]:
+    """The claims whose drift a report plots: the refuted ones, (case, label) each."""
+    return [
+        (o.case, c.label)
+        for o in outcomes
+        if o.case is not None
+        for c in o.claims
+        if c.verdict is Verdict.REFUTED
+    ]
+
+
 def build_report(
     run: pd.Series,
     outcomes: Sequence[CaseOutcome],
     fmt: str = "md",
     out_dir: Path | None = None,
-    plots: bool = True,
+    curves: Mapping[tuple[str, str], DriftCurve | str] | None = None,
 ) -> str:
     """The text of a report of one audit run in ``fmt`` (md, html, tex): ``run`` is its
     row of ``Registry.runs()`` (``run_row``), ``outcomes`` what it found case by case
     (``AuditReport.outcomes()``); ``Registry.report`` gathers both.
 
-    Drift plots of refuted claims are written into ``out_dir`` (default: the current
-    directory) for md and tex, and embedded in the file for html.
+    The drift plots of refuted claims (``plotted``) draw ``curves`` (by case and claim,
+    computed by the audit; None: no plots), written into ``out_dir`` (default: the
+    current directory) for md and tex, and embedded in the file for html.
     """
     if fmt not in WRITERS:
         raise RegistryError(f"unknown report format {fmt!r}; choose one of {', '.join(FORMATS)}")
@@ -396,7 +403,7 @@ def build_report(
     outcomes = sorted(outcomes, key=lambda o: o.case_id)
     with tempfile.TemporaryDirectory() as scratch:
         where = Path(scratch) if fmt == "html" else Path(out_dir or ".")
-        plot = _plotter(where) if plots else None
+        plot = _plotter(where, curves) if curves is not None else None
         w = WRITERS[fmt]()
         _header(w, row, outcomes)
         groups = by_topic(outcomes)

@@ -3,9 +3,5 @@
 An audit run that reuses stored results (``audit_run``), a search run that records and
 reuses searches (``search_run``), and a run's interruption (``interruption``): a signal
 ends a run as Ctrl-C does, never in the middle of a database session. ``api.Registry``
-delegates to these; the command line talks only to ``Registry``.
+delegates to these; the command line talks only to the facade (``api``).
 """
-
-#: Seconds an integral search may take by default (``registry discover --budget``); here,
-#: where ``registry --help`` can read it without importing the search.
-DEFAULT_SEARCH_BUDGET = 300.0

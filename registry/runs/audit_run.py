@@ -10,28 +10,24 @@ interruption keeps what was done and marks the run interrupted.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Generator, Sequence
+from collections.abc import Callable
 from contextlib import closing
 from dataclasses import asdict, dataclass, field
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
-from ..audit.case_audit import DEFAULT_BUDGET, audit_case, failed_case
+from ..audit.case_audit import failed_case
 from ..audit.outcome import CaseOutcome, outcomes
-from ..audit.parallel import audit_in_workers
-from ..distributed.audits import audit_on_cluster
-from ..distributed.scheduler import check_same_code, cluster_client, describe
-from ..distributed.tasks import Event
+from ..audit.parallel import audit_cases
 from ..errors import RegistryError
-from ..execution.local import default_jobs
-from ..execution.time_budget import TimeBudget, default_budget
+from ..execution.cluster_calls import Event
+from ..execution.executor import Executor
+from ..execution.time_budget import TimeBudget
 from ..language.case_writer import corrected_case_text
 from ..model import Case, CaseAudit, Verdict, VerdictChange
 from ..presentation.audit_json import audit_document
+from ..presentation.verdict_table import disagreements, verdict_table
 from ..store.database import Store
 from ..version import code_version
-
-if TYPE_CHECKING:
-    from distributed import Client
 
 
 @dataclass(frozen=True)
@@ -55,6 +51,14 @@ class AuditReport:
         """The JSON document of docs/json-output.md for this run."""
         return audit_document(self.run, self.outcomes())
 
+    def table(self) -> str:
+        """The verdict table ``registry audit`` prints."""
+        return verdict_table(self.outcomes(), self.run)
+
+    def contradicted(self) -> list[str]:
+        """The claims (case/claim) whose numerical evidence contradicts their verdict."""
+        return disagreements(self.outcomes())
+
 
 def _reusable(found: tuple[int, CaseAudit] | None, case: Case) -> CaseAudit | None:
     """A stored audit worth reusing: complete, with no crashed or killed check, and
@@ -69,53 +73,42 @@ def _reusable(found: tuple[int, CaseAudit] | None, case: Case) -> CaseAudit | No
     return audit
 
 
+@dataclass(frozen=True)
+class AuditRequest:
+    """What an audit run is asked to do: the cases (none: all), whether to recompute
+    stored results (``fresh``), the time budget of each check and each case's
+    corrections, and whether to add numerical evidence."""
+
+    cases: tuple[str, ...] = ()
+    fresh: bool = False
+    budget: TimeBudget = field(default_factory=TimeBudget)
+    numeric: bool = False
+
+    def options(self) -> dict[str, Any]:
+        """The request as the run records it."""
+        return {
+            "cases": list(self.cases) or None,
+            "fresh": self.fresh,
+            "budget": asdict(self.budget),
+            "numeric": self.numeric,
+        }
+
+
 def audit_run(
     store: Store,
-    case_ids: Sequence[str] | None = None,
-    *,
-    fresh: bool = False,
-    jobs: int | None = None,
-    budget: TimeBudget | None = None,
-    numeric: bool = False,
+    request: AuditRequest,
+    executor: Executor,
     progress: Callable[[str], None] | None = None,
-    scheduler: str | Client | None = None,
 ) -> AuditReport:
     """``Registry.audit``: audit the latest version of every case (or the named ones),
-    reusing what this code version already found, and record the run."""
+    reusing what this code version already found, and record the run; the cases not
+    reused are audited by ``executor``, and ``progress`` hears each case as it is done."""
     store.require_writer("record an audit run")
-    if scheduler is None:
-        return _audit(store, case_ids, fresh, jobs, budget, numeric, progress, None, None)
-    with cluster_client(scheduler) as client:
-        check_same_code(client, code_version)
-        given = scheduler if isinstance(scheduler, str) else client.scheduler.address
-        return _audit(store, case_ids, fresh, jobs, budget, numeric, progress, client, given)
-
-
-def _audit(
-    store: Store,
-    case_ids: Sequence[str] | None,
-    fresh: bool,
-    jobs: int | None,
-    budget: TimeBudget | None,
-    numeric: bool,
-    progress: Callable[[str], None] | None,
-    client: Client | None,
-    scheduler: str | None,
-) -> AuditReport:
-    """``audit``, with ``client`` the Dask client of ``scheduler`` (or both None)."""
-    budget = default_budget() if budget is None or budget is DEFAULT_BUDGET else budget
-    jobs = default_jobs() if jobs is None else jobs
-    stored = store.case_versions(list(case_ids) if case_ids else None)
+    stored = store.case_versions(list(request.cases) or None)
     version = code_version()
-    options: dict[str, Any] = {
-        "cases": list(case_ids) if case_ids else None,
-        "fresh": fresh,
-        "jobs": jobs,
-        "budget": asdict(budget),
-        "numeric": numeric,
-    }
-    if client is not None:
-        options.update(jobs=None, scheduler=scheduler, cluster=describe(client), events=[])
+    options = {**request.options(), **executor.describe()}
+    if not executor.local:
+        options["events"] = []
     run = store.start_run(options, version)
     events: list[str] = []
 
@@ -136,20 +129,24 @@ def _audit(
                 store.record_case(run, row.pk, audits[i])
                 continue
             cases[case.id] = case
-            prior = None if fresh else _reusable(store.stored_audit(row.pk, version), case)
-            if prior is not None and numeric and len(prior.evidence) < len(case.claims):
+            prior = None if request.fresh else _reusable(store.stored_audit(row.pk, version), case)
+            if prior is not None and request.numeric and len(prior.evidence) < len(case.claims):
                 prior = None  # stored without numerical evidence
             if prior is not None:
                 audits[i] = prior
                 store.record_case(run, row.pk, prior, reused=True)
             else:
                 todo.append((i, case))
-        computed = _compute([c for _, c in todo], jobs, budget, numeric, progress, client, happened)
+        computed = audit_cases(
+            [c for _, c in todo], executor, request.budget, request.numeric, happened
+        )
         with closing(computed):  # stops the workers at once if recording fails
             for k, audit in computed:
-                i = todo[k][0]
+                i, case = todo[k]
                 audits[i] = audit
                 store.record_case(run, stored[i].pk, audit)
+                if progress is not None:
+                    progress(case.id)
         status = "complete"
     except (KeyboardInterrupt, SystemExit):  # Ctrl-C, or SIGTERM through the CLI
         status = "interrupted"
@@ -159,32 +156,6 @@ def _audit(
     ordered = tuple(audits[i] for i in sorted(audits))
     versions = {row.case_id: row.version for row in stored}
     return AuditReport(run, ordered, cases, versions, tuple(events))
-
-
-def _compute(
-    cases: Sequence[Case],
-    jobs: int,
-    budget: TimeBudget,
-    numeric: bool,
-    progress: Callable[[str], None] | None,
-    client: Client | None = None,
-    on_event: Callable[[Event], None] | None = None,
-) -> Generator[tuple[int, CaseAudit], None, None]:
-    """(index, audit) for each case: on the Dask cluster of ``client``, in workers, or
-    (jobs == 0) in this process."""
-
-    def started(case: Case) -> None:
-        if progress is not None:
-            progress(case.id)
-
-    if client is not None:
-        yield from audit_on_cluster(client, cases, budget, numeric, started, on_event)
-    elif jobs == 0:
-        for k, case in enumerate(cases):
-            started(case)
-            yield k, audit_case(case, budget=budget, numeric=numeric)
-    else:
-        yield from audit_in_workers(cases, jobs, budget, started, numeric)
 
 
 def stored_run(store: Store, run: int) -> AuditReport:

@@ -11,28 +11,22 @@ process, in local processes or on a Dask cluster (``discovery``, ``distributed``
 from __future__ import annotations
 
 import os
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import TYPE_CHECKING
 
 from ..discovery.search import discover, search_options
 from ..discovery.survey import searched, stated_options
-from ..distributed.scheduler import check_same_code, cluster_client
-from ..distributed.searches import cluster_mapper, discover_on_cluster
 from ..errors import UnknownCaseError
-from ..execution.local import default_jobs
+from ..execution.executor import Executor
 from ..language.case_writer import derived_case_text
 from ..language.casefile import load_case, parse_case_text
-from ..model import Case, Equation, Search, SearchOptions
-from ..presentation.search_output import search_document, statement
+from ..model import Case, Equation, Search, SearchOptions, Weights
+from ..presentation.search_output import search_document, search_text, statement
+from ..settings import DEFAULT_SEARCH_SECONDS
 from ..store import conversions
 from ..store.database import Store, StoredCase
 from ..version import code_version
-from . import DEFAULT_SEARCH_BUDGET
-
-if TYPE_CHECKING:
-    from distributed import Client
 
 
 @dataclass(frozen=True)
@@ -61,36 +55,70 @@ class SearchReport:
             document["events"] = list(self.events)
         return document
 
+    def text(self) -> str:
+        """The search in plain text, as ``registry discover`` prints it."""
+        return search_text(self.search)
+
+    @property
+    def statement(self) -> str:
+        """The result in one sentence."""
+        return statement(self.search)
+
+
+@dataclass(frozen=True)
+class SearchRequest:
+    """What an integral search is asked to find: the ansatz (``degree``, ``weights`` by
+    vector, the level set ``on``), the parameters whose special values are sought
+    (``free``), Darboux polynomials instead of integrals (``relations``), the seconds
+    the whole search may take; and whether to store it (``record``) or search again
+    instead of reusing a stored search (``fresh``)."""
+
+    degree: int = 4
+    weights: Weights | Mapping[str, int] | tuple[int, int] | None = None
+    on: tuple[str | Equation, ...] = ()
+    free: tuple[str, ...] = ()
+    relations: bool = False
+    budget: float | None = DEFAULT_SEARCH_SECONDS
+    record: bool = False
+    fresh: bool = False
+
+    def options(self, case: Case) -> SearchOptions:
+        """The options for searching ``case`` (level sets parsed in its names)."""
+        return search_options(
+            case,
+            degree=self.degree,
+            weights=self.weights,
+            on=self.on,
+            free=self.free,
+            relations=self.relations,
+        )
+
 
 def search_run(
-    store: Store,
+    store: Store | None,
     target: str | os.PathLike | Case,
-    *,
-    degree: int = 4,
-    weights: tuple[int, int] = (1, 2),
-    on: Sequence[str | Equation] = (),
-    free: Sequence[str] = (),
-    relations: bool = False,
-    record: bool = False,
-    fresh: bool = False,
-    budget: float | None = DEFAULT_SEARCH_BUDGET,
-    jobs: int = 1,
+    request: SearchRequest,
+    executor: Executor,
     progress: Callable[[int, int, str], None] | None = None,
-    scheduler: str | Client | None = None,
 ) -> SearchReport:
     """``Registry.discover``: search a case file, a stored case or a ``Case``; reuse a
-    search recorded before, record this one if asked."""
-    if record:
+    search recorded before, record this one if asked. Without a store (a case file
+    searched on its own), nothing is reused or recorded."""
+    if request.record and store is not None:
         store.require_writer("record a search")
-    case, stored = _search_target(store, target)
-    options = search_options(
-        case, degree=degree, weights=weights, on=on, free=free, relations=relations
-    )
-    reused = None if fresh else _reused_search(store, case, stored, options)
+    if store is None:
+        case, stored = (target if isinstance(target, Case) else load_case(target)), None
+    else:
+        case, stored = _search_target(store, target)
+    options = request.options(case)
+    reused = None
+    if store is not None and not request.fresh:
+        reused = _reused_search(store, case, stored, options)
     if reused is not None:
         return reused
-    search, events = _run_search(case, options, budget, jobs, progress, scheduler)
-    if not record:
+    search = discover(case, options, budget=request.budget, executor=executor, progress=progress)
+    events = tuple(executor.events)
+    if not request.record or store is None:
         return SearchReport(search, events=events)
     if stored is None:
         store.add_case(case)
@@ -100,13 +128,12 @@ def search_run(
 
 def survey_run(
     store: Store,
-    case_ids: Sequence[str] | None = None,
+    case_ids: Sequence[str] | None,
+    executor: Executor,
     *,
     fresh: bool = False,
-    budget: float | None = DEFAULT_SEARCH_BUDGET,
-    jobs: int | None = None,
+    budget: float | None = DEFAULT_SEARCH_SECONDS,
     progress: Callable[[int, int, str], None] | None = None,
-    scheduler: str | Client | None = None,
 ) -> list[SearchReport]:
     """``Registry.survey``: the stated searches of every case (or the named ones),
     reused where recorded before, each recorded as it finishes."""
@@ -124,20 +151,11 @@ def survey_run(
             reports[i] = reused
     todo = [i for i in range(len(planned)) if i not in reports]
     work = [(planned[i][1], planned[i][2]) for i in todo]
-    jobs = default_jobs() if jobs is None else jobs
-
-    def record(results: Iterable[Search]) -> None:
-        for done, (i, search) in enumerate(zip(todo, results, strict=True)):
-            if progress is not None:
-                progress(done + 1, len(todo), search.case)
-            reports[i] = _recorded(store, planned[i][0], planned[i][1], search)
-
-    if scheduler is None or not work:
-        record(searched(work, budget=budget, jobs=jobs))
-    else:
-        with cluster_client(scheduler) as client:
-            check_same_code(client, code_version)
-            record(searched(work, budget=budget, mapper=cluster_mapper(client)))
+    results = searched(work, budget=budget, executor=executor)
+    for done, (i, search) in enumerate(zip(todo, results, strict=True)):
+        if progress is not None:
+            progress(done + 1, len(todo), search.case)
+        reports[i] = _recorded(store, planned[i][0], planned[i][1], search)
     return [reports[i] for i in range(len(planned))]
 
 
@@ -183,51 +201,3 @@ def _search_target(
         return case, None
     same = [s for s in versions if s.content_hash == case.content_hash]
     return case, (same[-1] if same else None)
-
-
-def discover_file(
-    path: str | os.PathLike,
-    *,
-    degree: int = 4,
-    weights: tuple[int, int] = (1, 2),
-    on: Sequence[str | Equation] = (),
-    free: Sequence[str] = (),
-    relations: bool = False,
-    budget: float | None = DEFAULT_SEARCH_BUDGET,
-    jobs: int = 1,
-    progress: Callable[[int, int, str], None] | None = None,
-    scheduler: str | Client | None = None,
-) -> SearchReport:
-    """Search a case file without a database (``Registry.discover`` has the options)."""
-    case = load_case(path)
-    options = search_options(
-        case, degree=degree, weights=weights, on=on, free=free, relations=relations
-    )
-    search, events = _run_search(case, options, budget, jobs, progress, scheduler)
-    return SearchReport(search, events=events)
-
-
-def _run_search(
-    case: Case,
-    options: SearchOptions,
-    budget: float | None,
-    jobs: int,
-    progress: Callable[[int, int, str], None] | None,
-    scheduler: str | Client | None,
-) -> tuple[Search, tuple[str, ...]]:
-    """A search in this process, in ``jobs`` processes, or on the Dask cluster of
-    ``scheduler``; and what happened on the cluster, one line each."""
-    if scheduler is None:
-        return discover(case, options, budget=budget, jobs=jobs, progress=progress), ()
-    events: list[str] = []
-    with cluster_client(scheduler) as client:
-        check_same_code(client, code_version)
-        search = discover_on_cluster(
-            client,
-            case,
-            options,
-            budget=budget,
-            progress=progress,
-            on_event=lambda event: events.append(str(event)),
-        )
-    return search, tuple(events)

@@ -6,7 +6,7 @@ transactions that start with ``BEGIN IMMEDIATE``, so that reading the next versi
 number and inserting it happen under one write lock, even with several processes
 on one file. On PostgreSQL (``postgresql+psycopg://``): the server enforces foreign keys
 and runs every transaction at READ COMMITTED; a statement waits at most
-``BUSY_TIMEOUT`` for a lock (``lock_timeout``), times are read in UTC, and the writes
+``settings.lock_timeout()`` for a lock, times are read in UTC, and the writes
 that must not interleave ("read the next version number and insert it") hold advisory
 locks named after what they change (``hold``). ``guarded`` turns a driver error into the
 one-line ``StorageError`` of its kind and retries a transaction that found the database
@@ -17,7 +17,6 @@ locked (or, on PostgreSQL, lost a deadlock). Another backend is another branch o
 from __future__ import annotations
 
 import functools
-import os
 import re
 import time
 import zlib
@@ -46,15 +45,8 @@ from ..errors import (
     ServerDatabaseMissingError,
     ServerUnavailableError,
     StorageError,
-    seconds_setting,
 )
-
-#: How long one attempt waits for another process's lock (SQLite's busy timeout,
-#: PostgreSQL's lock_timeout), unless ``$REGISTRY_LOCK_TIMEOUT`` says otherwise.
-BUSY_TIMEOUT = 10.0
-#: Environment variable that replaces ``BUSY_TIMEOUT`` (seconds): for a busy machine,
-#: where another command may hold the database longer.
-LOCK_TIMEOUT_ENV = "REGISTRY_LOCK_TIMEOUT"
+from ..settings import lock_timeout
 
 #: Attempts of a transaction that found the database locked, before giving up.
 LOCK_ATTEMPTS = 3
@@ -71,13 +63,6 @@ LOCK_NAMESPACE = 0x52674231
 #: The SQLAlchemy backend names of database servers (shared by several processes and
 #: users, created by an administrator), as opposed to SQLite files.
 SERVER_BACKENDS = ("postgresql",)
-
-
-def lock_timeout() -> float:
-    """Seconds one attempt waits for another process's lock: ``$REGISTRY_LOCK_TIMEOUT``
-    where set (BudgetSettingError if it is not a positive number), else ``BUSY_TIMEOUT``."""
-    text = os.environ.get(LOCK_TIMEOUT_ENV, "").strip()
-    return seconds_setting(LOCK_TIMEOUT_ENV, text) if text else BUSY_TIMEOUT
 
 
 def resolve(url_or_path: str | Path, create: bool) -> tuple[URL, str]:

@@ -61,7 +61,7 @@ def test_a_planted_disagreement_is_reported_and_fails_strict(tmp_path, monkeypat
     with registry.open(db) as reg:
         reg.add(CASES / "zhukovsky-gyrostat.toml")
     runner = CliRunner()
-    result = runner.invoke(main, ["--db", str(db), "audit", "--strict", "--jobs", "0"])
+    result = runner.invoke(main, ["--db", str(db), "audit", "--strict", "--jobs", "1"])
     assert result.exit_code == 1
     assert "DISAGREEMENT zhukovsky-gyrostat/area" in result.stdout
     assert "Error: numerical evidence contradicts the verdict of zhukovsky-gyrostat/area" in (
@@ -75,8 +75,8 @@ def test_a_planted_disagreement_is_reported_and_fails_strict(tmp_path, monkeypat
 def test_evidence_is_stored_and_reused(tmp_path):
     with registry.open(tmp_path / "r.sqlite") as reg:
         reg.add(CASES / "borisov-mamaev-1997.toml")
-        first = reg.audit(jobs=0, numeric=True)
-        second = reg.audit(jobs=0, numeric=True)
+        first = reg.audit(jobs=1, numeric=True)
+        second = reg.audit(jobs=1, numeric=True)
         assert first.audits[0].evidence == second.audits[0].evidence
         assert reg.runs().set_index("run").loc[second.run, "n_reused"] > 0
 
@@ -298,7 +298,7 @@ def test_strict_passes_on_repelling_and_attracting_sets_with_the_reason_in_the_j
     db = tmp_path / "r.sqlite"
     with registry.open(db) as reg:  # audited without a clock (a busy machine), then reused
         reg.add(LEVEL_SETS)
-        reg.audit(jobs=0, numeric=True, budget=TimeBudget(check=600.0, corrections=600.0))
+        reg.audit(jobs=1, numeric=True, budget=TimeBudget(check=600.0, corrections=600.0))
     result = CliRunner().invoke(main, ["--db", str(db), "audit", "--strict", "--json"])
     assert result.exit_code == 0, result.output
     document = json.loads(result.stdout)

@@ -11,8 +11,9 @@ import pytest
 
 from registry import Verdict, audit_case, load_case
 from registry.audit.checks import CHECKS
-from registry.audit.parallel import _torque, audit_in_workers, batches, estimated_cost
+from registry.audit.parallel import _torque, audit_cases, batches, estimated_cost
 from registry.execution import local
+from registry.execution.executor import LocalPool
 from registry.execution.time_budget import TimeBudget
 from tests.helpers.clocks import PATIENT
 from tests.helpers.samples import CASES
@@ -40,7 +41,7 @@ def test_a_worker_stuck_where_the_timer_cannot_reach_is_killed_and_replaced(monk
     ]
     budget = TimeBudget(check=0.5, corrections=0.5, margin=0.5)
     started = time.monotonic()
-    results = dict(audit_in_workers(cases, 1, budget))
+    results = dict(audit_cases(cases, LocalPool(1), budget))
     # waiting, not computing: a wall-clock bound far above the seconds this takes, and
     # below the 120 s the stuck checks would sleep if no one killed them
     assert time.monotonic() - started < 100
@@ -60,7 +61,7 @@ def test_workers_give_the_same_verdicts_as_in_process():
     # the same work on both sides: budgets no busy machine reaches (a correction search
     # cut off by a wall-clock budget in one and not the other would tell nothing)
     budget = PATIENT
-    parallel = dict(audit_in_workers(cases, 2, budget))
+    parallel = dict(audit_cases(cases, LocalPool(2), budget))
     for index, case in enumerate(cases):
         here = audit_case(case, budget=budget)
         there = parallel[index]
@@ -107,6 +108,6 @@ def test_the_rest_of_a_killed_workers_batch_is_still_audited(monkeypatch, forked
     # checks of a tenth of a second get 2 s each (room for a busy machine); the stuck case
     # is killed at its deadline, long before its 120 s sleep ends
     budget = TimeBudget(check=2.0, corrections=2.0, margin=0.5)
-    results = dict(audit_in_workers(cases, 1, budget))
+    results = dict(audit_cases(cases, LocalPool(1), budget))
     assert "worker killed" in results[1].results[0].reason
     assert {r.verdict for r in results[0].results} == {Verdict.VERIFIED}

@@ -15,9 +15,10 @@ import registry
 from registry.audit.case_audit import as_audit, count_checks
 from registry.audit.case_audit import crashed_audit as crashed
 from registry.audit.case_audit import killed_audit as killed
-from registry.audit.parallel import audit_in_workers, batches
+from registry.audit.parallel import audit_cases, batches
 from registry.cli import main
-from registry.distributed.audits import MAX_BATCH, audit_on_cluster, plan
+from registry.execution.cluster_calls import guided
+from registry.execution.executor import MAX_BATCH, SHARES_PER_THREAD, DaskCluster, LocalPool
 from registry.execution.serving import Failure
 from registry.execution.time_budget import TimeBudget
 from registry.language.casefile import load_case
@@ -54,6 +55,23 @@ def verdicts(reg, run: int):
 
 
 # ---------------------------------------------------------------------- plan
+
+
+def plan(cases, n_threads: int) -> list[list[int]]:
+    """The tasks a cluster of ``n_threads`` worker threads cuts an audit of ``cases`` into
+    (``DaskCluster.plan`` with that many threads)."""
+    groups = [[i for i, _ in group] for group in batches(cases)]
+    return guided(groups, SHARES_PER_THREAD * n_threads, MAX_BATCH)
+
+
+def on_cluster(client, cases, budget):
+    """The audits of ``cases`` on the cluster of ``client``."""
+    return list(audit_cases(cases, DaskCluster(client, "test"), budget))
+
+
+def in_workers(cases, budget):
+    """The audits of ``cases`` in one local worker process (killable, like a child)."""
+    return list(audit_cases(cases, LocalPool(1), budget))
 
 
 def test_the_plan_keeps_torque_groups_together_and_every_case_once():
@@ -142,14 +160,14 @@ def test_a_check_that_would_run_for_minutes_is_stopped_by_its_budget_on_the_work
     # which a busy machine may deliver seconds late, after a long call into C returns
     budget = TimeBudget(check=1.0, corrections=1.0, margin=HANG)
     (case,) = cases = [crafted_case()]
-    ((_, audit),) = audit_on_cluster(process_cluster, cases, budget)
+    ((_, audit),) = on_cluster(process_cluster, cases, budget)
     for check in ("integral", "casimir"):
         result = audit.result(check, case.claims[0].label)
         assert result.verdict is Verdict.INCONCLUSIVE
         assert result.reason == "time budget exceeded (1 s)"
         # stopped by the alarm, not after the minutes the proof would take
         assert result.seconds < HANG
-    ((_, local),) = audit_in_workers(cases, 1, budget)
+    ((_, local),) = in_workers(cases, budget)
     for check in ("integral", "casimir"):  # the slow checks end as in the local pool
         mine, theirs = (a.result(check, case.claims[0].label) for a in (audit, local))
         assert (mine.verdict, mine.reason) == (theirs.verdict, theirs.reason)
@@ -167,17 +185,13 @@ def test_a_check_stuck_where_the_alarm_cannot_reach_is_killed_at_the_case_deadli
     deadline = budget.case_deadline(count_checks(slow))
     # killed on time, not after the minutes of the proof: waiting, so a wall-clock bound
     # far above the deadline, after which the test stops waiting
-    found = dict(
-        within(
-            deadline + HANG, lambda: list(audit_on_cluster(process_cluster, [slow, fine], budget))
-        )
-    )
+    found = dict(within(deadline + HANG, lambda: on_cluster(process_cluster, [slow, fine], budget)))
     assert found[0] == killed(slow, deadline)
     (result,) = found[0].results
     assert result.verdict is Verdict.INCONCLUSIVE
     assert result.reason == f"worker killed after {deadline:.0f} s (case time budget exceeded)"
     assert all(r.verdict is Verdict.VERIFIED for r in found[1].results if r.claim is not None)
-    assert found[0] == dict(audit_in_workers([slow], 1, budget))[0]
+    assert found[0] == dict(in_workers([slow], budget))[0]
 
 
 # --------------------------------------------------------------- the command line
@@ -189,10 +203,8 @@ def test_jobs_and_scheduler_together_are_one_error_line(tmp_path, command):
     args = ["--db", str(tmp_path / "r.sqlite"), command, *target]
     result = CliRunner().invoke(main, [*args, "--jobs", "2", "--scheduler", "local:2"])
     assert result.exit_code == 1
-    what = "local workers" if command == "audit" else "local processes"
     assert result.output == (
-        f"Error: give --jobs ({what}) or --scheduler (Dask), not both "
-        f"(see: registry {command} --help)\n"
+        "Error: give --jobs (local worker processes) or --scheduler (Dask), not both\n"
     )
 
 
@@ -205,7 +217,7 @@ def test_a_bad_scheduler_address_is_one_line(tmp_path):
     assert len(result.output.strip().splitlines()) == 1
 
 
-@pytest.mark.parametrize("jobs", ["0", "2"])
+@pytest.mark.parametrize("jobs", ["1", "2"])
 def test_jobs_beats_the_environment_variable(tmp_path, monkeypatch, jobs):
     """--jobs runs locally even with $REGISTRY_SCHEDULER set (here to a bad address that
     would fail at once if it were read)."""

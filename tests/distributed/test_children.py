@@ -13,8 +13,8 @@ import sys
 import threading
 import time
 
-from registry.distributed.tasks import run_calls
 from registry.execution.children import run_batch
+from registry.execution.cluster_calls import run_calls
 from registry.execution.serving import FAILURES, Failure
 from registry.execution.time_budget import BudgetExceeded, time_limit
 from tests.helpers.clocks import HANG

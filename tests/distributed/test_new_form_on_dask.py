@@ -7,7 +7,7 @@ from dataclasses import replace
 
 import registry
 from registry.discovery.search import discover, search_options
-from registry.distributed.searches import discover_on_cluster
+from registry.execution.executor import DaskCluster
 from registry.execution.time_budget import TimeBudget
 from registry.language.casefile import parse_case_text
 from registry.model import Verdict
@@ -53,6 +53,6 @@ def test_the_so4_family_is_searched_on_the_cluster_as_locally(process_cluster):
     case = parse_case_text(SO4_FAMILY)
     options = search_options(case, degree=4, weights=(1, 1), free=("a",))
     here = discover(case, options, budget=300)
-    there = discover_on_cluster(process_cluster, case, options, budget=300)
+    there = discover(case, options, budget=300, executor=DaskCluster(process_cluster, "test"))
     assert replace(there, seconds=0.0) == replace(here, seconds=0.0)
     assert {s.when for s in there.special} == {("a = 1",), ("a = 2",)}

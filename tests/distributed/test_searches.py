@@ -9,9 +9,9 @@ from dataclasses import replace
 from pathlib import Path
 
 import registry
-from registry.discovery.search import discover, search_options
-from registry.distributed.searches import _label, cluster_mapper, discover_on_cluster
-from registry.errors import DiscoveryError
+from registry.discovery.search import _label, discover, search_options
+from registry.execution.executor import DaskCluster, LocalPool
+from registry.execution.serving import Failure
 from tests.helpers.samples import FAMILIES, family
 
 
@@ -29,16 +29,17 @@ def test_the_candidate_sets_searched_on_the_cluster_give_the_local_search(proces
     case = family("heavy-top-lam-z0")
     options = search_options(case, degree=4, free=("lam", "z0"))
     here = discover(case, options, budget=300)
-    in_processes = discover(case, options, budget=300, jobs=2)
-    seen, events = [], []
-    on_cluster = discover_on_cluster(
-        process_cluster,
+    in_processes = discover(case, options, budget=300, executor=LocalPool(2))
+    seen = []
+    cluster = DaskCluster(process_cluster, "test")
+    on_cluster = discover(
         case,
         options,
         budget=300,
+        executor=cluster,
         progress=lambda done, total, where: seen.append((done, total, where)),
-        on_event=events.append,
     )
+    events = cluster.events
     assert same(on_cluster, here) and same(on_cluster, in_processes)
     assert on_cluster.complete
     assert {s.when for s in on_cluster.special} == {("lam = 1",), ("lam = 2", "z0 = 0")}
@@ -47,17 +48,16 @@ def test_the_candidate_sets_searched_on_the_cluster_give_the_local_search(proces
     assert events == []
 
 
-def test_a_call_past_its_deadline_comes_back_as_a_discovery_error(process_cluster):
-    mapper = cluster_mapper(process_cluster, label=str)
-    found = dict(mapper(nap, [0.0, 30.0], 1.0))
+def test_a_call_past_its_deadline_comes_back_as_a_failure(process_cluster):
+    found = dict(DaskCluster(process_cluster, "test").map(nap, [0.0, 30.0], deadline=1.0))
     assert found[0] == 0.0
-    assert isinstance(found[1], DiscoveryError)
-    assert str(found[1]).startswith("killed on worker tcp://127.0.0.1:")
-    assert str(found[1]).endswith("deadline of 1 s exceeded; child process killed")
+    assert isinstance(found[1], Failure) and found[1].kind == "killed"
+    assert found[1].worker.startswith("tcp://127.0.0.1:")
+    assert found[1].reason.endswith("deadline of 1 s exceeded; child process killed")
 
 
 def test_candidates_are_named_by_their_equations():
-    assert _label(("state", "case", [], ("lam = 2", "z0 = 0"))) == "lam = 2, z0 = 0"
+    assert _label(("state", "case", [], ("lam = 2", "z0 = 0"), {})) == "lam = 2, z0 = 0"
 
 
 def test_registry_discover_with_a_scheduler_records_the_same_search(tmp_path, process_cluster):

@@ -18,7 +18,7 @@ from pathlib import Path
 import pytest
 
 import registry
-from registry.distributed.scheduler import TLS_KEYS
+from registry.execution.cluster import TLS_KEYS
 from tests.helpers.clocks import PATIENT_OPTIONS
 from tests.helpers.dask_clusters import Certificate, dask_processes, registry_run, verdicts
 

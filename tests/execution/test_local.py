@@ -1,5 +1,5 @@
-"""Local worker processes (``registry/execution/local.py``): the local mapper, and
-killable workers whose every item comes back as a result or a ``Failure`` saying why."""
+"""Local worker processes (``registry/execution/local.py``): killable workers whose every
+item comes back as a result or a ``Failure`` saying why, behind the executor's interface."""
 
 from __future__ import annotations
 
@@ -10,9 +10,8 @@ import sys
 import threading
 import time
 
-from registry.errors import DiscoveryError
-from registry.execution.local import default_jobs, local_mapper, run_in_workers
-from registry.execution.mapping import in_order
+from registry.execution.executor import LocalPool, in_order
+from registry.execution.local import default_jobs, run_in_workers
 from registry.execution.serving import Failure
 from tests.helpers.clocks import HANG
 from tests.helpers.processes import (
@@ -30,10 +29,10 @@ def _pid_after(seconds: float) -> tuple[float, int]:
     return seconds, os.getpid()
 
 
-def test_the_local_mapper_keeps_the_order_and_ends_its_processes_when_stopped():
+def test_the_local_pool_keeps_the_order_and_ends_its_processes_when_stopped():
     import os
 
-    results = in_order(local_mapper(2)(_pid_after, [0.3, 0.0, 0.1, 0.0], None), 4)
+    results = in_order(LocalPool(2).map(_pid_after, [0.3, 0.0, 0.1, 0.0]), 4)
     (_, first), (_, second) = next(results), next(results)
     assert [first[0], second[0]] == [0.3, 0.0]  # the slow first item still comes first
     pids = [first[1], second[1]]
@@ -86,11 +85,11 @@ def test_default_jobs_is_at_least_one():
     assert default_jobs() >= 1
 
 
-def test_the_local_mapper_names_a_call_without_a_result():
-    found = dict(local_mapper(2)(_behave, ["a", "die", "hang"], 1.0))
+def test_the_local_pool_names_a_call_without_a_result():
+    found = dict(LocalPool(2).map(_behave, ["a", "die", "hang"], deadline=1.0))
     assert found[0][0] == "a"
-    assert isinstance(found[1], DiscoveryError) and str(found[1]).startswith("crashed: ")
-    assert str(found[2]) == "killed: deadline exceeded"
+    assert isinstance(found[1], Failure) and found[1].kind == "crashed"
+    assert (found[2].kind, found[2].reason) == ("killed", "deadline exceeded")
 
 
 def test_workers_started_while_another_thread_imports_a_module_do_not_hang(tmp_path):

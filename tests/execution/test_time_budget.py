@@ -71,14 +71,14 @@ def test_a_workers_deadline_covers_every_check_the_repairs_and_a_margin():
 
 
 def test_the_default_budgets_may_come_from_the_environment(monkeypatch):
-    from registry.errors import BudgetSettingError
+    from registry.errors import SettingError
     from registry.execution.time_budget import default_budget
 
     assert default_budget({}) == TimeBudget()
     both = {"REGISTRY_BUDGET": " 60 ", "REGISTRY_CORRECTIONS_BUDGET": "300"}
     assert default_budget(both) == TimeBudget(check=60.0, corrections=300.0)
     for bad in ("abc", "0", "-1", "inf", "nan"):
-        with pytest.raises(BudgetSettingError) as caught:
+        with pytest.raises(SettingError) as caught:
             default_budget({"REGISTRY_CORRECTIONS_BUDGET": bad})
         assert str(caught.value) == (
             f"$REGISTRY_CORRECTIONS_BUDGET must be a positive number of seconds, not {bad!r} "

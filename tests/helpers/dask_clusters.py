@@ -48,7 +48,7 @@ def process_cluster():
     """A client of a LocalCluster of two worker processes (one thread each), restarted
     by their nannies when they die; the scheduler gives a task up when the second worker
     running it dies (``allowed-failures`` 1, to keep the tests short)."""
-    from registry.distributed.scheduler import cluster_client
+    from registry.execution.cluster import cluster_client
 
     with dask.config.set({"distributed.scheduler.allowed-failures": 1}):
         with cluster_client("local:2") as client:

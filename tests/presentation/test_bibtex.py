@@ -29,7 +29,7 @@ def audited(module_databases):
     db = module_databases.new("sharing")
     reg = registry.open(db)
     reg.add(CASES / f"{YEHIA_B}.toml", CASES / f"{ZHUKOVSKY}.toml")
-    report = reg.audit(jobs=0)
+    report = reg.audit(jobs=1)
     yield SimpleNamespace(reg=reg, db=db, report=report)
     reg.close()
 

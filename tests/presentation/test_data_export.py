@@ -50,7 +50,7 @@ def audited(module_databases):
     db = module_databases.new("sharing")
     reg = registry.open(db)
     reg.add(CASES / f"{YEHIA_B}.toml", CASES / f"{ZHUKOVSKY}.toml")
-    report = reg.audit(jobs=0)
+    report = reg.audit(jobs=1)
     yield SimpleNamespace(reg=reg, db=db, report=report)
     reg.close()
 
@@ -139,7 +139,7 @@ def test_json_columns_come_back_as_json(audited, fmt, tmp_path):
     assert witness == original["witness"].iloc[0]
     assert isinstance(witness["point"], dict)
     runs = data_export.read_table(tmp_path / f"runs.{fmt}")
-    assert runs["options"].iloc[0]["jobs"] == 0
+    assert runs["options"].iloc[0]["jobs"] == 1
     assert str(runs["started_at"].dtype).startswith("datetime64")
     payloads = data_export.read_table(tmp_path / f"corrections.{fmt}")["payload"]
     assert all(isinstance(p, dict) for p in payloads)

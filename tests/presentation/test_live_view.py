@@ -27,7 +27,7 @@ def db(tmp_path_factory):
     path = tmp_path_factory.mktemp("live") / "registry.sqlite"
     with registry.open(path) as reg:
         reg.add(*(CASES / f"{c}.toml" for c in SEED))
-        reg.audit(jobs=0)
+        reg.audit(jobs=1)
     return path
 
 

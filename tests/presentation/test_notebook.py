@@ -24,7 +24,7 @@ def audited(tmp_path_factory):
     db = tmp_path_factory.mktemp("sharing") / "registry.sqlite"
     reg = registry.open(db)
     reg.add(CASES / f"{YEHIA_B}.toml", CASES / f"{ZHUKOVSKY}.toml")
-    report = reg.audit(jobs=0)
+    report = reg.audit(jobs=1)
     yield SimpleNamespace(reg=reg, db=db, report=report)
     reg.close()
 

@@ -1,10 +1,16 @@
-"""Drift plots: I(t) - I(0) next to H(t) - H(0) along one trajectory, as a PNG."""
+"""Drift plots: I(t) - I(0) next to H(t) - H(0) along one trajectory, as a PNG, drawn from
+the curve the audit computed (``audit.numeric_evidence.drift_curve``)."""
 
 from __future__ import annotations
+
+from dataclasses import replace
 
 import pytest
 
 import registry
+from registry.audit.numeric_evidence import drift_curve, drift_curves
+from registry.mathematics.mechanics import gamma1
+from registry.model import DriftCurve, Equation
 from registry.presentation.plots import drift_plot
 from tests.helpers.samples import CASES, YEHIA_B
 
@@ -18,22 +24,34 @@ def reg(tmp_path_factory):
         yield opened
 
 
-def test_drift_plot_writes_a_png(reg, tmp_path):
-    path = drift_plot(reg.case(YEHIA_B), "I2", tmp_path / "plots" / "i2.png")
+def test_drift_plot_writes_a_png_of_the_curve(reg, tmp_path):
+    curve = drift_curve(reg.case(YEHIA_B), "I2")
+    assert len(curve.t) == len(curve.di) == len(curve.dh) > 100 and curve.t[0] == 0.0
+    assert max(abs(x) for x in curve.di) > 1e3 * max(abs(x) for x in curve.dh)  # I2 drifts
+    path = drift_plot(curve, tmp_path / "plots" / "i2.png")
     assert path == tmp_path / "plots" / "i2.png"
     assert path.read_bytes().startswith(PNG)
-    with pytest.raises(KeyError):
-        drift_plot(reg.case(YEHIA_B), "no-such-claim", tmp_path / "x.png")
 
 
-def test_a_claim_that_cannot_be_integrated_is_a_value_error(reg, tmp_path):
+def test_a_curve_without_h_is_drawn_alone(tmp_path):
+    curve = DriftCurve("c", "I", (0.0, 1.0, 2.0), (0.0, 0.5, 1.0))
+    assert drift_plot(curve, tmp_path / "x.png").read_bytes().startswith(PNG)
+
+
+def test_the_facade_writes_a_claims_plot_and_names_a_claim_it_does_not_make(reg, tmp_path):
+    assert reg.plot(YEHIA_B, "I2", tmp_path / "i2.png").read_bytes().startswith(PNG)
+    with pytest.raises(registry.errors.UnknownClaimError):
+        reg.plot(YEHIA_B, "no-such-claim", tmp_path / "x.png")
+
+
+def test_a_claim_that_cannot_be_integrated_says_why(reg):
     case = reg.case(YEHIA_B)
     claim = case.claims[0]
-    from dataclasses import replace
-
-    from registry.mathematics.mechanics import gamma1
-    from registry.model import Equation
-
     impossible = replace(claim, on=(Equation("gamma1**2 = -1", gamma1**2, -1),))
+    case = replace(case, claims=(impossible,))
     with pytest.raises(ValueError, match="no trajectory could be integrated"):
-        drift_plot(replace(case, claims=(impossible,)), claim.label, tmp_path / "x.png")
+        drift_curve(case, claim.label)
+    assert (
+        "no trajectory could be integrated"
+        in drift_curves([(case, claim.label)])[case.id, claim.label]
+    )

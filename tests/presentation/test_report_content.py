@@ -31,7 +31,7 @@ def db(module_databases) -> str:
     path = module_databases.new("reports")
     with registry.open(path) as reg:
         reg.add(*(CASES / f"{c}.toml" for c in SEED))
-        reg.audit(jobs=0, numeric=True)
+        reg.audit(jobs=1, numeric=True)
     return path
 
 
@@ -99,7 +99,7 @@ def test_markdown_summary_keeps_the_integral_and_casimir_columns_apart(tmp_path,
     path.write_text(text, encoding="utf-8")
     with registry.open(db_target) as reg:
         reg.add(path)
-        reg.audit(jobs=0)
+        reg.audit(jobs=1)
         report = reg.report(fmt="md", plots=False)
         expected = _expected_rows(reg)
     linked = f"[{ZHUKOVSKY}](#case-{ZHUKOVSKY})"

@@ -33,7 +33,7 @@ def db(tmp_path_factory) -> Path:
     path = tmp_path_factory.mktemp("reports") / "registry.sqlite"
     with registry.open(path) as reg:
         reg.add(*(CASES / f"{c}.toml" for c in SEED))
-        reg.audit(jobs=0, numeric=True)
+        reg.audit(jobs=1, numeric=True)
     return path
 
 
@@ -199,7 +199,7 @@ def two_runs(tmp_path_factory) -> Path:
             path = folder / f"{ZHUKOVSKY}.toml"
             path.write_text(text, encoding="utf-8")
             reg.add(path)
-            reg.audit(jobs=0)
+            reg.audit(jobs=1)
     return folder / "registry.sqlite"
 
 

@@ -98,7 +98,7 @@ def built(tmp_path_factory) -> SimpleNamespace:
         reg.add(HAMILTONIAN / "kovalevskaya-so31.toml", HAMILTONIAN / "kovalevskaya-so4.toml")
         for name, text in ((RENAMED, _renamed_zhukovsky()), (HOSTILE_ID, HOSTILE)):
             reg.add_case(parse_case_text(text, f"{name}.toml"))
-        reg.audit(jobs=0)
+        reg.audit(jobs=1)
         reg.survey([RENAMED], jobs=1)
         first = reg.site(folder / "one")
         reg.site(folder / "two")
@@ -500,7 +500,7 @@ def test_any_backend_gives_the_same_site(db_target, tmp_path):
     for target in (db_target, tmp_path / "reference.sqlite"):
         with registry.open(target) as reg:
             reg.add(*(CASES / f"{c}.toml" for c in SEED))
-            reg.audit(jobs=0)
+            reg.audit(jobs=1)
             reg.site(tmp_path / str(len(trees)))
         trees.append(_tree(tmp_path / str(len(trees))))
     assert trees[0].keys() == trees[1].keys()

@@ -6,9 +6,10 @@ from __future__ import annotations
 from dataclasses import replace
 
 from registry.audit.case_audit import audit_case, crashed_audit
+from registry.execution.executor import InProcess
 from registry.language.casefile import load_case
 from registry.model import CheckResult, Verdict
-from registry.runs.audit_run import _reusable, audit_run, run_diff, stored_run
+from registry.runs.audit_run import AuditRequest, _reusable, audit_run, run_diff, stored_run
 from registry.store.database import Store
 from tests.helpers.samples import CASES
 
@@ -31,9 +32,9 @@ def test_only_a_complete_audit_of_every_claim_is_reused():
 def test_a_second_run_reuses_and_a_fresh_one_recomputes(tmp_path):
     store = Store(tmp_path / "r.sqlite")
     store.add_case(load_case(ZHUKOVSKY))
-    first = audit_run(store, jobs=0)
-    second = audit_run(store, jobs=0)
-    third = audit_run(store, jobs=0, fresh=True)
+    first = audit_run(store, AuditRequest(), InProcess())
+    second = audit_run(store, AuditRequest(), InProcess())
+    third = audit_run(store, AuditRequest(fresh=True), InProcess())
     assert [r for _, r in store.run_results(first.run)] == list(first.audits)
     assert second.audits == first.audits  # the same stored audit
     assert [a.case for a in third.audits] == ["zhukovsky-gyrostat"]

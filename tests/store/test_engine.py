@@ -14,9 +14,9 @@ from click.testing import CliRunner
 from sqlalchemy import text
 from sqlalchemy.exc import OperationalError
 
+from registry import settings
 from registry.cli import main
 from registry.errors import (
-    BudgetSettingError,
     DatabaseFullError,
     DatabaseLockedError,
     DatabaseMissingError,
@@ -25,6 +25,7 @@ from registry.errors import (
     NotADatabaseError,
     ServerDatabaseMissingError,
     ServerUnavailableError,
+    SettingError,
     StorageError,
 )
 from registry.store import engine, frames
@@ -39,19 +40,19 @@ def test_file_store_uses_wal_and_foreign_keys(file_store, tmp_path):
         assert conn.exec_driver_sql("PRAGMA journal_mode").scalar() == "wal"
         assert conn.exec_driver_sql("PRAGMA foreign_keys").scalar() == 1
         busy = conn.exec_driver_sql("PRAGMA busy_timeout").scalar()
-        assert busy == engine.lock_timeout() * 1000
+        assert busy == settings.lock_timeout() * 1000
 
 
 def test_the_wait_for_a_lock_comes_from_the_environment_where_set(tmp_path, monkeypatch):
-    monkeypatch.delenv(engine.LOCK_TIMEOUT_ENV, raising=False)
-    assert engine.lock_timeout() == engine.BUSY_TIMEOUT == 10.0
-    monkeypatch.setenv(engine.LOCK_TIMEOUT_ENV, "2.5")
+    monkeypatch.delenv(settings.LOCK_TIMEOUT_ENV, raising=False)
+    assert settings.lock_timeout() == settings.DEFAULT_LOCK_TIMEOUT == 10.0
+    monkeypatch.setenv(settings.LOCK_TIMEOUT_ENV, "2.5")
     with Store(tmp_path / "r.sqlite") as store, store.engine.connect() as conn:
         assert conn.exec_driver_sql("PRAGMA busy_timeout").scalar() == 2500
     for bad in ("soon", "0", "-1", "inf", "nan"):
-        monkeypatch.setenv(engine.LOCK_TIMEOUT_ENV, bad)
-        with pytest.raises(BudgetSettingError) as caught:
-            engine.lock_timeout()
+        monkeypatch.setenv(settings.LOCK_TIMEOUT_ENV, bad)
+        with pytest.raises(SettingError) as caught:
+            settings.lock_timeout()
         assert str(caught.value) == (
             f"$REGISTRY_LOCK_TIMEOUT must be a positive number of seconds, not {bad!r} "
             "(unset it for the built-in default)"
@@ -142,7 +143,7 @@ def test_the_server_settings_of_a_registry_session(postgres_server):
             for name in ("lock_timeout", "TimeZone", "application_name", "work_mem")
         }
     assert shown == {
-        "lock_timeout": f"{engine.lock_timeout():g}s",
+        "lock_timeout": f"{settings.lock_timeout():g}s",
         "TimeZone": "UTC",
         "application_name": "registry",
         "work_mem": "8MB",  # the URL's own options are kept

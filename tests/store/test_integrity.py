@@ -21,6 +21,8 @@ from click.testing import CliRunner
 from sqlalchemy import event, insert, select
 
 import registry
+from registry import settings
+from registry.audit import parallel
 from registry.cli import main
 from registry.errors import (
     DatabaseFullError,
@@ -28,7 +30,6 @@ from registry.errors import (
     DatabaseMissingError,
     DatabaseReadOnlyError,
 )
-from registry.runs import audit_run
 from registry.store import engine
 from registry.store.database import Store
 from registry.store.integrity import verify
@@ -47,7 +48,7 @@ def audited_db(module_databases) -> str:
     target = module_databases.new("audited")
     reg = registry.open(target)
     reg.add(*(CASES / f"{c}.toml" for c in PICK))
-    reg.audit(jobs=0)
+    reg.audit(jobs=1)
     reg.store.close()
     return target
 
@@ -283,7 +284,7 @@ def test_a_full_disk_stores_nothing_of_the_change(db, monkeypatch):
 # SQLite's write lock; PostgreSQL's lock timeout is the test after this one
 @pytest.mark.parametrize("backend", ["sqlite"], indirect=True)
 def test_a_locked_database_is_retried_then_reported(db, monkeypatch):
-    monkeypatch.setenv(engine.LOCK_TIMEOUT_ENV, "0.1")
+    monkeypatch.setenv(settings.LOCK_TIMEOUT_ENV, "0.1")
     monkeypatch.setattr(engine, "LOCK_ATTEMPTS", 2)
     reg = registry.open(db)
     holder = sqlite3.connect(db, isolation_level=None, check_same_thread=False)
@@ -306,7 +307,7 @@ def test_a_locked_database_is_retried_then_reported(db, monkeypatch):
 @POSTGRES
 @pytest.mark.parametrize("backend", ["postgres"], indirect=True)
 def test_a_lock_held_too_long_on_the_server_is_retried_then_reported(db, monkeypatch):
-    monkeypatch.setenv(engine.LOCK_TIMEOUT_ENV, "0.1")
+    monkeypatch.setenv(settings.LOCK_TIMEOUT_ENV, "0.1")
     monkeypatch.setattr(engine, "LOCK_ATTEMPTS", 2)
     reg = registry.open(db)
     with connection(db) as holder:  # another session keeps new case versions out
@@ -368,9 +369,9 @@ def test_an_interrupted_audit_in_process_is_recorded(db, monkeypatch):
     def stop(*args, **kwargs):
         raise KeyboardInterrupt
 
-    monkeypatch.setattr(audit_run, "audit_case", stop)
+    monkeypatch.setattr(parallel, "audit_case", stop)
     with pytest.raises(KeyboardInterrupt):
-        reg.audit([ZHUKOVSKY], fresh=True, jobs=0)
+        reg.audit([ZHUKOVSKY], fresh=True, jobs=1)
     assert list(reg.runs()["status"]) == ["complete", "interrupted"]
 
 

@@ -34,8 +34,8 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 from ..errors import SchedulerError
-from ..execution.children import BatchResult, run_batch
-from ..execution.serving import Failure
+from .children import BatchResult, run_batch
+from .serving import Failure
 
 if TYPE_CHECKING:
     from distributed import Client, Future

@@ -13,7 +13,14 @@ import time
 
 import pytest
 
-from registry.distributed.scheduler import (
+from registry.errors import (
+    DaskMissingError,
+    RegistryError,
+    SchedulerAddressError,
+    SchedulerError,
+    SchedulerUnreachableError,
+)
+from registry.execution.cluster import (
     SCHEDULER_ENV,
     SchedulerAddress,
     check_same_code,
@@ -22,13 +29,6 @@ from registry.distributed.scheduler import (
     parse_scheduler,
     scheduler_option,
     threads,
-)
-from registry.errors import (
-    DaskMissingError,
-    RegistryError,
-    SchedulerAddressError,
-    SchedulerError,
-    SchedulerUnreachableError,
 )
 from tests.helpers.clocks import HANG
 

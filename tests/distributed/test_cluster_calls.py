@@ -12,7 +12,7 @@ from pathlib import Path
 
 import pytest
 
-from registry.distributed.tasks import Failure, guided, pack, run_calls
+from registry.execution.cluster_calls import Failure, guided, pack, run_calls
 from tests.helpers.clocks import HANG, within
 from tests.helpers.dask_clusters import dask_processes
 from tests.helpers.processes import alive

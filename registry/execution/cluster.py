@@ -38,7 +38,7 @@ from ..errors import (
     SchedulerSecurityError,
     SchedulerUnreachableError,
 )
-from ..execution.local import default_jobs
+from .local import default_jobs
 
 if TYPE_CHECKING:
     from distributed import Client

@@ -1,0 +1,66 @@
+"""The forms a case file may give its system in, each turned into one ``Dynamics``
+(``registry/language/forms.py``): the paper's equations (2.2) and Pi_mu, a Hamiltonian's
+Pi grad H, parameter values put in, and the columns the store keeps."""
+
+from __future__ import annotations
+
+import sympy as sp
+
+from registry.language import forms
+from registry.language.casefile import load_case, parse_case_text
+from registry.mathematics import mechanics as mech
+from tests.helpers.samples import CASES
+
+SO4 = """id = "so4-form"
+title = "Kovalevskaya's H on so(4)"
+[source]
+citation = "test"
+[parameters]
+c = "real"
+kappa = "real"
+[system]
+hamiltonian = "M1**2 + M2**2 + 2*M3**2 + 2*c*gamma1"
+kappa = "kappa"
+"""
+
+
+def test_the_papers_form_is_its_equations_and_its_modified_bracket():
+    case = load_case(CASES / "yehia-2003-kovalevskaya-b.toml")
+    d = case.dynamics
+    mu = case.system.torque_exprs
+    assert d.bracket == mech.poisson_tensor(mu)
+    inertia, potential = case.system.inertia_exprs, case.system.potential.expr
+    assert d.field == mech.vector_field(inertia, potential, mu)
+    assert d.hamiltonian == mech.hamiltonian(inertia, potential) and not d.from_bracket
+    assert [g.name for g in d.given] == ["A", "B", "C", "U", "mu1", "mu2", "mu3"]
+    # the potential has terms of degree 2 in gamma: the grading is M: 1, gamma: 1
+    assert d.nonzero == inertia and d.grading == (("M", 1), ("gamma", 1))
+
+
+def test_a_hamiltonian_form_is_pi_grad_h_and_names_kappa():
+    case = parse_case_text(SO4)
+    d = case.dynamics
+    assert d.from_bracket and d.kappa.text == "kappa" and d.nonzero == ()
+    generated = mech.hamiltonian_vector_field(d.bracket, d.hamiltonian)
+    assert all(sp.expand(a - b) == 0 for a, b in zip(d.field, generated, strict=True))
+    assert [g.name for g in d.given] == ["H", "mu1", "mu2", "mu3", "kappa"]
+
+
+def test_parameter_values_are_put_in_where_the_case_is_defined():
+    case = parse_case_text(SO4)
+    c, kappa = case.parameters["c"], case.parameters["kappa"]
+    at = forms.with_values(case, {kappa: sp.Integer(0)})
+    assert at is not None and at.dynamics.kappa.expr == 0 and "kappa" not in at.parameters
+    assert at.claims == () and at.dynamics.field != case.dynamics.field
+    positive = load_case(CASES / "goryachev-chaplygin-1900.toml")
+    assert forms.with_values(positive, {positive.parameters["C"]: sp.Integer(-1)}) is None
+    assert forms.with_values(case, {c: 1 / (kappa - kappa)}) is None  # undefined
+
+
+def test_the_store_keeps_the_forms_fields_as_written():
+    case = load_case(CASES / "zhukovsky-gyrostat.toml")
+    columns = forms.columns(case.system)
+    assert columns["inertia"] == [e.text for e in case.system.inertia]
+    assert columns["hamiltonian"] is None and columns["kappa"] == "0"
+    texts = forms.stored_texts(case.system)
+    assert texts["potential"] == case.system.potential.text and "hamiltonian" not in texts
