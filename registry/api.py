@@ -33,6 +33,7 @@ from .runs.search_run import (  # noqa: F401 - discover_file: a search without a
     survey_run,
 )
 from .store import frames
+from .store.copying import CopyReport, copy_registry
 from .store.database import Store
 from .store.integrity import Verification, verify
 from .version import code_version, source_digest  # noqa: F401 - the code version's names
@@ -382,6 +383,16 @@ class Registry:
         """Verify the database itself (``registry verify-db``): schema, integrity, foreign
         keys, hashes of the stored case texts, and every stored expression re-parsed."""
         return verify(self.store)
+
+    def copy_to(self, target: str | os.PathLike) -> CopyReport:
+        """Copy this registry whole (every table, ids and history) into ``target``: a new
+        SQLite file, or an empty database or registry on a server; all or nothing, and
+        verified before it is committed (``store.copying``). The way to move to a group's
+        server, and to back one up (or restore it: copy from the backup into an empty
+        database). CopyTargetNotEmptyError for a target that holds rows."""
+        return copy_registry(
+            self.store, Path(target) if isinstance(target, os.PathLike) else target
+        )
 
     # --- who may write (a shared server) -------------------------------------
 
