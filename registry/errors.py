@@ -30,10 +30,21 @@ class Problem:
 
 
 def _quote(text: str, limit: int = 80) -> str:
-    """Show user text in a message: repr-quoted and cut to a readable length."""
-    if len(text) > limit:
-        text = text[: limit - 3] + "..."
-    return repr(text)
+    r"""Show user text in a message: repr-quoted and cut to a readable length.
+
+    The cut counts the escapes too: a character repr escapes takes up to ten (a lone
+    surrogate is '\udc81', a line separator '\u2028'), so that a text of them
+    keeps its quote within about twice ``limit``, like one of quotes and backslashes.
+
+    >>> _quote("\u2028" * 100) == repr("\u2028" * 26 + "...")
+    True
+    """
+    cut = len(text) > limit
+    if cut:
+        text = text[: limit - 3]
+    while len(repr(text + "..." * cut)) > 2 * limit + 2:
+        text, cut = text[:-1], True
+    return repr(text + "..." * cut)
 
 
 class CaseFormatError(RegistryError, ValueError):
