@@ -48,7 +48,7 @@ import os
 import re
 import time
 from collections.abc import Iterator, Mapping
-from contextlib import contextmanager, suppress
+from contextlib import ExitStack, contextmanager, suppress
 from dataclasses import dataclass
 from datetime import UTC, datetime
 from pathlib import Path
@@ -138,7 +138,9 @@ def copy_registry(source: Store, target: str | Path) -> CopyReport:
     url, location = resolve(target, create=True)
     if _same_database(source.engine.url, url):
         raise CopySameDatabaseError(location)
-    file = Path(url.database) if url.get_backend_name() == "sqlite" and not is_memory(url) else None
+    file = None
+    if url.get_backend_name() == "sqlite" and url.database and not is_memory(url):
+        file = Path(url.database)
     if file is not None and not file.exists():
         rows, verification = _copy_to_new_file(source, file, location)
         created = True
@@ -243,11 +245,12 @@ def _fill(
                     raise CopyTargetNotEmptyError(location, holds)
             if not state.current:
                 migrate.upgrade(conn, state)  # in this transaction: undone with it
-            rows, digests = _copy_rows(src, conn)
+            rows, digests = _copy_rows(src, conn, source.location)
             _advance_sequences(conn)
             verification = verify_connection(conn, location)
             problems = list(verification.problems)
-            problems += _differences(src, conn, rows, digests)
+            names = (source.location, location)
+            problems += _differences(src, conn, rows, digests, names)
             if problems:
                 raise CopyVerificationError(location, problems)
     except DBAPIError as err:
@@ -257,20 +260,23 @@ def _fill(
 
 @contextmanager
 def _snapshot(source: Store) -> Iterator[Connection]:
-    """One read transaction of the source: every table as of one moment."""
-    with _source_connection(source) as conn:
-        conn.execute(select(func.count()).select_from(MetaRow))  # begins the transaction
+    """One read transaction of the source: every table as of one moment. A failure to
+    open it is named after the source (later reads name it through ``_reading``)."""
+    with ExitStack() as stack:
+        with _reading(source.location):
+            conn = stack.enter_context(source.connect())
+            conn.execute(select(func.count()).select_from(MetaRow))  # begins the transaction
         yield conn
 
 
 @contextmanager
-def _source_connection(source: Store) -> Iterator[Connection]:
-    """A connection of the source; its failures are named after the source."""
+def _reading(location: str) -> Iterator[None]:
+    """Name a database failure within after ``location`` (the source, or the target
+    whose rows are read back), as the StorageError of its kind."""
     try:
-        with source.connect() as conn:
-            yield conn
+        yield
     except DBAPIError as err:
-        raise storage_error(err, source.location, "read it") from err
+        raise storage_error(err, location, "read it") from err
 
 
 def _lock(conn: Connection) -> None:
@@ -297,16 +303,19 @@ def _rows_held(conn: Connection) -> str:
     return ", ".join(held)
 
 
-def _copy_rows(src: Connection, conn: Connection) -> tuple[dict[str, int], dict[str, str]]:
-    """Insert every row of every table of ``src`` into ``conn``, parents first, with its
-    primary key; (rows per table, digest per table of the rows as read)."""
+def _copy_rows(
+    src: Connection, conn: Connection, source: str
+) -> tuple[dict[str, int], dict[str, str]]:
+    """Insert every row of every table of ``src`` (the database ``source``) into
+    ``conn``, parents first, with its primary key; (rows per table, digest per table of
+    the rows as read)."""
     rows: dict[str, int] = {}
     digests: dict[str, str] = {}
     for table in Base.metadata.sorted_tables:
         if table.name == "meta":  # the target's own facts (schema_version) make way
             conn.execute(table.delete())
         digest, count = hashlib.sha256(), 0
-        for batch in _batches(src, table):
+        for batch in _batches(src, table, source):
             conn.execute(insert(table), batch)
             for row in batch:
                 digest.update(_canonical(row))
@@ -315,13 +324,15 @@ def _copy_rows(src: Connection, conn: Connection) -> tuple[dict[str, int], dict[
     return rows, digests
 
 
-def _batches(conn: Connection, table: Table) -> Iterator[list[dict[str, Any]]]:
-    """The rows of ``table`` in primary-key order, as dictionaries, BATCH at a time."""
-    result = conn.execution_options(yield_per=BATCH).execute(
-        select(table).order_by(*table.primary_key.columns)
-    )
-    for partition in result.partitions():
-        yield [dict(row._mapping) for row in partition]
+def _batches(conn: Connection, table: Table, location: str) -> Iterator[list[dict[str, Any]]]:
+    """The rows of ``table`` in primary-key order, as dictionaries, BATCH at a time; a
+    failure to read them is named after ``location``."""
+    with _reading(location):
+        result = conn.execution_options(yield_per=BATCH).execute(
+            select(table).order_by(*table.primary_key.columns)
+        )
+        for partition in result.partitions():
+            yield [dict(row._mapping) for row in partition]
 
 
 def _canonical(row: Mapping[str, Any]) -> bytes:
@@ -360,36 +371,44 @@ def _advance_sequences(conn: Connection) -> None:
 
 
 def _differences(
-    src: Connection, conn: Connection, rows: Mapping[str, int], digests: Mapping[str, str]
+    src: Connection,
+    conn: Connection,
+    rows: Mapping[str, int],
+    digests: Mapping[str, str],
+    names: tuple[str, str],
 ) -> list[str]:
     """How the target's rows (in the open transaction) differ from the source's: row
     counts of every table (counted again on both sides), content hashes of every case
-    version, and the digest of every table's rows read back."""
+    version, and the digest of every table's rows read back. ``names``: the source's
+    and the target's, for a database failure."""
+    source, target = names
     problems = []
     for table in Base.metadata.sorted_tables:
-        there = src.scalar(select(func.count()).select_from(table)) or 0
-        here = conn.scalar(select(func.count()).select_from(table)) or 0
+        with _reading(source):
+            there = src.scalar(select(func.count()).select_from(table)) or 0
+        with _reading(target):
+            here = conn.scalar(select(func.count()).select_from(table)) or 0
         if not there == here == rows[table.name]:
             problems.append(
                 f"table {table.name}: {rows_named(table.name, here)} copied, the source has {there}"
             )
             continue
         digest = hashlib.sha256()
-        for batch in _batches(conn, table):
+        for batch in _batches(conn, table, target):
             for row in batch:
                 digest.update(_canonical(row))
         if digest.hexdigest() != digests[table.name]:
             problems.append(f"table {table.name}: the rows read back differ from the source's")
-    hashes = select(CaseRow.id, CaseRow.case_id, CaseRow.version, CaseRow.content_hash).order_by(
-        CaseRow.id
-    )
-    theirs = {r.id: r for r in src.execute(hashes)}
-    for mine in conn.execute(hashes):
-        other = theirs.get(mine.id)
-        if other is None or tuple(other) != tuple(mine):
+    hashes = select(CaseRow.id, CaseRow.case_id, CaseRow.version, CaseRow.content_hash)
+    with _reading(source):
+        theirs = {r.id: tuple(r) for r in src.execute(hashes)}
+    with _reading(target):
+        mine = {r.id: tuple(r) for r in conn.execute(hashes)}
+    for pk in sorted(theirs.keys() | mine.keys()):
+        if theirs.get(pk) != mine.get(pk):
+            _, case_id, version, _ = mine.get(pk) or theirs[pk]
             problems.append(
-                f"case {mine.case_id} version {mine.version}: content hash "
-                f"{mine.content_hash[:12]} differs from the source's"
+                f"case {case_id} version {version}: its content hash differs from the source's"
             )
     return problems
 

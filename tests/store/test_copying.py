@@ -27,6 +27,7 @@ from registry.errors import (
     CopySameDatabaseError,
     CopyTargetNotEmptyError,
     CopyVerificationError,
+    ServerDatabaseMissingError,
 )
 from registry.language.casefile import parse_case_text
 from registry.store.copying import copy_registry, rows_named
@@ -36,55 +37,18 @@ from registry.store.tables import Base
 from tests.helpers.clocks import HANG
 from tests.helpers.databases import POSTGRES, connection, database_name, execute, is_url
 from tests.helpers.processes import registry_command
-from tests.helpers.samples import AFFINE, FAMILIES, SEED, ZHUKOVSKY, case_file
+from tests.helpers.registries import registry_rows
+from tests.helpers.samples import ZHUKOVSKY, case_file
 
 # ---------------------------------------------------------------------- helpers
 
 
-def build_source(path: Path) -> Path:
-    """An SQLite registry holding a row in every table: the seed cases, a second version
-    of one, a renamed case with an alias, two recorded searches (a generic integral
-    attached as a claim, derived cases), an audit with corrections, and a numerical one."""
-    with registry.open(path) as reg:
-        reg.add(*(case_file(c) for c in SEED), FAMILIES / "lagrange-lam.toml")
-        text = case_file(ZHUKOVSKY).read_text(encoding="utf-8")
-        changed = text.replace('title = "', 'title = "Second version: ', 1)
-        reg.add_case(parse_case_text(changed, "zhukovsky-v2.toml"))
-        renamed = case_file(AFFINE).read_text(encoding="utf-8")
-        renamed = renamed.replace(
-            f'id = "{AFFINE}"', 'id = "affine-renamed"\naliases = ["affine-old-name"]', 1
-        )
-        reg.add_case(parse_case_text(renamed, "affine-renamed.toml"))
-        reg.discover("family-lagrange-lam", degree=2, free=["lam"], record=True)
-        reg.discover(FAMILIES / "heavy-top-lam.toml", degree=3, free=["lam"], record=True)
-        reg.audit(jobs=0)
-        reg.audit(["family-lagrange-lam"], jobs=0, numeric=True, fresh=True)
-    return path
-
-
-@pytest.fixture(scope="module")
-def built(tmp_path_factory) -> Path:
-    return build_source(tmp_path_factory.mktemp("source") / "source.sqlite")
-
-
 @pytest.fixture
-def source(built, tmp_path) -> Path:
-    """A copy of the built source for one test (a test may damage it)."""
+def source(full_registry_file, tmp_path) -> Path:
+    """A copy of the full registry for one test (a test may damage it)."""
     copy = tmp_path / "source.sqlite"
-    shutil.copyfile(built, copy)
+    shutil.copyfile(full_registry_file, copy)
     return copy
-
-
-def registry_rows(target: str | Path) -> dict[str, list[dict]]:
-    """Every row of every registry table, in id order, read through the registry's
-    column types (so that two backends holding the same data give equal rows)."""
-    with connection(target) as conn:
-        return {
-            t.name: [
-                dict(r._mapping) for r in conn.execute(select(t).order_by(*t.primary_key.columns))
-            ]
-            for t in Base.metadata.sorted_tables
-        }
 
 
 def held_rows(target: str | Path) -> dict[str, int] | None:
@@ -102,8 +66,8 @@ def held_rows(target: str | Path) -> dict[str, int] | None:
         }
 
 
-def test_the_source_has_rows_in_every_table(built):
-    rows = registry_rows(built)
+def test_the_source_has_rows_in_every_table(full_registry_file):
+    rows = registry_rows(full_registry_file)
     assert all(rows[t.name] for t in Base.metadata.sorted_tables), {
         name: len(found) for name, found in rows.items()
     }
@@ -192,6 +156,16 @@ def test_a_registry_is_not_copied_into_itself(source):
     )
 
 
+@POSTGRES
+@pytest.mark.parametrize("backend", ["postgres"], indirect=True)
+def test_a_database_the_server_does_not_have_is_named_as_the_target(source, databases):
+    target = databases.missing("nowhere")
+    with Store(source) as store, pytest.raises(ServerDatabaseMissingError) as info:
+        copy_registry(store, target)
+    assert str(info.value) == databases.missing_message(target)
+    assert not databases.exists(target)  # the registry never creates a server's database
+
+
 @pytest.mark.parametrize("empty_registry", [False, True], ids=["new", "empty-registry"])
 def test_a_copy_that_does_not_verify_is_rolled_back(source, databases, empty_registry):
     """A source whose stored hash does not match its text (a damaged registry): the copy
@@ -228,10 +202,11 @@ def test_the_command_copies_to_and_from(source, databases):
     )
     assert head.startswith(f"copied {str(source)!r} into {first!r} in ")
     assert head.endswith(f" s: {described}")
+    versions = len(registry_rows(source)["cases"])
     assert checked == (
         "verified before the commit: schema revision 0007, integrity, foreign keys, hashes "
-        "and every stored expression; the rows of every table and the hashes of the 8 case "
-        "versions equal the source's"
+        f"and every stored expression; the rows of every table and the hashes of the {versions} "
+        "case versions equal the source's"
     )
     back = CliRunner().invoke(main, ["--db", second, "copy", "--from", first])
     assert back.exit_code == 0, back.output
