@@ -34,6 +34,7 @@ if TYPE_CHECKING:
     from .presentation.site import Catalog
     from .runs.audit_run import AuditReport
     from .runs.search_run import SearchReport
+    from .store.copying import CopyReport
     from .store.database import Store
     from .store.integrity import Verification
 
@@ -42,6 +43,7 @@ _LAZY = {
     "AuditReport": "runs.audit_run",
     "SearchReport": "runs.search_run",
     "Verification": "store.integrity",
+    "CopyReport": "store.copying",
 }
 
 
@@ -474,6 +476,18 @@ class Registry:
         from .store.integrity import verify
 
         return verify(self.store)
+
+    def copy_to(self, target: str | os.PathLike) -> CopyReport:
+        """Copy this registry whole (every table, ids and history) into ``target``: a new
+        SQLite file, or an empty database or registry on a server; all or nothing, and
+        verified before it is committed (``store.copying``). The way to move to a group's
+        server, and to back one up (or restore it: copy from the backup into an empty
+        database). CopyTargetNotEmptyError for a target that holds rows."""
+        from .store.copying import copy_registry
+
+        return copy_registry(
+            self.store, Path(target) if isinstance(target, os.PathLike) else target
+        )
 
     # --- who may write (a shared server) -------------------------------------
 

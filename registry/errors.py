@@ -29,10 +29,21 @@ class Problem:
 
 
 def _quote(text: str, limit: int = 80) -> str:
-    """Show user text in a message: repr-quoted and cut to a readable length."""
-    if len(text) > limit:
-        text = text[: limit - 3] + "..."
-    return repr(text)
+    r"""Show user text in a message: repr-quoted and cut to a readable length.
+
+    The cut counts the escapes too: a character repr escapes takes up to ten (a lone
+    surrogate is '\udc81', a line separator '\u2028'), so that a text of them
+    keeps its quote within about twice ``limit``, like one of quotes and backslashes.
+
+    >>> _quote("\u2028" * 100) == repr("\u2028" * 26 + "...")
+    True
+    """
+    cut = len(text) > limit
+    if cut:
+        text = text[: limit - 3]
+    while len(repr(text + "..." * cut)) > 2 * limit + 2:
+        text, cut = text[:-1], True
+    return repr(text + "..." * cut)
 
 
 class CaseFormatError(RegistryError, ValueError):
@@ -253,6 +264,48 @@ class SchemaTooNewError(StorageError):
         super().__init__(
             f"database {location!r} has schema {found}, newer than this registry supports "
             f"({supported}); upgrade the registry package to open it"
+        )
+
+
+class CopyTargetNotEmptyError(StorageError):
+    """``registry copy`` was pointed at a target that already holds a registry's rows:
+    it fills only a new database or an empty registry, and changed nothing."""
+
+    def __init__(self, location: str, holds: str):
+        self.location, self.holds = location, holds
+        super().__init__(
+            f"the target {location!r} is not empty (it holds {holds}); registry copy fills "
+            "only a new file or an empty database, so nothing was changed: name a new file, "
+            "or an empty database on the server (createdb NAME)"
+        )
+
+
+class CopySameDatabaseError(StorageError, ValueError):
+    """``registry copy`` was asked to copy a registry into itself."""
+
+    def __init__(self, location: str):
+        self.location = location
+        super().__init__(
+            f"source and target of the copy are the same database {location!r}; "
+            "name another target (a new file, or an empty database on the server)"
+        )
+
+
+class CopyVerificationError(StorageError):
+    """The rows ``registry copy`` wrote into the target do not verify, or differ from
+    the source's: the copy was rolled back, and the target is as it was before. One
+    line per problem (``problems``)."""
+
+    def __init__(self, location: str, problems: list[str]):
+        self.location, self.problems = location, list(problems)
+        shown = self.problems[:20]
+        if len(self.problems) > len(shown):
+            shown.append(f"{len(self.problems) - len(shown)} more problems not listed")
+        super().__init__(
+            "\n".join(
+                f"the copy into {location!r} was not committed (nothing was written): {p}"
+                for p in shown
+            )
         )
 
 

@@ -1,5 +1,6 @@
 """Shared fixtures: stores (in memory, on disk and on a PostgreSQL server), database
-targets for the API and CLI tests, and sample cases built in code.
+targets for the API and CLI tests, sample cases built in code, and a registry with rows
+in every table (built once a session).
 
 The PostgreSQL variants run against a real server that the session starts itself
 (``postgres_server``, see ``tests/helpers/postgres_server.py``) the first time a test needs
@@ -12,6 +13,7 @@ from __future__ import annotations
 import hashlib
 import os
 from collections.abc import Callable, Iterator
+from pathlib import Path
 
 import pytest
 import sympy as sp
@@ -33,6 +35,7 @@ from tests.helpers import watchdog
 from tests.helpers.clocks import HANG, PATIENT
 from tests.helpers.databases import BACKENDS, POSTGRES, Databases
 from tests.helpers.postgres_server import PostgresServer, ServerUnavailable
+from tests.helpers.registries import full_registry
 
 # The tests assert verdicts, not speed: every audit given no budget of its own (in this
 # process, in the workers, in the ``registry`` processes the tests start, which inherit
@@ -136,6 +139,13 @@ def memory_store() -> Iterator[Store]:
 def file_store(tmp_path) -> Iterator[Store]:
     with Store(tmp_path / "db" / "registry.sqlite") as store:
         yield store
+
+
+@pytest.fixture(scope="session")
+def full_registry_file(tmp_path_factory) -> Path:
+    """An SQLite registry with rows in every table (``helpers.registries.full_registry``),
+    built once per session; tests copy it (``shutil.copyfile``) before they change it."""
+    return full_registry(tmp_path_factory.mktemp("full") / "full.sqlite")
 
 
 @pytest.fixture(scope="session")

@@ -37,7 +37,7 @@ from tests.helpers.samples import (
 )
 
 ROOT = Path(registry.__file__).resolve().parent.parent
-COMMANDS = ("add", "audit", "cases", "verdicts", "runs", "corrections", "export-case")
+COMMANDS = ("add", "audit", "cases", "verdicts", "runs", "corrections", "export-case", "copy")
 VERDICTS = {"verified", "refuted", "inconclusive"}
 
 #: One line of ``registry add`` for a stored file: status, case id, version, path.

@@ -762,6 +762,53 @@ HOSTILE.update(
     }
 )
 
+# --- found by scripts/fuzz_parser.py: a text of characters that are escaped when shown
+# (line separators, emoji, lone surrogates) made an error line of up to 800 characters, as
+# the text was cut before it was escaped; the cut now counts the escapes
+EMOJI, ESCAPED = "\U0001f600", "'" + "\\U0001f600" * 7 + "...'"
+HOSTILE.update(
+    {
+        "fuzz-escaped-expression": (
+            placed("expression", "M1 + " + "\u2028" * 100),
+            [
+                "claims[0].expression: non-ASCII character '\\u2028' (U+2028): 'M1 + "
+                + "\\u2028" * 25
+                + "...'"
+            ],
+        ),
+        "fuzz-escaped-kind": (
+            case(claims=claim(kind=q(EMOJI * 60))),
+            [f"claims[0].kind: unknown claim kind {ESCAPED} (expected 'integral' or 'casimir')"],
+        ),
+        "fuzz-escaped-key": (
+            case(head=GOOD["head"] + f"{q(EMOJI * 60)} = 1\n"),
+            [f"unknown key {ESCAPED}"],
+        ),
+        "fuzz-escaped-parameter": (
+            case(parameters=GOOD["parameters"] + f'{q(EMOJI * 60)} = "real"\n'),
+            ['parameters."' + "\\ud83d\\ude00" * 6 + f'...": {NAME}'],
+        ),
+        "fuzz-escaped-assumption": (
+            case(parameters=f'[parameters]\nC = "positive"\nN = {q(EMOJI * 60)}\n'),
+            [
+                f"parameters.N: unknown assumption {ESCAPED} "
+                "(expected 'real', 'positive', 'nonzero' or 'integer')"
+            ],
+        ),
+        "fuzz-escaped-argument": (
+            case(functions=f"[functions]\nf = [{q(EMOJI * 60)}]\n"),
+            [
+                f"functions.f[0]: unknown argument {ESCAPED} "
+                "(expected one of M1, M2, M3, gamma1, gamma2, gamma3, s)"
+            ],
+        ),
+        "fuzz-escaped-label": (
+            case(claims=claim(label=q(EMOJI * 60)) * 2),
+            [f"claims[1].label: duplicate label {ESCAPED}"],
+        ),
+    }
+)
+
 # --- '^' for a power
 expression_cases(
     "caret",
@@ -835,6 +882,7 @@ def test_corpus_covers_every_category():
         "lookalike",
         "caret",
         "hamiltonian",
+        "fuzz",
     }
 
 

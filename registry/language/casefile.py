@@ -220,7 +220,11 @@ def _load_toml(text: str, file: str) -> dict:
 def _toml_message(message: str) -> str:
     """tomllib's message, escaped and cut: the keys it quotes can be as long as the file."""
     body, at = re.fullmatch(r"(.*?)((?: \(at line \d+, column \d+\))?)", message, re.S).groups()
-    return "".join(c if " " <= c <= "~" else ascii(c)[1:-1] for c in _cut(body, 100)) + at
+
+    def escaped(text: str) -> str:
+        return "".join(c if " " <= c <= "~" else ascii(c)[1:-1] for c in text)
+
+    return escaped(_cut(body, 100, shown=escaped)) + at
 
 
 # Outside strings and comments: brackets, separators, dots and long digit runs.
@@ -315,14 +319,20 @@ def _found(value: Any) -> str:
 
 def _key(parent: str, key: str) -> str:
     """The field name of ``key`` inside ``parent`` (quoted when it is no bare TOML key)."""
-    key = _cut(key)
+    key = _cut(key, shown=json.dumps)
     shown = key if re.fullmatch(r"[A-Za-z0-9_-]+", key) else json.dumps(key)
     return f"{parent}.{shown}" if parent else shown
 
 
-def _cut(text: str, limit: int = MAX_SHOWN) -> str:
-    """``text`` cut to ``limit`` characters, for a message."""
-    return text if len(text) <= limit else text[: limit - 3] + "..."
+def _cut(text: str, limit: int = MAX_SHOWN, shown: Callable[[str], str] = str) -> str:
+    """``text`` cut to ``limit`` characters for a message, and further while it would
+    take more than twice that once ``shown`` (escaped: '\\U0001f600' takes ten)."""
+    cut = len(text) > limit
+    if cut:
+        text = text[: limit - 3]
+    while len(shown(text + "..." * cut)) > 2 * limit + 2:
+        text, cut = text[:-1], True
+    return text + "..." * cut
 
 
 def _show(text: str) -> str:
@@ -330,7 +340,7 @@ def _show(text: str) -> str:
 
     Escaping shows look-alikes for what they are: 'tіtle' (Cyrillic і) is 't\\u0456tle'.
     """
-    return ascii(_cut(text))
+    return ascii(_cut(text, shown=ascii))
 
 
 def _char(char: str) -> str:

@@ -61,20 +61,35 @@ class Verification:
         return not self.problems
 
 
+@guarded
 def verify(store: Store) -> Verification:
-    """Check a registry database end to end (see the module docstring)."""
-    revision, version = schema_revision(store)
+    """Check a registry database end to end (see the module docstring), in one snapshot
+    of it (one connection and one read transaction)."""
+    with store.connect() as conn:
+        return verify_connection(conn, store.location)
+
+
+def verify_connection(conn: Connection, location: str) -> Verification:
+    """``verify`` on an open connection, in its transaction: what ``registry copy``
+    runs on the rows it has written, before it commits them (``location`` names the
+    database in messages)."""
+    revision, version = schema_revision(conn, location)
     problems = []
     if revision != migrate.head():
         problems.append(f"schema revision {revision}, expected {migrate.head()}")
     if version != str(SCHEMA_VERSION):
         problems.append(f"meta.schema_version is {version!r}, expected '{SCHEMA_VERSION}'")
-    problems += database_problems(store)
+    problems += database_problems(conn)
 
     cases: dict[int, Case] = {}
     names: dict[int, str] = {}
-    for stored in store.case_versions(latest_only=False):
-        name = names[stored.pk] = f"case {stored.case_id} version {stored.version}"
+    stored_versions = conn.execute(
+        select(
+            CaseRow.id, CaseRow.case_id, CaseRow.version, CaseRow.content_hash, CaseRow.text
+        ).order_by(CaseRow.case_id, CaseRow.version)
+    )
+    for stored in stored_versions:
+        name = names[stored.id] = f"case {stored.case_id} version {stored.version}"
         try:
             case = parse_case_text(stored.text, name)
         except CaseFormatError as err:
@@ -84,9 +99,9 @@ def verify(store: Store) -> Verification:
             problems.append(f"{name}: the stored hash does not match the stored text")
         if case.id != stored.case_id:
             problems.append(f"{name}: the stored text has id {case.id!r}")
-        cases[stored.pk] = case
+        cases[stored.id] = case
 
-    texts = stored_expressions(store)
+    texts = stored_expressions(conn)
     for pk, case in cases.items():
         mine = [t for t in texts if t.case_pk == pk]
         problems += [f"{names[pk]}: {p}" for p in _columns_agree(case, mine)]
@@ -100,9 +115,9 @@ def verify(store: Store) -> Verification:
 
     notes = tuple(
         f"run {run} is still running (process {pid} on {host})"
-        for run, host, pid in running_runs(store)
+        for run, host, pid in running_runs(conn)
     )
-    return Verification(revision, counts(store), tuple(problems), notes, engine_name(store))
+    return Verification(revision, counts(conn), tuple(problems), notes, engine_name(conn))
 
 
 # ----------------------------------------------------------- integrity-only reads
@@ -118,84 +133,74 @@ class StoredText:
     equation: bool = False
 
 
-@guarded
-def schema_revision(store: Store) -> tuple[str | None, str | None]:
+def schema_revision(conn: Connection, location: str) -> tuple[str | None, str | None]:
     """(Alembic revision, ``meta.schema_version``) as stored."""
-    with store.connect() as conn:
-        revision = migrate.inspect_schema(conn, store.location).revision
-        return revision, conn.scalar(select(MetaRow.value).where(MetaRow.key == "schema_version"))
+    revision = migrate.inspect_schema(conn, location).revision
+    return revision, conn.scalar(select(MetaRow.value).where(MetaRow.key == "schema_version"))
 
 
-@guarded
-def engine_name(store: Store) -> str:
+def engine_name(conn: Connection) -> str:
     """The database engine and its version (and, on PostgreSQL, the schema)."""
-    with store.connect() as conn:
-        if conn.dialect.name == "sqlite":
-            return f"SQLite {conn.exec_driver_sql('SELECT sqlite_version()').scalar()}"
-        if conn.dialect.name == "postgresql":
-            version = conn.exec_driver_sql("SHOW server_version").scalar()
-            schema = conn.exec_driver_sql("SELECT current_schema()").scalar()
-            return f'PostgreSQL {str(version).split()[0]}, schema "{schema}"'
-        return conn.dialect.name
+    if conn.dialect.name == "sqlite":
+        return f"SQLite {conn.exec_driver_sql('SELECT sqlite_version()').scalar()}"
+    if conn.dialect.name == "postgresql":
+        version = conn.exec_driver_sql("SHOW server_version").scalar()
+        schema = conn.exec_driver_sql("SELECT current_schema()").scalar()
+        return f'PostgreSQL {str(version).split()[0]}, schema "{schema}"'
+    return conn.dialect.name
 
 
-@guarded
-def database_problems(store: Store) -> list[str]:
+def database_problems(conn: Connection) -> list[str]:
     """What the database engine and the table relations find wrong (no algebra):
     SQLite's integrity and foreign-key checks (on PostgreSQL, the foreign keys checked
     by query), results tied to a claim of another case version, and verdicts or run
     states outside their sets."""
     problems = []
-    with store.connect() as conn:
-        if conn.dialect.name == "sqlite":
-            found = [r[0] for r in conn.exec_driver_sql("PRAGMA integrity_check")]
-            problems += [f"SQLite integrity check: {r}" for r in found if r != "ok"]
-            problems += [
-                f"foreign key: row {row} of {table} points to a missing row of {parent}"
-                for table, row, parent, _ in conn.exec_driver_sql("PRAGMA foreign_key_check")
-            ]
-        else:
-            if conn.dialect.name == "postgresql":
-                problems += _unenforced(conn)
-            problems += _missing_parents(conn)
-        claims = ClaimRow.__table__
-        tables: tuple[Table, ...] = (
-            ResultRow.__table__,
-            CorrectionRow.__table__,
-            EvidenceRow.__table__,
-        )  # type: ignore[assignment]
-        for table in tables:
-            crossed = conn.execute(
-                select(table.c.id)
-                .join(claims, claims.c.id == table.c.claim_id)
-                .where(claims.c.case_pk != table.c.case_pk)
-            ).scalars()
-            problems += [
-                f"{table.name} row {i}: its claim belongs to another case version" for i in crossed
-            ]
-        verdicts = VERDICT_TEXTS
-        odd = conn.execute(
-            select(ResultRow.id, ResultRow.verdict).where(ResultRow.verdict.not_in(verdicts))
-        )
-        problems += [f"check_results row {i}: unknown verdict {v!r}" for i, v in odd]
-        odd = conn.execute(
-            select(CorrectionRow.id, CorrectionRow.verdict).where(
-                CorrectionRow.verdict.is_not(None), CorrectionRow.verdict.not_in(verdicts)
-            )
-        )
-        problems += [f"corrections row {i}: unknown verdict {v!r}" for i, v in odd]
-        odd = conn.execute(
-            select(RunRow.id, RunRow.status).where(RunRow.status.not_in(RUN_STATUSES))
-        )
-        problems += [f"audit run {i}: unknown status {v!r}" for i, v in odd]
-        orphans = conn.execute(
-            select(ClaimRow.id, ClaimRow.search_id)
-            .outerjoin(SearchRow, SearchRow.id == ClaimRow.search_id)
-            .where(ClaimRow.search_id.is_not(None), SearchRow.id.is_(None))
-        )
+    if conn.dialect.name == "sqlite":
+        found = [r[0] for r in conn.exec_driver_sql("PRAGMA integrity_check")]
+        problems += [f"SQLite integrity check: {r}" for r in found if r != "ok"]
         problems += [
-            f"claims row {i}: attached by search {s}, which is missing" for i, s in orphans
+            f"foreign key: row {row} of {table} points to a missing row of {parent}"
+            for table, row, parent, _ in conn.exec_driver_sql("PRAGMA foreign_key_check")
         ]
+    else:
+        if conn.dialect.name == "postgresql":
+            problems += _unenforced(conn)
+        problems += _missing_parents(conn)
+    claims = ClaimRow.__table__
+    tables: tuple[Table, ...] = (
+        ResultRow.__table__,
+        CorrectionRow.__table__,
+        EvidenceRow.__table__,
+    )  # type: ignore[assignment]
+    for table in tables:
+        crossed = conn.execute(
+            select(table.c.id)
+            .join(claims, claims.c.id == table.c.claim_id)
+            .where(claims.c.case_pk != table.c.case_pk)
+        ).scalars()
+        problems += [
+            f"{table.name} row {i}: its claim belongs to another case version" for i in crossed
+        ]
+    verdicts = VERDICT_TEXTS
+    odd = conn.execute(
+        select(ResultRow.id, ResultRow.verdict).where(ResultRow.verdict.not_in(verdicts))
+    )
+    problems += [f"check_results row {i}: unknown verdict {v!r}" for i, v in odd]
+    odd = conn.execute(
+        select(CorrectionRow.id, CorrectionRow.verdict).where(
+            CorrectionRow.verdict.is_not(None), CorrectionRow.verdict.not_in(verdicts)
+        )
+    )
+    problems += [f"corrections row {i}: unknown verdict {v!r}" for i, v in odd]
+    odd = conn.execute(select(RunRow.id, RunRow.status).where(RunRow.status.not_in(RUN_STATUSES)))
+    problems += [f"audit run {i}: unknown status {v!r}" for i, v in odd]
+    orphans = conn.execute(
+        select(ClaimRow.id, ClaimRow.search_id)
+        .outerjoin(SearchRow, SearchRow.id == ClaimRow.search_id)
+        .where(ClaimRow.search_id.is_not(None), SearchRow.id.is_(None))
+    )
+    problems += [f"claims row {i}: attached by search {s}, which is missing" for i, s in orphans]
     return problems
 
 
@@ -250,8 +255,7 @@ def _unenforced(conn: Connection) -> list[str]:
     ]
 
 
-@guarded
-def counts(store: Store) -> dict[str, int]:
+def counts(conn: Connection) -> dict[str, int]:
     """How many rows each table holds."""
     tables = {
         "case versions": CaseRow,
@@ -260,65 +264,60 @@ def counts(store: Store) -> dict[str, int]:
         "results": ResultRow,
         "corrections": CorrectionRow,
     }
-    with store.read() as session:
-        return {
-            name: session.scalar(select(func.count()).select_from(row)) or 0
-            for name, row in tables.items()
-        }
+    return {
+        name: conn.scalar(select(func.count()).select_from(row)) or 0
+        for name, row in tables.items()
+    }
 
 
-@guarded
-def running_runs(store: Store) -> list[tuple[int, str | None, int | None]]:
+def running_runs(conn: Connection) -> list[tuple[int, str | None, int | None]]:
     """(run, host, pid) of the runs still marked ``running``."""
-    with store.read() as session:
-        stmt = select(RunRow.id, RunRow.host, RunRow.pid).where(RunRow.status == "running")
-        return [(r.id, r.host, r.pid) for r in session.execute(stmt)]
+    stmt = select(RunRow.id, RunRow.host, RunRow.pid).where(RunRow.status == "running")
+    return [(r.id, r.host, r.pid) for r in conn.execute(stmt)]
 
 
-@guarded
-def stored_expressions(store: Store) -> list[StoredText]:
+def stored_expressions(conn: Connection) -> list[StoredText]:
     """Every expression and equation the database keeps, with its place, so that
     ``registry verify-db`` can parse each again: the case columns, the claims, and the
     derived Casimirs, torques and parameter conditions of every run."""
     out: list[StoredText] = []
-    with store.read() as session:
-        cases = {r.id: r for r in session.scalars(select(CaseRow))}
-        for r in cases.values():
-            out.append(StoredText(r.id, "potential", r.potential))
-            out += [StoredText(r.id, f"torque[{i}]", t) for i, t in enumerate(r.torque)]
-            out += [StoredText(r.id, f"inertia[{i}]", t) for i, t in enumerate(r.inertia)]
-            if r.hamiltonian is not None:
-                out.append(StoredText(r.id, "hamiltonian", r.hamiltonian))
-            out.append(StoredText(r.id, "kappa", r.kappa))
-        for c in session.scalars(select(ClaimRow)):
-            # a claim a search attached to a version is not in its text: named apart
-            where = (
-                f"claim {c.label!r}"
-                if c.search_id is None
-                else (f"search {c.search_id}, claim {c.label!r}")
-            )
-            out.append(StoredText(c.case_pk, f"{where} expression", c.expression))
-            out += [
-                StoredText(c.case_pk, f"{where} on[{i}]", e, equation=True)
-                for i, e in enumerate(c.on)
-            ]
-        for row in session.scalars(select(CorrectionRow)):
-            where = f"run {row.run_id}, {row.kind} (corrections row {row.id})"
-            if row.expression:
-                out.append(StoredText(row.case_pk, where, row.expression))
-            for i, t in enumerate(row.payload.get("torque") or ()):
-                out.append(StoredText(row.case_pk, f"{where} torque[{i}]", t))
-            for branch in row.payload.get("branches") or ():
-                out += [StoredText(row.case_pk, where, e, equation=True) for e in branch]
-        found = session.execute(
-            select(DiscoveryRow, SearchRow.case_pk).join(
-                SearchRow, SearchRow.id == DiscoveryRow.search_id
-            )
+    cases, claims = CaseRow.__table__, ClaimRow.__table__
+    corrections, discoveries = CorrectionRow.__table__, DiscoveryRow.__table__
+    for r in conn.execute(select(cases).order_by(cases.c.id)):
+        out.append(StoredText(r.id, "potential", r.potential))
+        out += [StoredText(r.id, f"torque[{i}]", t) for i, t in enumerate(r.torque)]
+        out += [StoredText(r.id, f"inertia[{i}]", t) for i, t in enumerate(r.inertia)]
+        if r.hamiltonian is not None:
+            out.append(StoredText(r.id, "hamiltonian", r.hamiltonian))
+        out.append(StoredText(r.id, "kappa", r.kappa))
+    for c in conn.execute(select(claims).order_by(claims.c.id)):
+        # a claim a search attached to a version is not in its text: named apart
+        where = (
+            f"claim {c.label!r}"
+            if c.search_id is None
+            else (f"search {c.search_id}, claim {c.label!r}")
         )
-        for discovered, case_pk in found:
-            where = f"search {discovered.search_id}, integrals where {discovered.when or 'generic'}"
-            out += [StoredText(case_pk, where, e) for e in discovered.integrals]
-            out += [StoredText(case_pk, where, e, equation=True) for e in discovered.when]
+        out.append(StoredText(c.case_pk, f"{where} expression", c.expression))
+        out += [
+            StoredText(c.case_pk, f"{where} on[{i}]", e, equation=True) for i, e in enumerate(c.on)
+        ]
+    for row in conn.execute(select(corrections).order_by(corrections.c.id)):
+        where = f"run {row.run_id}, {row.kind} (corrections row {row.id})"
+        if row.expression:
+            out.append(StoredText(row.case_pk, where, row.expression))
+        for i, t in enumerate(row.payload.get("torque") or ()):
+            out.append(StoredText(row.case_pk, f"{where} torque[{i}]", t))
+        for branch in row.payload.get("branches") or ():
+            out += [StoredText(row.case_pk, where, e, equation=True) for e in branch]
+    found = conn.execute(
+        select(discoveries, SearchRow.case_pk.label("searched"))
+        .join(SearchRow, SearchRow.id == discoveries.c.search_id)
+        .order_by(discoveries.c.id)
+    )
+    for discovered in found:
+        where = f"search {discovered.search_id}, integrals where {discovered.when or 'generic'}"
+        out += [StoredText(discovered.searched, where, e) for e in discovered.integrals]
+        out += [StoredText(discovered.searched, where, e, equation=True) for e in discovered.when]
     return out
 
 

@@ -20,7 +20,18 @@ import pytest
 from alembic.autogenerate import compare_metadata
 from alembic.runtime.migration import MigrationContext
 from click.testing import CliRunner
-from sqlalchemy import JSON, Boolean, DateTime, MetaData, create_engine, insert, inspect, text
+from sqlalchemy import (
+    JSON,
+    Boolean,
+    Column,
+    DateTime,
+    MetaData,
+    Table,
+    create_engine,
+    insert,
+    inspect,
+    text,
+)
 from sqlalchemy import column as sql_column
 from sqlalchemy import select as sql_select
 from sqlalchemy import table as sql_table
@@ -33,6 +44,7 @@ from registry.store.database import Store
 from registry.store.integrity import verify
 from registry.store.tables import SCHEMA_VERSION, Base, latest_verdicts
 from tests.helpers.databases import POSTGRES, connection, is_url
+from tests.helpers.registries import registry_rows
 from tests.helpers.samples import TEST_DATA
 
 FIRST_SCHEMA_DUMP = TEST_DATA / "registry-schema-1.sql"
@@ -217,10 +229,16 @@ def test_the_cli_says_that_it_upgraded_and_where_the_copy_is(db_target, backend,
         )
 
 
-def test_a_newer_revision_is_refused_with_a_clear_message(db_target):
+def test_a_newer_revision_is_refused_with_a_clear_message(db_target, databases, sample_case):
+    """A database stamped by a newer release (a revision this code does not know) is
+    refused by every command that opens it, and by ``registry copy`` as a source or as
+    a target, with one line, and nothing is changed: no upgrade, no copy made, no row."""
     path = db_target
-    with Store(path) as store, store.engine.begin() as conn:
-        conn.execute(text("UPDATE alembic_version SET version_num = '0099'"))
+    with Store(path) as store:
+        store.add_case(sample_case)
+        with store.engine.begin() as conn:
+            conn.execute(text("UPDATE alembic_version SET version_num = '0099'"))
+    before = _snapshot(path)
     expected = (
         f"database {str(path)!r} has schema revision 0099, newer than this registry "
         "supports (revision 0007); upgrade the registry package to open it"
@@ -228,9 +246,33 @@ def test_a_newer_revision_is_refused_with_a_clear_message(db_target):
     with pytest.raises(SchemaTooNewError) as info:
         Store(path)
     assert str(info.value) == expected
-    result = CliRunner().invoke(main, ["--db", str(path), "cases"])
-    assert result.exit_code == 1
-    assert result.stderr.splitlines() == [f"Error: {expected}"]
+    other, target = databases.new("other"), databases.new("target")
+    Store(other).close()
+    for command in (
+        ["--db", str(path), "cases"],
+        ["--db", str(path), "copy", "--to", target],
+        ["--db", other, "copy", "--from", str(path)],
+        ["--db", other, "copy", "--to", str(path)],
+    ):
+        result = CliRunner().invoke(main, command)
+        assert result.exit_code == 1, (command, result.output)
+        assert result.stderr.splitlines() == [f"Error: {expected}"], command
+    assert _snapshot(path) == before
+    assert not any(rows for table, rows in registry_rows(other).items() if table != "meta")
+    if is_url(target):  # the server's database exists: it stays without tables
+        with connection(target) as conn:
+            assert inspect(conn).get_table_names() == []
+    else:
+        assert not databases.exists(target)
+
+
+def _snapshot(target: str) -> tuple:
+    """Everything a refusal must leave as it was: the revision, every row, and (for a
+    file) the files of its folder (no backup copy made)."""
+    if is_url(target):
+        return _revision(target), rows_all(target, "cases"), rows_all(target, "claims")
+    files = sorted(p.name for p in Path(target).parent.glob(f"{Path(target).name}*"))
+    return _revision(target), rows_all(target, "cases"), rows_all(target, "claims"), files
 
 
 # SQLite only: databases from before Alembic are registry 0.1.0's files
@@ -346,3 +388,120 @@ def test_revision_0007_copies_each_stored_systems_hamiltonian_and_kappa(tmp_path
         hamiltonian_form.id: (hamiltonian_form.system.hamiltonian.text, "-1"),
         inertia_form.id: (None, "0"),
     }
+
+
+# ---------------------------------------------- upgrades from every earlier revision
+
+#: Every revision an earlier release may have left a database at.
+EARLIER = migrate.known_revisions()[:-1]
+
+
+def at_revision(target: str, revision: str, source: Path) -> tuple[dict, dict]:
+    """A database built by the revisions up to ``revision`` (Alembic, as that release
+    did), holding the rows of the full registry ``source`` that this revision can hold:
+    its tables and its columns, and only from 0004 on the searches, discoveries, aliases
+    and what hangs on them (claims attached by a search, cases derived by one); a
+    derived fact's missing verdict is "" before 0003, which made it NULL. Rows keep
+    their ids. Returns (the rows inserted, by table; the columns of each table then)."""
+    found = registry_rows(source)
+    with connection(target) as conn:
+        migrate.command.upgrade(migrate._config(conn), revision)
+        names = inspect(conn).get_table_names()
+        present = {t: {c["name"] for c in inspect(conn).get_columns(t)} for t in names}
+        kept = _valid_at(found, present)
+        for table in Base.metadata.sorted_tables:
+            if not kept[table.name]:
+                continue
+            columns = [c for c in table.c if c.name in present[table.name]]
+            then = Table(table.name, MetaData(), *(Column(c.name, c.type) for c in columns))
+            values = [{c.name: row[c.name] for c in columns} for row in kept[table.name]]
+            if table.name == "corrections" and "compared_with" not in present["evidence"]:
+                values = [{**v, "verdict": "" if v["verdict"] is None else v["verdict"]}
+                          for v in values]  # fmt: skip
+            conn.execute(insert(then), values)
+            if conn.dialect.name == "postgresql":  # rows came with their ids
+                conn.execute(
+                    text(f"SELECT setval(pg_get_serial_sequence('{table.name}', 'id'), "
+                         f"max(id)) FROM {table.name}")
+                )  # fmt: skip
+    return kept, present
+
+
+def _valid_at(found: dict[str, list[dict]], present: dict[str, set[str]]) -> dict:
+    """The rows (by table) a database with the tables and columns ``present`` can hold:
+    what needs a later table or column is left out, and so is every row pointing to a
+    row left out. ``meta`` stays the revision's own."""
+    derived = set()
+    if "discoveries" not in present:
+        derived = {d["derived_case_pk"] for d in found["discoveries"]}
+    gone: dict[str, set] = {}
+    kept: dict[str, list[dict]] = {}
+    for table in Base.metadata.sorted_tables:
+        kept[table.name], gone[table.name] = [], set()
+        if table.name == "meta" or table.name not in present:
+            gone[table.name] = {r.get("id") for r in found[table.name]}
+            continue
+        for row in found[table.name]:
+            later = (table.name == "cases" and row["id"] in derived) or (
+                table.name == "claims"
+                and row["search_id"] is not None
+                and "search_id" not in present["claims"]
+            )
+            orphan = any(
+                row[fk.parent.name] in gone[fk.column.table.name] for fk in table.foreign_keys
+            )
+            if later or orphan:
+                gone[table.name].add(row["id"])
+            else:
+                kept[table.name].append(row)
+    return kept
+
+
+def _view(target: str) -> list[dict]:
+    """The ``latest_verdicts`` view (the newest verdict of every check and claim), typed."""
+    with connection(target) as conn:
+        order = (latest_verdicts.c.case, latest_verdicts.c.claim, latest_verdicts.c.check)
+        found = conn.execute(sql_select(latest_verdicts).order_by(*order))
+        return [dict(r._mapping) for r in found]
+
+
+@pytest.mark.parametrize("revision", EARLIER)
+def test_a_database_at_each_earlier_revision_is_upgraded_with_nothing_lost(
+    revision, db_target, full_registry_file
+):
+    """Built by the revisions up to ``revision`` and filled with what that revision holds
+    (cases, claims, runs, results, corrections, evidence; from 0004 also searches,
+    discoveries and aliases), then opened by this release: every row and every column
+    it had is there, the case texts and hashes, and the newest verdicts are the same."""
+    inserted, present = at_revision(db_target, revision, full_registry_file)
+    assert all(inserted[t] for t in TABLES), {t: len(inserted[t]) for t in TABLES}
+    if revision >= "0004":
+        assert inserted["searches"] and inserted["discoveries"] and inserted["case_aliases"]
+    verdicts = _view(db_target)
+    assert verdicts
+
+    with Store(db_target) as store:
+        assert store.upgraded_from == revision
+        assert (store.backup is None) == is_url(db_target)  # a file is copied first
+        with store.engine.connect() as conn:
+            assert compare_metadata(MigrationContext.configure(conn), Base.metadata) == []
+        found = verify(store)
+    assert found.ok, found.problems
+
+    after = registry_rows(db_target)
+    for table, rows in inserted.items():
+        if table == "meta":
+            continue
+        columns = present.get(table, set())
+        assert len(after[table]) == len(rows), table
+        assert [{c: r[c] for c in columns} for r in after[table]] == [
+            {c: r[c] for c in columns} for r in rows
+        ], table
+    # the case texts and hashes, and what 0007 reads from each text, as the source has them
+    copied = ("id", "case_id", "version", "text", "content_hash", "hamiltonian", "kappa")
+    assert [[r[c] for c in copied] for r in after["cases"]] == [
+        [r[c] for c in copied] for r in inserted["cases"]
+    ]
+    assert _view(db_target) == verdicts
+    with registry.open(db_target) as reg:  # and the registry reads them as before
+        assert len(reg.verdicts()) == len(verdicts)
