@@ -12,7 +12,7 @@ import pytest
 
 from registry.audit.case_audit import audit_case, claim_verdict
 from registry.errors import CaseFormatError
-from registry.language import casefile, limits
+from registry.language import casefile, limits, toml_input
 from registry.language.casefile import parse_case_text
 from registry.model import Verdict
 
@@ -101,7 +101,7 @@ def test_a_changed_example_is_not_verified(case_id, old, new, check, label):
 @pytest.mark.parametrize(
     ("text", "value"),
     [
-        ("at\nmost 1 MB", casefile.MAX_FILE_BYTES // 1_000_000),
+        ("at\nmost 1 MB", toml_input.MAX_FILE_BYTES // 1_000_000),
         ("at most 200 claims", casefile.MAX_CLAIMS),
         ("100 parameters", casefile.MAX_PARAMETERS),
         ("20 level-set equations", casefile.MAX_EQUATIONS),

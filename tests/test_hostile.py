@@ -30,7 +30,7 @@ from hypothesis import strategies as st
 import registry
 from registry.cli import main
 from registry.errors import CaseFormatError, ExpressionError
-from registry.language import casefile, limits, parser
+from registry.language import casefile, limits, parser, toml_input
 from registry.language.casefile import load_case, parse_case_text
 from registry.model import Case
 from tests.helpers.clocks import HANG, cpu_bound
@@ -374,7 +374,7 @@ LARGE_CLAIMS = ["*".join(f"(gamma1 + {1000 * i + j})" for j in range(700)) for i
 HOSTILE.update(
     {
         "resources-file-too-large": (
-            case(head=GOOD["head"] + f"notes = {q('x' * casefile.MAX_FILE_BYTES)}\n"),
+            case(head=GOOD["head"] + f"notes = {q('x' * toml_input.MAX_FILE_BYTES)}\n"),
             ["the file is too large (more than 1000000 bytes)"],
         ),
         "resources-many-claims": (
@@ -1099,7 +1099,7 @@ def test_the_guard_notices_execution():
 
 
 def test_limits_are_documented_constants():
-    assert (casefile.MAX_FILE_BYTES, casefile.MAX_TOML_DEPTH) == (1_000_000, 10)
+    assert (toml_input.MAX_FILE_BYTES, toml_input.MAX_TOML_DEPTH) == (1_000_000, 10)
     assert (casefile.MAX_CLAIMS, casefile.MAX_EQUATIONS, casefile.MAX_PARAMETERS) == (200, 20, 100)
     assert casefile.MAX_PROBLEMS == 50
     assert (limits.MAX_CASE_PARTS, limits.MAX_CASE_ROOT_DIGITS) == (5_000, 1_000)
@@ -1440,12 +1440,12 @@ def test_tricky_but_valid_toml_passes_the_pre_scan(line_end):
     assert loaded.id == "hostile-demo"
     assert loaded.source.locator == "p. 1 '' two quotes at the end''"
     assert loaded.notes.endswith('a quote at the end"')
-    assert casefile._toml_shape_problem(text) is None
+    assert toml_input.toml_shape_problem(text) is None
 
 
 @pytest.mark.parametrize("path", sorted(CASES.glob("*.toml")), ids=lambda p: p.stem)
 def test_seed_catalog_passes_the_pre_scan_with_any_line_ends(path):
     text = path.read_text(encoding="utf-8")
     for variant in (text, text.replace("\n", "\r\n")):
-        assert casefile._toml_shape_problem(variant) is None
+        assert toml_input.toml_shape_problem(variant) is None
         assert parse_case_text(variant).id == path.stem

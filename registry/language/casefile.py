@@ -31,13 +31,9 @@ Examples
 from __future__ import annotations
 
 import difflib
-import hashlib
-import json
 import keyword
 import os
 import re
-import stat
-import tomllib
 from collections.abc import Callable
 from dataclasses import replace
 from typing import Any
@@ -59,7 +55,7 @@ from ..model import (
     System,
 )
 from . import forms
-from .limits import MAX_DIGITS, ParseBudget
+from .limits import ParseBudget
 from .parser import (
     RESERVED_NAMES,
     VARIABLES,
@@ -67,15 +63,21 @@ from .parser import (
     parse_equation,
     parse_expression,
 )
+from .toml_input import (
+    char_name,
+    control_problem,
+    cut,
+    field_name,
+    hash_data,
+    kind_of,
+    load_toml,
+    quoted,
+    read_text,
+)
 
 # Limits on a case file besides those on its expressions (``registry.language.limits``):
 # each is checked before the work it bounds, so that a hostile file is refused fast.
 
-#: Largest case file, in bytes.
-MAX_FILE_BYTES = 1_000_000
-#: Deepest nesting of arrays, inline tables and dotted keys in the TOML (``a.b.c``
-#: is 3 levels); checked before the TOML parser runs, which is slow on deep keys.
-MAX_TOML_DEPTH = 10
 #: Most claims in one case.
 MAX_CLAIMS = 200
 #: Most level-set equations (``on``) of one claim.
@@ -84,8 +86,6 @@ MAX_EQUATIONS = 20
 MAX_PARAMETERS = 100
 #: Most problems listed in one error; the rest are counted in a last line.
 MAX_PROBLEMS = 50
-#: Longest piece of user text (a key, a name, a value) shown in a message.
-MAX_SHOWN = 40
 
 #: A case id: lowercase letters, digits, '.' and '-', starting with a letter or digit.
 ID_PATTERN = re.compile(r"[a-z0-9][a-z0-9.-]*")
@@ -120,243 +120,24 @@ _CLAIM_KEYS = ("label", "kind", "expression", "on", "locator", "notes", "provena
 MAX_AUTHORS = 50
 MAX_ALIASES = 20
 _VARIABLE_LIST = ", ".join(VARIABLES)
-#: Control characters (C0, DEL, C1) and the Unicode bidirectional controls, which
-#: can make text display as something else; with and without tab and line breaks.
-_CONTROL = "\x00-\x08\x0b\x0c\x0e-\x1f\x7f-\x9f\u061c\u200e\u200f\u202a-\u202e\u2066-\u2069"
-_CONTROLS = re.compile(f"[{_CONTROL}\t\n\r]")
-_CONTROLS_BUT_LINE_BREAKS = re.compile(f"[{_CONTROL}]")
 _ZERO = Expression("0", sp.Integer(0))
 
 
 def load_case(path: str | os.PathLike) -> Case:
     """The case in the file at ``path``; CaseFormatError if it is not a valid case file."""
     file = str(path)
-    text = _read_text(path, file)
+    text = read_text(path, file)
     return replace(parse_case_text(text, file), path=file)
 
 
 def parse_case_text(text: str, file: str = "<string>") -> Case:
     """The case that a case file's ``text`` describes (``file`` names it in errors)."""
-    data = _load_toml(text, file)
+    data = load_toml(text, file)
     reader = _Reader()
     case = reader.case(data)
     if case is None:
         raise CaseFormatError(file, reader.listed())
-    return replace(case, text=text, content_hash=_hash_data(data))
-
-
-def content_hash(text: str) -> str:
-    """sha256 (hex) of the canonical JSON of the TOML content: comments and layout do not count."""
-    return _hash_data(_load_toml(text, "<string>"))
-
-
-def _hash_data(data: dict) -> str:
-    canonical = json.dumps(
-        data, sort_keys=True, ensure_ascii=False, separators=(",", ":"), default=str
-    )
-    return hashlib.sha256(canonical.encode("utf-8")).hexdigest()
-
-
-def _fail(file: str, message: str) -> CaseFormatError:
-    """An error about the file as a whole."""
-    return CaseFormatError(file, [Problem("", message)])
-
-
-def _read_text(path: str | os.PathLike, file: str) -> str:
-    """The file's text: at most MAX_FILE_BYTES of UTF-8 (a leading BOM is dropped)."""
-    flags = os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_BINARY", 0)
-    try:
-        # Non-blocking, so that a named pipe or a device is refused instead of waited on.
-        fd = os.open(path, flags)
-        try:
-            if not stat.S_ISREG(os.fstat(fd).st_mode):
-                raise _fail(file, "not a regular file")
-            with open(fd, "rb", closefd=False) as handle:
-                data = handle.read(MAX_FILE_BYTES + 1)
-        finally:
-            os.close(fd)
-    except OSError as err:
-        raise _fail(file, f"cannot read the file ({err.strerror or err})") from None
-    if len(data) > MAX_FILE_BYTES:
-        raise _fail(file, f"the file is too large (more than {MAX_FILE_BYTES} bytes)")
-    try:
-        text = data.decode("utf-8")
-    except UnicodeDecodeError as err:
-        raise _fail(
-            file, f"the file is not UTF-8 text (byte 0x{data[err.start]:02x} at offset {err.start})"
-        ) from None
-    return text.removeprefix("\ufeff")
-
-
-def _load_toml(text: str, file: str) -> dict:
-    """The TOML document in ``text``, or CaseFormatError naming the line and column."""
-    if not isinstance(text, str):
-        raise TypeError(f"a case file text must be a str, not {type(text).__name__}")
-    try:
-        size = len(text.encode("utf-8"))
-    except UnicodeEncodeError as err:
-        code = ord(text[err.start])
-        raise _fail(
-            file,
-            f"the text is not valid Unicode (lone surrogate U+{code:04X} at offset {err.start})",
-        ) from None
-    if size > MAX_FILE_BYTES:
-        raise _fail(file, f"the file is too large (more than {MAX_FILE_BYTES} bytes)")
-    if not text.strip():
-        raise _fail(file, "the file is empty")
-    shape = _toml_shape_problem(text)
-    if shape:
-        raise _fail(file, f"invalid TOML: {shape}")
-    try:
-        return tomllib.loads(text)
-    except RecursionError:
-        raise _fail(
-            file, f"invalid TOML: nested too deeply (more than {MAX_TOML_DEPTH} levels)"
-        ) from None
-    except ValueError as err:  # TOMLDecodeError (or anything else tomllib refuses)
-        raise _fail(file, f"invalid TOML: {_toml_message(str(err))}") from None
-
-
-def _toml_message(message: str) -> str:
-    """tomllib's message, escaped and cut: the keys it quotes can be as long as the file."""
-    body, at = re.fullmatch(r"(.*?)((?: \(at line \d+, column \d+\))?)", message, re.S).groups()
-
-    def escaped(text: str) -> str:
-        return "".join(c if " " <= c <= "~" else ascii(c)[1:-1] for c in text)
-
-    return escaped(_cut(body, 100, shown=escaped)) + at
-
-
-# Outside strings and comments: brackets, separators, dots and long digit runs.
-_TOML_EVENT = re.compile(rf"[\"'#\[\]{{}}=,.\n]|(?<!\w)[0-9][0-9_]{{{MAX_DIGITS},}}")
-_TOML_STRING_END = {
-    '"': re.compile(r'\\.|["\n]', re.S),
-    "'": re.compile(r"['\n]"),
-    '"""': re.compile(r'\\.|"""', re.S),
-    "'''": re.compile(r"'''"),
-}
-
-
-def _toml_shape_problem(text: str) -> str | None:
-    """Why ``text`` is too deep or has too long a number for the TOML parser, or None.
-
-    A linear scan that skips strings and comments. tomllib takes quadratic time in
-    the parts of a dotted key and recursion in nested arrays, and raises ValueError
-    on integers of more than 4300 digits, so these are refused before it runs.
-    """
-    depth = dots = 0
-    pos = 0
-    while True:
-        event = _TOML_EVENT.search(text, pos)
-        if event is None:
-            return None
-        char, pos = event.group(), event.end()
-        if char in "[{":
-            depth += 1
-            dots = 0
-        elif char in "]}":
-            depth = max(depth - 1, 0)
-            dots = 0
-        elif char in "=,\n":
-            dots = 0
-        elif char == ".":
-            dots += 1
-        elif char == "#":
-            end = text.find("\n", pos)
-            pos = len(text) if end < 0 else end
-        elif char in "\"'":
-            quote = text[pos - 1 : pos + 2] if text[pos : pos + 2] == char * 2 else char
-            pos = _string_end(text, pos + len(quote) - 1, quote)
-            if pos is None:
-                return None  # unterminated: tomllib says where
-        else:
-            return f"number too long (more than {MAX_DIGITS} digits){_at(text, event.start())}"
-        if depth + dots > MAX_TOML_DEPTH:
-            return (
-                f"nested too deeply (more than {MAX_TOML_DEPTH} levels){_at(text, event.start())}"
-            )
-
-
-def _string_end(text: str, pos: int, quote: str) -> int | None:
-    """Where the TOML string opened by ``quote`` just before ``pos`` ends, or None."""
-    pattern = _TOML_STRING_END[quote]
-    while True:
-        found = pattern.search(text, pos)
-        if found is None or found.group() == "\n":
-            return None
-        pos = found.end()
-        if found.group()[0] != "\\":
-            if len(quote) == 3:
-                # A multi-line string may end with one or two quotes before its closing three.
-                for _ in range(2):
-                    pos += text.startswith(quote[0], pos)
-            return pos
-
-
-def _at(text: str, pos: int) -> str:
-    """' (at line L, column C)', as tomllib writes positions."""
-    line = text.count("\n", 0, pos) + 1
-    column = pos - text.rfind("\n", 0, pos)
-    return f" (at line {line}, column {column})"
-
-
-def _found(value: Any) -> str:
-    """What kind of TOML value ``value`` is, for 'expected ..., found ...' messages."""
-    if isinstance(value, bool):
-        return "a boolean"
-    if isinstance(value, int):
-        return "an integer"
-    if isinstance(value, float):
-        return "a float"
-    if isinstance(value, str):
-        return "a string"
-    if isinstance(value, list):
-        return "an array"
-    if isinstance(value, dict):
-        return "a table"
-    return "a date or time"
-
-
-def _key(parent: str, key: str) -> str:
-    """The field name of ``key`` inside ``parent`` (quoted when it is no bare TOML key)."""
-    key = _cut(key, shown=json.dumps)
-    shown = key if re.fullmatch(r"[A-Za-z0-9_-]+", key) else json.dumps(key)
-    return f"{parent}.{shown}" if parent else shown
-
-
-def _cut(text: str, limit: int = MAX_SHOWN, shown: Callable[[str], str] = str) -> str:
-    """``text`` cut to ``limit`` characters for a message, and further while it would
-    take more than twice that once ``shown`` (escaped: '\\U0001f600' takes ten)."""
-    cut = len(text) > limit
-    if cut:
-        text = text[: limit - 3]
-    while len(shown(text + "..." * cut)) > 2 * limit + 2:
-        text, cut = text[:-1], True
-    return text + "..." * cut
-
-
-def _show(text: str) -> str:
-    """User text quoted for a message: cut, with anything but printable ASCII escaped.
-
-    Escaping shows look-alikes for what they are: 'tіtle' (Cyrillic і) is 't\\u0456tle'.
-    """
-    return ascii(_cut(text, shown=ascii))
-
-
-def _char(char: str) -> str:
-    """One character for a message: 'D', or its code point when it is not printable ASCII."""
-    return repr(char) if char.isascii() and char.isprintable() else f"U+{ord(char):04X}"
-
-
-def _control_problem(text: str, line_breaks: bool = False) -> str | None:
-    """Why ``text`` may not be shown in a terminal, or None.
-
-    Control characters (escape sequences) and bidirectional controls could make a
-    listing show something else than what is stored; ``line_breaks`` allows tab and
-    line breaks.
-    """
-    found = (_CONTROLS_BUT_LINE_BREAKS if line_breaks else _CONTROLS).search(text)
-    return f"control character {_char(found.group())} is not allowed" if found else None
+    return replace(case, text=text, content_hash=hash_data(data))
 
 
 def _name_problem(name: str) -> str | None:
@@ -364,9 +145,9 @@ def _name_problem(name: str) -> str | None:
     if not (name.isascii() and name.isidentifier()):
         return "not a valid name (use ASCII letters, digits and '_', not starting with a digit)"
     if keyword.iskeyword(name):
-        return f"{_show(name)} is a reserved name (a Python keyword)"
+        return f"{quoted(name)} is a reserved name (a Python keyword)"
     if name in RESERVED_NAMES:
-        return f"{_show(name)} is a reserved name ({RESERVED_NAMES[name]})"
+        return f"{quoted(name)} is a reserved name ({RESERVED_NAMES[name]})"
     return None
 
 
@@ -420,16 +201,16 @@ class _Reader:
             if self.full:
                 self.unlisted += 1
                 continue
-            close = difflib.get_close_matches(_cut(key), allowed, n=1)
+            close = difflib.get_close_matches(cut(key), allowed, n=1)
             hint = f" (did you mean {close[0]!r}?)" if close else ""
-            self.problem(field, f"unknown key {_show(key)}{hint}")
+            self.problem(field, f"unknown key {quoted(key)}{hint}")
 
     def table(self, data: dict, key: str, field: str) -> dict | None:
         """The sub-table ``data[key]``; None when absent or not a table (reported)."""
         value = data.get(key)
         if value is None or isinstance(value, dict):
             return value
-        self.problem(field, f"expected a table, found {_found(value)}")
+        self.problem(field, f"expected a table, found {kind_of(value)}")
         return None
 
     def string(
@@ -451,12 +232,12 @@ class _Reader:
             return None
         value = data[key]
         if not isinstance(value, str):
-            self.problem(field, f"expected a string, found {_found(value)}")
+            self.problem(field, f"expected a string, found {kind_of(value)}")
             return None
         if nonempty and not value.strip():
             self.problem(field, "must not be empty")
             return None
-        control = _control_problem(value, line_breaks)
+        control = control_problem(value, line_breaks)
         if control:
             self.problem(field, control, value)
             return None
@@ -465,7 +246,7 @@ class _Reader:
     def expression(self, text: Any, field: str) -> Expression | None:
         """A string parsed in the case's namespace; parse errors become problems."""
         if not isinstance(text, str):
-            self.problem(field, f"expected a string, found {_found(text)}")
+            self.problem(field, f"expected a string, found {kind_of(text)}")
             return None
         try:
             return Expression(text, parse_expression(text, self.ns, self.budget))
@@ -482,7 +263,7 @@ class _Reader:
     def equation(self, text: Any, field: str) -> Equation | None:
         """A level-set equation ``lhs = rhs``; parse errors become problems."""
         if not isinstance(text, str):
-            self.problem(field, f"expected a string, found {_found(text)}")
+            self.problem(field, f"expected a string, found {kind_of(text)}")
             return None
         try:
             lhs, rhs = parse_equation(text, self.ns, self.budget)
@@ -539,7 +320,7 @@ class _Reader:
             self.problem(
                 field,
                 "an id may hold only lowercase letters, digits, '.' and '-', "
-                f"and starts with a letter or digit (found {_char(bad)})",
+                f"and starts with a letter or digit (found {char_name(bad)})",
                 value,
             )
             return False
@@ -549,7 +330,7 @@ class _Reader:
         """``aliases``: earlier ids of this case, under which it is still found."""
         value = data.get("aliases", [])
         if not isinstance(value, list):
-            self.problem("aliases", f"expected an array of ids, found {_found(value)}")
+            self.problem("aliases", f"expected an array of ids, found {kind_of(value)}")
             return ()
         if len(value) > MAX_ALIASES:
             self.problem("aliases", f"too many aliases ({len(value)}; at most {MAX_ALIASES})")
@@ -591,7 +372,7 @@ class _Reader:
         """``source.authors``: an array of names as the source prints them."""
         value = table.get("authors", [])
         if not isinstance(value, list):
-            self.problem("source.authors", f"expected an array of names, found {_found(value)}")
+            self.problem("source.authors", f"expected an array of names, found {kind_of(value)}")
             return ()
         if len(value) > MAX_AUTHORS:
             self.problem(
@@ -610,7 +391,7 @@ class _Reader:
         if value is None:
             return None
         if isinstance(value, bool) or not isinstance(value, int):
-            self.problem("source.year", f"expected an integer, found {_found(value)}")
+            self.problem("source.year", f"expected an integer, found {kind_of(value)}")
             return None
         if not 1500 <= value <= 2999:
             self.problem("source.year", f"not a plausible year of publication ({value})")
@@ -626,7 +407,7 @@ class _Reader:
             )
         symbols, assumptions = {}, {}
         for name, value in list(table.items())[:MAX_PARAMETERS]:
-            field = _key("parameters", name)
+            field = field_name("parameters", name)
             bad_name = _name_problem(name)
             if bad_name:
                 self.problem(field, bad_name)
@@ -640,14 +421,14 @@ class _Reader:
     def assumption(self, value: Any, field: str) -> Assumption | None:
         """One of real, positive, nonzero, integer."""
         if not isinstance(value, str):
-            self.problem(field, f"expected a string, found {_found(value)}")
+            self.problem(field, f"expected a string, found {kind_of(value)}")
             return None
         try:
             return Assumption(value)
         except ValueError:
             expected = ", ".join(repr(a.value) for a in Assumption)
             expected = " or ".join(expected.rsplit(", ", 1))
-            self.problem(field, f"unknown assumption {_show(value)} (expected {expected})")
+            self.problem(field, f"unknown assumption {quoted(value)} (expected {expected})")
             return None
 
     def functions(
@@ -661,13 +442,13 @@ class _Reader:
             )
         functions = {}
         for name, value in list(table.items())[:MAX_PARAMETERS]:
-            field = _key("functions", name)
+            field = field_name("functions", name)
             bad_name = _name_problem(name)
             if bad_name:
                 self.problem(field, bad_name)
             elif name in parameters:
                 self.problem(
-                    field, f"{_show(name)} is declared both as a parameter and as a function"
+                    field, f"{quoted(name)} is declared both as a parameter and as a function"
                 )
                 bad_name = "clash"
             args = self.arguments(value, field)
@@ -678,7 +459,7 @@ class _Reader:
     def arguments(self, value: Any, field: str) -> tuple[sp.Symbol, ...] | None:
         """The argument symbols of a declared function: distinct variables or s."""
         if not isinstance(value, list):
-            self.problem(field, f"expected an array of argument names, found {_found(value)}")
+            self.problem(field, f"expected an array of argument names, found {kind_of(value)}")
             return None
         if not value:
             self.problem(field, "a function needs at least one argument")
@@ -693,10 +474,10 @@ class _Reader:
         for i, arg in enumerate(value):
             where = f"{field}[{i}]"
             if not isinstance(arg, str):
-                self.problem(where, f"expected a string, found {_found(arg)}")
+                self.problem(where, f"expected a string, found {kind_of(arg)}")
             elif arg not in VARIABLES:
                 self.problem(
-                    where, f"unknown argument {_show(arg)} (expected one of {_VARIABLE_LIST})"
+                    where, f"unknown argument {quoted(arg)} (expected one of {_VARIABLE_LIST})"
                 )
             elif VARIABLES[arg] in args:
                 self.problem(where, f"duplicate argument {arg!r}")
@@ -789,7 +570,7 @@ class _Reader:
     ) -> tuple[Expression, ...] | None:
         """An array of exactly three expressions, each passed to ``check(expr, field)``."""
         if not isinstance(value, list):
-            self.problem(field, f"expected an array of 3 strings, found {_found(value)}")
+            self.problem(field, f"expected an array of 3 strings, found {kind_of(value)}")
             return None
         if len(value) != 3:
             self.problem(field, f"expected 3 entries, found {len(value)}")
@@ -830,7 +611,7 @@ class _Reader:
         value = data.get("claims", [])
         if not isinstance(value, list):
             self.problem(
-                "claims", f"expected an array of tables ([[claims]]), found {_found(value)}"
+                "claims", f"expected an array of tables ([[claims]]), found {kind_of(value)}"
             )
             return None
         if len(value) > MAX_CLAIMS:
@@ -843,13 +624,13 @@ class _Reader:
     def claim(self, item: Any, field: str, labels: set[str]) -> Claim | None:
         """One claim: label, kind, expression, on, locator, notes, provenance."""
         if not isinstance(item, dict):
-            self.problem(field, f"expected a table, found {_found(item)}")
+            self.problem(field, f"expected a table, found {kind_of(item)}")
             return None
         self.check_keys(item, _CLAIM_KEYS, field)
         label = self.string(item, "label", f"{field}.label", required=True, nonempty=True)
         if label is not None:
             if label in labels:
-                self.problem(f"{field}.label", f"duplicate label {_show(label)}")
+                self.problem(f"{field}.label", f"duplicate label {quoted(label)}")
             labels.add(label)
         kind = self.claim_kind(item, f"{field}.kind")
         expression = None
@@ -885,7 +666,7 @@ class _Reader:
             return ClaimKind(kind)
         except ValueError:
             self.problem(
-                field, f"unknown claim kind {_show(kind)} (expected 'integral' or 'casimir')"
+                field, f"unknown claim kind {quoted(kind)} (expected 'integral' or 'casimir')"
             )
             return None
 
@@ -893,7 +674,7 @@ class _Reader:
         """``on``: an array of equations ``lhs = rhs`` (default: none)."""
         value = item.get("on", [])
         if not isinstance(value, list):
-            self.problem(field, f"expected an array of equations, found {_found(value)}")
+            self.problem(field, f"expected an array of equations, found {kind_of(value)}")
             return None
         if len(value) > MAX_EQUATIONS:
             self.problem(field, f"too many equations ({len(value)}; at most {MAX_EQUATIONS})")

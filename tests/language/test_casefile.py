@@ -9,7 +9,8 @@ import sympy as sp
 
 from registry.errors import CaseFormatError, Problem
 from registry.language import casefile
-from registry.language.casefile import content_hash, load_case, parse_case_text
+from registry.language.casefile import load_case, parse_case_text
+from registry.language.toml_input import MAX_FILE_BYTES, content_hash
 from registry.mathematics.mechanics import AXIS, gamma1, gamma2, gamma3, s
 from registry.model import Assumption, ClaimKind
 
@@ -572,13 +573,13 @@ def test_limits(monkeypatch):
 
 
 def test_limit_constants():
-    assert casefile.MAX_FILE_BYTES == 1_000_000
+    assert MAX_FILE_BYTES == 1_000_000
     assert casefile.MAX_CLAIMS == 200
     assert casefile.MAX_PARAMETERS == 100
 
 
 def test_text_too_large():
-    text = case_text() + "#" * casefile.MAX_FILE_BYTES
+    text = case_text() + "#" * MAX_FILE_BYTES
     assert problems(text) == [("", "the file is too large (more than 1000000 bytes)", None)]
 
 
@@ -607,7 +608,7 @@ def test_file_empty(tmp_path):
 
 def test_file_too_large(tmp_path):
     path = tmp_path / "big.toml"
-    path.write_bytes(b"#" * (casefile.MAX_FILE_BYTES + 1))
+    path.write_bytes(b"#" * (MAX_FILE_BYTES + 1))
     assert load_problems(path) == [Problem("", "the file is too large (more than 1000000 bytes)")]
 
 
@@ -624,33 +625,3 @@ def test_error_names_the_file(tmp_path):
     assert str(info.value) == (
         f"{path}: claims[0].kind: unknown claim kind 'integrall' (expected 'integral' or 'casimir')"
     )
-
-
-# -------------------------------------------------------------------- hash
-
-
-def test_content_hash_ignores_comments_and_layout():
-    relaid = "# a comment\n\n" + FULL.replace("\n[", "\n\n   [").replace(
-        'kind = "casimir"', 'kind    =    "casimir"   # the source says so'
-    )
-    assert relaid != FULL
-    assert content_hash(relaid) == content_hash(FULL)
-    assert parse_case_text(relaid).content_hash == parse_case_text(FULL).content_hash
-
-
-def test_content_hash_sees_content():
-    changed = FULL.replace('locator = "p. 343"', 'locator = "p. 344"')
-    assert content_hash(changed) != content_hash(FULL)
-
-
-def test_content_hash_is_sha256_of_canonical_json():
-    import hashlib
-
-    text = 'b = 1\na = "\u00e9"  # note\n'
-    canonical = '{"a":"\u00e9","b":1}'
-    assert content_hash(text) == hashlib.sha256(canonical.encode("utf-8")).hexdigest()
-
-
-def test_content_hash_of_bad_toml():
-    with pytest.raises(CaseFormatError):
-        content_hash("a = ")
