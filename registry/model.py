@@ -44,7 +44,9 @@ class ClaimKind(StrEnum):
     """What the source claims of an expression."""
 
     INTEGRAL = "integral"  # conserved along every solution
-    CASIMIR = "casimir"  # a Casimir function of Pi_mu
+    CASIMIR = "casimir"  # a Casimir function of the bracket
+    MEASURE = "measure"  # the density rho of an invariant measure: div(rho v) = 0
+    RELATION = "relation"  # its zero set is invariant: dF/dt vanishes where F = 0
 
 
 class Verdict(StrEnum):
@@ -118,13 +120,18 @@ class Claim:
 
 @dataclass(frozen=True)
 class System:
-    """The system of a case, in one of two forms (docs/case-format.md).
+    """The system of a case as its file gives it (docs/case-format.md), in one of four
+    forms; ``language.forms`` turns each into the ``Dynamics`` every other layer reads.
 
     The inertia form: principal moments (A, B, C) and the potential U(gamma), so that
     H = M.I^-1 M/2 + U; the Hamiltonian form: ``hamiltonian`` H itself (``inertia`` is
     then empty and ``potential`` 0). Both have the torque vector mu and the bracket's
     parameter ``kappa`` (0: e(3), > 0: so(4), < 0: so(3,1)); the equations of motion are
     dx/dt = Pi grad H with Pi = [[hat(M + mu), hat(gamma)], [hat(gamma), kappa hat(M)]].
+    A system on any phase space names its ``variables`` and gives either ``equations``
+    (dx/dt for each variable, in their order) or ``hamiltonian`` with ``bracket`` (the
+    entries {x, y} that are not zero, as (x, y, value)); ``definitions`` are names for
+    sub-expressions, expanded in every expression of the case (system and claims).
     """
 
     inertia: tuple[Expression, ...]
@@ -132,6 +139,10 @@ class System:
     torque: tuple[Expression, Expression, Expression]
     hamiltonian: Expression | None = None
     kappa: Expression = Expression("0", sp.Integer(0))
+    variables: tuple[str, ...] = ()
+    equations: tuple[Expression, ...] = ()
+    bracket: tuple[tuple[str, str, Expression], ...] = ()
+    definitions: tuple[tuple[str, Expression], ...] = ()
 
     @property
     def hamiltonian_form(self) -> bool:
@@ -255,7 +266,8 @@ class CheckResult:
 
     ``method`` names the stage that decided (e.g. ``exact probe``,
     ``rational normal form``); ``reason`` explains an inconclusive or error
-    verdict; ``residual`` is the expression that should vanish, as text.
+    verdict; ``residual`` is the expression that should vanish, as text; ``detail`` what
+    a verified check adds (the cofactor of an invariant relation).
     """
 
     check: str
@@ -266,6 +278,8 @@ class CheckResult:
     residual: str | None = None
     witness: Witness | None = None
     seconds: float = 0.0
+    #: what a verified check adds for people (a relation's cofactor K in dF/dt = K F)
+    detail: str = ""
 
 
 def component_number(index: int) -> int:
@@ -423,6 +437,8 @@ class CaseAudit:
     corrections: tuple[Correction, ...] = ()
     conditions: tuple[Conditions, ...] = ()
     evidence: tuple[Evidence, ...] = ()
+    #: the trajectories integrated for refuted claims, to draw their drift
+    curves: tuple[DriftCurve, ...] = ()
 
     def result(self, check: str, claim: str | None = None) -> CheckResult:
         """The result of ``check`` (on ``claim``); KeyError if it was not run."""

@@ -292,7 +292,10 @@ HOSTILE.update(
         ),
         "injection-kind": (
             case(claims=claim(kind=q("exec"))),
-            ["claims[0].kind: unknown claim kind 'exec' (expected 'integral' or 'casimir')"],
+            [
+                "claims[0].kind: unknown claim kind 'exec' "
+                "(expected 'integral', 'casimir', 'measure' or 'relation')"
+            ],
         ),
         "injection-terminal-escape-in-title": (
             case(head='id = "hostile-demo"\ntitle = "\\u001b]0;owned\\u0007 clear"\n'),
@@ -752,7 +755,7 @@ HOSTILE.update(
             case(claims=claim(kind=q("\u0456ntegral"))),
             [
                 "claims[0].kind: unknown claim kind '\\u0456ntegral' "
-                "(expected 'integral' or 'casimir')"
+                "(expected 'integral', 'casimir', 'measure' or 'relation')"
             ],
         ),
         "lookalike-fullwidth-equals-in-on": (
@@ -778,7 +781,10 @@ HOSTILE.update(
         ),
         "fuzz-escaped-kind": (
             case(claims=claim(kind=q(EMOJI * 60))),
-            [f"claims[0].kind: unknown claim kind {ESCAPED} (expected 'integral' or 'casimir')"],
+            [
+                f"claims[0].kind: unknown claim kind {ESCAPED} "
+                f"(expected 'integral', 'casimir', 'measure' or 'relation')"
+            ],
         ),
         "fuzz-escaped-key": (
             case(head=GOOD["head"] + f"{q(EMOJI * 60)} = 1\n"),

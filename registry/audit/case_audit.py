@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import math
 import time
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
 from dataclasses import replace
 
 from ..execution.serving import Failure
@@ -193,8 +193,8 @@ def as_audit(case: Case, outcome: CaseAudit | Failure) -> CaseAudit:
     return crashed_audit(case, outcome.reason)
 
 
-def claim_verdict(
-    kind: ClaimKind | str, integral: Verdict | str, casimir: Verdict | str
-) -> Verdict:
-    """A claim's overall verdict: the verdict of the property its kind names."""
-    return Verdict(integral if ClaimKind(kind) is ClaimKind.INTEGRAL else casimir)
+def claim_verdict(kind: ClaimKind | str, verdicts: Mapping[str, Verdict | str]) -> Verdict:
+    """A claim's overall verdict: the verdict of the check its kind names (``integral``,
+    ``casimir``, ``measure``, ``relation``); inconclusive where that check did not run."""
+    found = verdicts.get(str(ClaimKind(kind)))
+    return Verdict.INCONCLUSIVE if found is None else Verdict(found)

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import sympy as sp
 
@@ -21,7 +21,7 @@ from ..mathematics import mechanics as mech
 from ..mathematics.case_mechanics import CaseMechanics
 from ..mathematics.factoring import factor
 from ..mathematics.zero_test import ZeroTest, decide
-from ..model import Case, CheckResult, Claim, Verdict
+from ..model import Case, CheckResult, Claim, ClaimKind, Verdict
 
 
 @dataclass(frozen=True)
@@ -203,6 +203,10 @@ def hamiltonian(m: CaseMechanics) -> CheckResult:
     return _result("hamiltonian", m, _decide(m, "hamiltonian", residuals), residuals, started)
 
 
+#: The claim kinds whose expression is an integral, checked as one (and as a Casimir).
+CONSERVED = (ClaimKind.INTEGRAL, ClaimKind.CASIMIR)
+
+
 @check("invariant", per_claim=True, applies=lambda claim: bool(claim.on))
 def invariant(m: CaseMechanics, claim: Claim) -> CheckResult:
     """The claim's level set is invariant under the flow: dg/dt = 0 where every g = 0."""
@@ -216,7 +220,7 @@ def invariant(m: CaseMechanics, claim: Claim) -> CheckResult:
     return m.once(("invariant", claim.label), compute)
 
 
-@check("integral", per_claim=True)
+@check("integral", per_claim=True, applies=lambda claim: claim.kind in CONSERVED)
 def integral(m: CaseMechanics, claim: Claim) -> CheckResult:
     """The claimed expression I is conserved: dI/dt = 0 along the flow (on its level set)."""
     started = time.perf_counter()
@@ -236,10 +240,59 @@ def integral(m: CaseMechanics, claim: Claim) -> CheckResult:
     return _result("integral", m, test, residuals, started, claim.label, reason)
 
 
-@check("casimir", per_claim=True, inapplicable=_needs_bracket)
+@check(
+    "casimir",
+    per_claim=True,
+    applies=lambda claim: claim.kind in CONSERVED,
+    inapplicable=_needs_bracket,
+)
 def casimir(m: CaseMechanics, claim: Claim) -> CheckResult:
     """The claimed expression I is a Casimir of Pi: Pi grad I = 0 (on its level set)."""
     started = time.perf_counter()
     residuals = m.casimir_residual(claim.expression.expr)
     test = _decide(m, "casimir", residuals, claim)
     return _result("casimir", m, test, residuals, started, claim.label)
+
+
+@check("measure", per_claim=True, applies=lambda claim: claim.kind is ClaimKind.MEASURE)
+def measure(m: CaseMechanics, claim: Claim) -> CheckResult:
+    """The claimed rho is the density of an invariant measure: div(rho v) = 0 (Liouville's
+    equation; on the claim's level set)."""
+    started = time.perf_counter()
+    residuals = {"div(rho v)": flow.divergence(m.dynamics, claim.expression.expr)}
+    test = _decide(m, "measure", residuals, claim)
+    return _result("measure", m, test, residuals, started, claim.label)
+
+
+@check("relation", per_claim=True, applies=lambda claim: claim.kind is ClaimKind.RELATION)
+def relation(m: CaseMechanics, claim: Claim) -> CheckResult:
+    """The zero set of the claimed F is invariant: dF/dt vanishes where F = 0 (and on the
+    claim's level set); for a polynomial F, the cofactor K of dF/dt = K F is reported."""
+    started = time.perf_counter()
+    f = claim.expression.expr
+    rate = m.time_derivative(f)
+    residuals = {"dF/dt": rate}
+    domain = m.claim_domain(claim)
+    domain = domain.restricted([*domain.on, f])
+    test = decide(residuals, domain, seed=m.seed("relation", claim.label))
+    found = _result("relation", m, test, residuals, started, claim.label)
+    if test.verdict is Verdict.VERIFIED:
+        cofactor = _cofactor(m, f, rate)
+        if cofactor is not None:
+            found = replace(found, detail=f"cofactor K = {_text(cofactor)} (dF/dt = K F)")
+    return found
+
+
+def _cofactor(m: CaseMechanics, f: sp.Expr, rate: sp.Expr) -> sp.Expr | None:
+    """K with dF/dt = K F, where F and dF/dt are polynomials in the state and F divides
+    dF/dt exactly; None otherwise (K is then no polynomial, or F is not one)."""
+    state = m.dynamics.variables
+    try:
+        numerator = sp.Poly(m.dynamics.expanded(rate).expand(), *state)
+        divisor = sp.Poly(m.dynamics.expanded(f).expand(), *state)
+    except sp.PolynomialError:
+        return None
+    if divisor.is_zero:
+        return None
+    quotient, remainder = numerator.div(divisor)
+    return quotient.as_expr() if remainder.is_zero else None

@@ -24,7 +24,7 @@ from ..model import (
     Verdict,
 )
 from .case_audit import CASE_CHECKS, claim_verdict
-from .checks import not_applicable
+from .checks import CHECKS, not_applicable
 
 
 def missing(check: str, claim: str | None = None) -> CheckResult:
@@ -34,17 +34,18 @@ def missing(check: str, claim: str | None = None) -> CheckResult:
 
 @dataclass(frozen=True)
 class ClaimOutcome:
-    """One claim: its integral and Casimir results (and the invariance of its level set,
-    where it was checked), its overall verdict, evidence, corrections and conditions."""
+    """One claim: the results of the checks run on it (``integral`` and ``casimir`` for
+    an integral or a Casimir, ``measure`` or ``relation`` for those kinds, ``invariant``
+    where it is made on a level set), its overall verdict, evidence, corrections and
+    conditions, and the checks that do not apply to its system (name -> why)."""
 
     claim: Claim
-    integral: CheckResult
-    casimir: CheckResult
+    results: Mapping[str, CheckResult]
     verdict: Verdict
-    invariant: CheckResult | None = None
     evidence: Evidence | None = None
     corrections: tuple[Correction, ...] = ()
     conditions: Conditions | None = None
+    not_applicable: Mapping[str, str] = field(default_factory=dict)
 
     @property
     def label(self) -> str:
@@ -56,12 +57,21 @@ class ClaimOutcome:
         return bool(self.claim.on)
 
     @property
+    def integral(self) -> CheckResult | None:
+        return self.results.get("integral")
+
+    @property
+    def casimir(self) -> CheckResult | None:
+        return self.results.get("casimir")
+
+    @property
+    def invariant(self) -> CheckResult | None:
+        return self.results.get("invariant")
+
+    @property
     def checks(self) -> dict[str, CheckResult]:
-        """The results by check name: integral, casimir, and invariant where it ran."""
-        found = {"integral": self.integral, "casimir": self.casimir}
-        if self.invariant is not None:
-            found["invariant"] = self.invariant
-        return found
+        """The results by check name, in the order the audit runs them."""
+        return dict(self.results)
 
     @property
     def contradicted(self) -> bool:
@@ -104,29 +114,42 @@ def case_outcome(audit: CaseAudit, case: Case | None, version: int | None = None
         return by_key.get((check, claim)) or load_error or missing(check, claim)
 
     conditions = {c.target: c for c in audit.conditions}
+    skipped = not_applicable(case) if case is not None and load_error is None else {}
     claims = []
     for claim in case.claims if case is not None else ():
-        integral, casimir = result("integral", claim.label), result("casimir", claim.label)
+        names = sorted(
+            (
+                spec.name
+                for spec in CHECKS.values()
+                if spec.per_claim and spec.applies(claim) and spec.name not in skipped
+            ),
+            key=lambda name: name == "invariant",  # the claim's own checks first
+        )
+        results = {name: result(name, claim.label) for name in names}
+        if claim.on and ("invariant", claim.label) not in by_key:
+            results.pop("invariant", None)  # decided only where an integral needed it
         numbers = [e for e in audit.evidence if e.claim == claim.label]
         claims.append(
             ClaimOutcome(
                 claim=claim,
-                integral=integral,
-                casimir=casimir,
-                verdict=claim_verdict(claim.kind, integral.verdict, casimir.verdict),
-                invariant=by_key.get(("invariant", claim.label)) if claim.on else None,
+                results=results,
+                verdict=claim_verdict(claim.kind, {n: r.verdict for n, r in results.items()}),
                 evidence=numbers[0] if numbers else None,
                 corrections=tuple(c for c in audit.corrections if c.claim == claim.label),
                 conditions=conditions.get(claim.label),
+                not_applicable={
+                    n: why
+                    for n, why in skipped.items()
+                    if CHECKS[n].per_claim and CHECKS[n].applies(claim)
+                },
             )
         )
-    skipped = not_applicable(case) if case is not None and load_error is None else {}
     return CaseOutcome(
         case_id=audit.case,
         case=case,
         version=version,
         checks={name: result(name) for name in CASE_CHECKS if name not in skipped},
-        not_applicable=skipped,
+        not_applicable={n: why for n, why in skipped.items() if not CHECKS[n].per_claim},
         claims=tuple(claims),
         error=None if load_error is None else load_error.reason,
         family=audit.family,

@@ -20,7 +20,6 @@ free-parameter values where more appear.
 
 from __future__ import annotations
 
-import itertools
 import random
 import time
 from collections.abc import Callable, Mapping, Sequence
@@ -36,14 +35,12 @@ from ..errors import DiscoveryError
 from ..execution.executor import Executor, InProcess, in_order, timed
 from ..execution.serving import Failure
 from ..execution.time_budget import BudgetExceeded, time_limit
+from ..language import forms
 from ..language.forms import with_values
-from ..language.parser import Namespace, parse_equation
+from ..language.parser import parse_equation
 from ..language.printer import to_text
 from ..mathematics.case_mechanics import CaseMechanics
-from ..mathematics.factoring import factor
-from ..mathematics.families import recognise
-from ..mathematics.grading import grading_note, homogeneous_weights, per_variable
-from ..mathematics.zero_test import decide
+from ..mathematics.grading import grading_note, per_variable
 from ..model import (
     Case,
     Claim,
@@ -57,9 +54,10 @@ from ..model import (
     Weights,
     as_weights,
 )
-from . import novelty
-from .ansatz import PolynomialSystem, weighted_monomials
+from .ansatz import PolynomialSystem
+from .darboux import general_cofactor, proven_relations
 from .integrals import Analysis, Generator, analyse, products
+from .known import known_generators, named
 from .linear import GF_PRIME, PRIME, Field
 from .locus import Locus, drop_locus, polynomial, same
 from .simplest_form import simplest
@@ -140,13 +138,20 @@ def discover(
     state = _State(options, seed, progress=progress, symmetries=symmetries)
     free = [case.parameters[f] for f in options.free]
     if options.relations:
-        state.cofactor, coefficients = _cofactor(
-            options, CaseMechanics(case), free, state.undecided
-        )
+        if options.on:
+            raise DiscoveryError(
+                "--relations searches the whole phase space (its relations F = 0 are level "
+                "sets themselves); drop --on"
+            )
+        m = CaseMechanics(case)
+        plain = _system(options, m, free, symmetries=False)[0]
+        state.cofactor, coefficients = general_cofactor(plain, options, m, state.undecided)
         state.coefficients = tuple(coefficients)
         free += coefficients
     dynamics = case.dynamics
-    note = grading_note(dynamics.field, options.weights, dynamics.vectors, dynamics.shorthands)
+    note = grading_note(
+        dynamics.field, options.weights, dynamics.vectors, dynamics.shorthands, dynamics.variables
+    )
     executor = executor or InProcess()
     try:
         with time_limit(budget):
@@ -192,7 +197,7 @@ def search_options(
     name vectors of the case's state (``{"M": 1, "gamma": 2}``, or the reference paper's
     two numbers), each vector not named keeping its own default weight (a DiscoveryError
     names one the state does not have)."""
-    ns = Namespace(case.parameters, case.functions)
+    ns = forms.namespace(case)
     equations = tuple(
         e if isinstance(e, Equation) else Equation(e, *parse_equation(e, ns)) for e in on
     )
@@ -298,7 +303,7 @@ def _step(
     system, params = _system(state.options, m, free, cofactor, values, state.symmetries)
     state.used[when] = system.symmetry_note
     _check_invariant(system, state.options)
-    known, names = _known(m, system)
+    known, names = known_generators(m, system)
     if cofactor is not None and cofactor != 0:  # Darboux polynomials: nothing is known
         known = []
     point = {i: rnd.randrange(1, PRIME) for i in range(len(params))}
@@ -313,12 +318,12 @@ def _step(
             for v, d in generic.extras
         ]
     if cofactor is not None and cofactor != 0:
-        found = _proven_relations(state, m, when, integrals, cofactor)
+        found = proven_relations(m, when, integrals, cofactor, state.coefficients, state.undecided)
     else:
         found = _proven(state, case, when, integrals)
     if not when and found.integrals:  # new, or the case's own claims again
         kept = [e for e in integrals if to_text(e) in found.integrals]
-        found = _named(state, case, m, system, params, found, kept)
+        found, state.claims = named(case, m, system, params, found, kept)
     kernel = {d: counts[0] for d, counts in generic.counts.items()}
     if not when:  # the generic values are decided, whatever happens to the locus
         state.known, state.counts, state.generic = tuple(names), generic.counts, found
@@ -439,7 +444,7 @@ def _system(
     symbolic = sorted((set(m.case.parameters.values()) - set(free)) & present, key=str)
     params = [*free, *symbolic]
     dynamics = m.dynamics
-    weights = per_variable(options.weights, dynamics.vectors)
+    weights = per_variable(options.weights, dynamics.vectors, dynamics.variables)
     system = PolynomialSystem(
         m.field,
         params,
@@ -489,150 +494,6 @@ def _divided(state: _State, case: Case, system: PolynomialSystem, when, values) 
 def _free_symbols(state: _State, case: Case) -> list[sp.Symbol]:
     """The free parameters of the search that ``case`` still declares."""
     return [case.parameters[f] for f in state.options.free if f in case.parameters]
-
-
-def _cofactor(
-    options: SearchOptions,
-    m: CaseMechanics,
-    free: list[sp.Symbol],
-    undecided: list[str] | None = None,
-) -> tuple[sp.Expr, list[sp.Symbol]]:
-    """The general cofactor of Darboux polynomials: a combination, with unknown
-    coefficients K_<monomial>, of the state monomials of the weight by which the field
-    raises the weighted degree that its Newton polytope allows (``cofactor_monomials``;
-    in a ring with inverses or roots, every one of that weight). Monomials of lower
-    weight that the polytope allows are named in ``undecided``."""
-    if options.on:
-        raise DiscoveryError(
-            "--relations searches the whole phase space (its relations F = 0 are level "
-            "sets themselves); drop --on"
-        )
-    system = _system(options, m, free, symmetries=False)[0]
-    shift = system.shift()
-    if shift < 0:
-        raise DiscoveryError("the field lowers the weighted degree: no cofactor is polynomial")
-    dynamics = m.dynamics
-    weights = per_variable(options.weights, dynamics.vectors)
-    if system.space.extended:
-        monomials = weighted_monomials(shift, weights)
-    else:
-        monomials = cofactor_monomials(system.field, system.n, system.weights)
-    # parts of lower weight (a field that is not weighted-homogeneous) make the search an
-    # eigenvalue problem (a constant part is an eigenvalue of the linear part): only the
-    # top weight is searched, and the search says what it left out
-    lower = [e for e in monomials if sum(a * w for a, w in zip(e, weights, strict=True)) < shift]
-    monomials = [e for e in monomials if e not in lower]
-    if lower and undecided is not None:
-        better = homogeneous_weights(m.field, dynamics.vectors, dynamics.shorthands)
-        text = None if better is None else ",".join(f"{n}={w}" for n, w in better)
-        hint = (
-            f"; it is for {text}: search with --weights {text}"
-            if better is not None and dict(better) != dict(options.weights)
-            else ""
-        )
-        undecided.append(
-            f"cofactors with parts of weight below {shift} ({len(lower)} monomials the field's "
-            "Newton polytope allows; the field is not weighted-homogeneous for these weights"
-            f"{hint}) are not searched"
-        )
-    coefficients, cofactor = [], sp.Integer(0)
-    for exps in monomials:
-        monomial = sp.Mul(*(x**e for x, e in zip(dynamics.variables, exps, strict=True)))
-        k = sp.Symbol("K_" + (str(monomial).replace("**", "").replace("*", "_")), real=True)
-        if k.name in m.case.parameters:
-            raise DiscoveryError(f"the case names a parameter {k.name}, the cofactor's own name")
-        coefficients.append(k)
-        cofactor += k * monomial
-    return cofactor, coefficients
-
-
-def cofactor_monomials(field: Sequence[PolyElement], n: int, weights: Sequence[int]) -> list:
-    """The state monomials a cofactor K of a polynomial field X can have: X(F) = K F
-    gives Newton(K) + Newton(F) = Newton(X(F)) (Ostrowski), and X(F) = sum dF/dx_i X_i
-    lies in Newton(F) + N with N = conv{exps(m) - e_i : m a monomial of X_i}, so that
-    Newton(K) lies in N (cancellation of Minkowski sums), for every F and every value of
-    the parameters (a coefficient that vanishes only shrinks N). A monomial is dropped
-    only where a direction d separates it from N exactly (d.p > max of d over N), d in
-    {-1, 0, 1}^n and +-the weights: a superset of N's lattice points, in integers. A
-    weighted-homogeneous field has its cofactors of one weight; a field whose torque
-    has terms of several degrees (s^2) gets cofactors of every weight it needs, not
-    only the largest."""
-    import numpy as np
-
-    vertices = set()
-    for i, y in enumerate(field):
-        for m in y.monoms():
-            e = list(m[:n])
-            e[i] -= 1
-            vertices.add(tuple(e))
-    if not vertices:
-        return []
-    directions = [d for d in itertools.product((-1, 0, 1), repeat=n) if any(d)]
-    w = tuple(weights)
-    directions += [w, tuple(-x for x in w)]
-    dirs = np.array(directions, dtype=np.int64)
-    top = (np.array(sorted(vertices), dtype=np.int64) @ dirs.T).max(axis=0)
-    highest = int(max(sum(a * b for a, b in zip(v, w, strict=True)) for v in vertices))
-    candidates = [e for d in range(highest + 1) for e in weighted_monomials(d, w)]
-    inside = ((np.array(candidates, dtype=np.int64) @ dirs.T) <= top).all(axis=1)
-    return [c for c, ok in zip(candidates, inside, strict=True) if ok]
-
-
-def _proven_relations(state: _State, m: CaseMechanics, when, integrals, cofactor) -> IntegralSet:
-    """The Darboux polynomials, each proven by the zero test on dF/dt - K F (K the
-    cofactor of the field itself); one not proven is not reported, and the search is then
-    not complete."""
-    kept = []
-    for f in integrals:
-        residual = m.time_derivative(f) - cofactor * f
-        verdict = decide({"dF/dt - K F": residual}, m.domain).verdict
-        if verdict is Verdict.VERIFIED:
-            kept.append(to_text(f))
-        else:
-            where = f" where {', '.join(when)}" if when else ""
-            state.undecided.append(
-                f"invariant relation {to_text(f)} = 0{where} found but not proven ({verdict})"
-            )
-    # factored where the cofactor is determined (a general one, with its unknown
-    # coefficients, is written out: factoring it is costly and tells nothing)
-    known = not (cofactor.free_symbols & set(state.coefficients))
-    shown = factor(cofactor) if known else cofactor
-    return IntegralSet(when, len(kept), tuple(kept), (), cofactor=to_text(shown))
-
-
-def _known_integrals(m: CaseMechanics) -> list[tuple[str, sp.Expr]]:
-    """H and the bracket's known Casimirs, named: those of the system's ``casimirs`` that
-    are Casimirs of its bracket (on e(3) |gamma|^2, for every torque; on so(4) and
-    so(3,1) kappa |M|^2 + |gamma|^2 and s, which a torque may destroy: decided by the zero
-    test) and, on e(3), the Casimir of the torque's family (s where there is no torque)."""
-    dynamics = m.dynamics
-    named: list[tuple[str, sp.Expr]] = []
-    if m.hamiltonian is not None:
-        named.append(("H", m.hamiltonian))
-    for name, expr in dynamics.casimirs:
-        if decide(m.casimir_residual(expr), m.domain).verdict is Verdict.VERIFIED:
-            named.append((name, expr))
-    if m.mu is not None and m.kappa == 0:
-        family = recognise(m.mu, m.domain)
-        if family.casimir is not None:
-            named.append((to_text(sp.expand(family.casimir)), family.casimir))
-    return named
-
-
-def _known(m: CaseMechanics, system: PolynomialSystem) -> tuple[list[Generator], list[str]]:
-    """The known integrals (``_known_integrals``) as generators of the trivial integrals,
-    and their names. Non-polynomial ones cannot lie in the ansatz and generate nothing
-    there."""
-    gens, names = [], []
-    for name, expr in _known_integrals(m):
-        names.append(name)
-        try:
-            poly = system.polynomial(expr, what="known integral")
-        except DiscoveryError:
-            continue
-        if poly:
-            gens.append(Generator(poly, system.weight(poly)))
-    return gens, names
 
 
 def _locus(
@@ -733,47 +594,6 @@ def _proven(state: _State, case: Case, when, integrals: Sequence[sp.Expr]) -> In
         kept.append(claim.expression.text)
         casimirs.append(audit.result("casimir", claim.label).verdict)
     return IntegralSet(when, len(kept), tuple(kept), tuple(casimirs))
-
-
-def _named(state: _State, case: Case, m, system, params, found: IntegralSet, exprs) -> IntegralSet:
-    """``found`` with each integral said new, or equal to claims of the case (proven by
-    the audit's zero test on the searched level set) modulo the known integrals."""
-    claims = _verified_claims(case, system)
-    state.claims = tuple(k.name for k in claims)
-    trivial = [k for name, expr in _known_integrals(m) if (k := novelty.known(system, name, expr))]
-    fld = Field(QQ.frac_field(*params) if params else QQ, params, {}, system.inverses)
-    status = novelty.statuses(system, fld, trivial, claims, exprs)
-    return replace(found, status=tuple(status))
-
-
-def _verified_claims(case: Case, system: PolynomialSystem) -> list[novelty.Known]:
-    """The claims of ``case`` that hold on the searched level set (theirs contains it) and
-    lie in the system's ring, each proven an integral by the audit's zero test; a claim
-    the audit does not verify is not known (nothing is taken on trust)."""
-    applicable = []
-    for claim in case.claims:
-        try:
-            inside = all(not system.polynomial(eq.expr) for eq in claim.on)
-        except DiscoveryError:
-            continue
-        k = (
-            novelty.known(system, claim.label, claim.expression.expr, claim=True)
-            if inside
-            else None
-        )
-        if k is not None:
-            applicable.append((claim, k))
-    if not applicable:
-        return []
-    audit = audit_case(
-        replace(case, claims=tuple(c for c, _ in applicable)),
-        checks=["integral"],
-        repair=False,
-        budget=None,
-    )
-    return [
-        k for c, k in applicable if audit.result("integral", c.label).verdict is Verdict.VERIFIED
-    ]
 
 
 def _check_invariant(system: PolynomialSystem, options: SearchOptions) -> None:

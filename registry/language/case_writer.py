@@ -17,7 +17,8 @@ import sympy as sp
 import tomli_w
 
 from ..model import Case, Correction, IntegralSet, SearchOptions
-from .parser import Namespace, parse_equation
+from . import forms
+from .parser import parse_equation
 from .printer import to_text
 
 
@@ -61,7 +62,7 @@ def derived_case_text(case: Case, found: IntegralSet, options: SearchOptions) ->
     parameter values of ``found.when`` substituted (those parameters no longer
     declared) and its integrals as claims, provenance ``discovered``, on the search's
     level set. ``registry audit`` then decides them like any literature claim."""
-    ns = Namespace(case.parameters, case.functions)
+    ns = forms.namespace(case)
     values = {}
     for equation in found.when:
         if options.relations and equation.split("=")[0].strip() not in case.parameters:

@@ -34,15 +34,13 @@ import difflib
 import keyword
 import os
 import re
-from collections.abc import Callable
+from collections.abc import Mapping
 from dataclasses import replace
 from typing import Any
 
 import sympy as sp
-from sympy.core.function import AppliedUndef
 
 from ..errors import CaseFormatError, ExpressionError, Problem
-from ..mathematics.mechanics import MOMENTUM, STATE, s
 from ..model import (
     Assumption,
     Case,
@@ -63,6 +61,7 @@ from .parser import (
     parse_equation,
     parse_expression,
 )
+from .system_reader import SystemReader
 from .toml_input import (
     char_name,
     control_problem,
@@ -114,7 +113,6 @@ SOURCE_TEXT_FIELDS = (
     "url",
 )
 _SOURCE_KEYS = ("citation", "locator", "doi", "authors", "year", *SOURCE_TEXT_FIELDS)
-_SYSTEM_KEYS = ("inertia", "potential", "torque", "hamiltonian", "kappa")
 _CLAIM_KEYS = ("label", "kind", "expression", "on", "locator", "notes", "provenance")
 #: Most authors of one source, and most aliases of one case.
 MAX_AUTHORS = 50
@@ -157,13 +155,7 @@ def _parameter_symbol(name: str, assumption: Assumption) -> sp.Symbol:
     return sp.Symbol(name, real=True, **extra)
 
 
-def _first_of(expr: sp.Expr, symbols: tuple[sp.Symbol, ...]) -> sp.Symbol | None:
-    """The first of ``symbols`` that ``expr`` depends on, or None."""
-    free = expr.free_symbols
-    return next((x for x in symbols if x in free), None)
-
-
-class _Reader:
+class _Reader(SystemReader):
     """Validates the TOML data of one case file, collecting every problem on the way."""
 
     def __init__(self) -> None:
@@ -283,11 +275,14 @@ class _Reader:
         aliases = self.aliases(data, case_id)
         source = self.source(data)
         parameters, assumptions = self.parameters(data)
-        functions = self.functions(data, parameters)
-        self.ns = Namespace(parameters, functions)
+        variables = self.state_variables(data, parameters)
+        functions = self.functions(data, parameters, variables)
+        self.ns = Namespace(parameters, functions, variables)
         system = self.system(data)
         claims = self.claims(data)
         notes = self.string(data, "notes", "notes", line_breaks=True)
+        if system is not None and claims is not None:
+            self.check_claims_fit(system, claims)
         if self.problems:
             return None
         return Case(
@@ -432,9 +427,14 @@ class _Reader:
             return None
 
     def functions(
-        self, data: dict, parameters: dict[str, sp.Symbol]
+        self,
+        data: dict,
+        parameters: dict[str, sp.Symbol],
+        variables: dict[str, sp.Symbol] | None = None,
     ) -> dict[str, tuple[sp.FunctionClass, tuple[sp.Symbol, ...]]]:
-        """[functions]: name -> argument list, drawn from the six variables and s."""
+        """[functions]: name -> argument list, drawn from the state variables (the paper's
+        six and s, unless the system names its own ``variables``)."""
+        state = VARIABLES if variables is None else variables
         table = self.table(data, "functions", "functions") or {}
         if len(table) > MAX_PARAMETERS:
             self.problem(
@@ -451,22 +451,27 @@ class _Reader:
                     field, f"{quoted(name)} is declared both as a parameter and as a function"
                 )
                 bad_name = "clash"
-            args = self.arguments(value, field)
+            elif name in state:
+                self.problem(field, f"{quoted(name)} is a variable of the system")
+                bad_name = "clash"
+            args = self.arguments(value, field, state)
             if bad_name is None and args is not None:
                 functions[name] = (sp.Function(name, real=True), args)
         return functions
 
-    def arguments(self, value: Any, field: str) -> tuple[sp.Symbol, ...] | None:
-        """The argument symbols of a declared function: distinct variables or s."""
+    def arguments(
+        self, value: Any, field: str, state: Mapping[str, sp.Symbol] = VARIABLES
+    ) -> tuple[sp.Symbol, ...] | None:
+        """The argument symbols of a declared function: distinct state variables."""
         if not isinstance(value, list):
             self.problem(field, f"expected an array of argument names, found {kind_of(value)}")
             return None
         if not value:
             self.problem(field, "a function needs at least one argument")
             return None
-        if len(value) > len(VARIABLES):
+        if len(value) > len(state):
             self.problem(
-                field, f"too many arguments ({len(value)}; at most {len(VARIABLES)}, all distinct)"
+                field, f"too many arguments ({len(value)}; at most {len(state)}, all distinct)"
             )
             return None
         args: list[sp.Symbol] = []
@@ -475,134 +480,16 @@ class _Reader:
             where = f"{field}[{i}]"
             if not isinstance(arg, str):
                 self.problem(where, f"expected a string, found {kind_of(arg)}")
-            elif arg not in VARIABLES:
-                self.problem(
-                    where, f"unknown argument {quoted(arg)} (expected one of {_VARIABLE_LIST})"
-                )
-            elif VARIABLES[arg] in args:
+            elif arg not in state:
+                listed = ", ".join(state)
+                self.problem(where, f"unknown argument {quoted(arg)} (expected one of {listed})")
+            elif state[arg] in args:
                 self.problem(where, f"duplicate argument {arg!r}")
             else:
-                args.append(VARIABLES[arg])
+                args.append(state[arg])
                 continue
             ok = False
         return tuple(args) if ok else None
-
-    # ------------------------------------------------------------- the system
-
-    def system(self, data: dict) -> System | None:
-        """[system]: inertia (required) and potential, or hamiltonian instead of both;
-        torque; kappa."""
-        table = self.table(data, "system", "system")
-        if table is None:
-            if "system" not in data:
-                self.problem("system.inertia", "required field is missing")
-            return None
-        self.check_keys(table, _SYSTEM_KEYS, "system")
-        if "hamiltonian" in table:
-            return self.hamiltonian_system(table)
-        if "inertia" not in table:
-            self.problem("system.inertia", "required field is missing")
-            inertia = None
-        else:
-            inertia = self.triple(table["inertia"], "system.inertia", self.check_moment)
-        potential = _ZERO
-        if "potential" in table:
-            potential = self.expression(table["potential"], "system.potential")
-            if potential is not None:
-                self.check_potential(potential)
-        torque, kappa = self.torque_and_kappa(table)
-        if inertia is None or potential is None or torque is None or kappa is None:
-            return None
-        return System(inertia, potential, torque, kappa=kappa)
-
-    def torque_and_kappa(self, table: dict) -> tuple[tuple[Expression, ...] | None, Any]:
-        """``torque`` (default 0, 0, 0) and ``kappa`` (default 0), each None if refused."""
-        torque = (_ZERO,) * 3
-        if "torque" in table:
-            torque = self.triple(table["torque"], "system.torque")
-        kappa = _ZERO
-        if "kappa" in table:
-            kappa = self.kappa(table["kappa"])
-        return torque, kappa
-
-    def hamiltonian_system(self, table: dict) -> System | None:
-        """The Hamiltonian form: H itself, which excludes inertia and potential."""
-        hamiltonian = self.expression(table["hamiltonian"], "system.hamiltonian")
-        conflict = [key for key in ("inertia", "potential") if key in table]
-        if conflict:
-            both = " and ".join(f"system.{key}" for key in conflict)
-            self.problem(
-                "system.hamiltonian",
-                f"give either the Hamiltonian or {both}, not both: with system.hamiltonian, "
-                "H is the whole energy (inertia and potential are part of it)",
-            )
-        torque, kappa = self.torque_and_kappa(table)
-        if conflict or hamiltonian is None or torque is None or kappa is None:
-            return None
-        return System((), _ZERO, torque, hamiltonian=hamiltonian, kappa=kappa)
-
-    def kappa(self, value: Any) -> Expression | None:
-        """``kappa``: a number or an expression in the parameters (a constant)."""
-        field = "system.kappa"
-        if isinstance(value, int) and not isinstance(value, bool):
-            value = str(value)
-        elif isinstance(value, float):
-            if value != value or value in (float("inf"), float("-inf")):
-                self.problem(field, "expected a finite number or an expression", repr(value))
-                return None
-            value = repr(value)
-        kappa = self.expression(value, field)
-        if kappa is None:
-            return None
-        var = _first_of(kappa.expr, (*STATE, s))
-        if var is not None or kappa.expr.atoms(AppliedUndef):
-            what = var if var is not None else "a declared function"
-            self.problem(
-                field,
-                f"kappa must be a constant (the parameters only); it depends on {what}",
-                kappa.text,
-            )
-            return None
-        return kappa
-
-    def triple(
-        self, value: Any, field: str, check: Callable[[Expression, str], None] | None = None
-    ) -> tuple[Expression, ...] | None:
-        """An array of exactly three expressions, each passed to ``check(expr, field)``."""
-        if not isinstance(value, list):
-            self.problem(field, f"expected an array of 3 strings, found {kind_of(value)}")
-            return None
-        if len(value) != 3:
-            self.problem(field, f"expected 3 entries, found {len(value)}")
-        items = []
-        for i, text in enumerate(value[:3]):
-            expr = self.expression(text, f"{field}[{i}]")
-            if expr is not None and check is not None:
-                check(expr, f"{field}[{i}]")
-            items.append(expr)
-        if len(items) != 3 or None in items:
-            return None
-        return tuple(items)
-
-    def check_moment(self, moment: Expression, field: str) -> None:
-        """A moment of inertia is a nonzero constant."""
-        var = _first_of(moment.expr, (*STATE, s))
-        if var is not None:
-            self.problem(
-                field, f"a moment of inertia must be constant; it depends on {var}", moment.text
-            )
-        elif moment.expr == 0:
-            self.problem(field, "a moment of inertia is zero", moment.text)
-
-    def check_potential(self, potential: Expression) -> None:
-        """The potential U(gamma) depends on gamma1..gamma3 and parameters only."""
-        var = _first_of(potential.expr, (*MOMENTUM, s))
-        if var is not None:
-            self.problem(
-                "system.potential",
-                f"the potential may depend on gamma only, not on {var}",
-                potential.text,
-            )
 
     # ------------------------------------------------------------- the claims
 
@@ -658,7 +545,7 @@ class _Reader:
             return Provenance.LITERATURE
 
     def claim_kind(self, item: dict, field: str) -> ClaimKind | None:
-        """'integral' or 'casimir'."""
+        """'integral', 'casimir', 'measure' or 'relation'."""
         kind = self.string(item, "kind", field, required=True)
         if kind is None:
             return None
@@ -666,9 +553,23 @@ class _Reader:
             return ClaimKind(kind)
         except ValueError:
             self.problem(
-                field, f"unknown claim kind {quoted(kind)} (expected 'integral' or 'casimir')"
+                field,
+                f"unknown claim kind {quoted(kind)} (expected 'integral', 'casimir', "
+                "'measure' or 'relation')",
             )
             return None
+
+    def check_claims_fit(self, system: System, claims: tuple[Claim | None, ...]) -> None:
+        """A Casimir needs a bracket: a system given by its equations has none."""
+        if not system.equations:
+            return
+        for i, claim in enumerate(claims):
+            if claim is not None and claim.kind is ClaimKind.CASIMIR:
+                self.problem(
+                    f"claims[{i}].kind",
+                    "a Casimir needs a bracket, and this system is given by its equations: "
+                    "claim an integral",
+                )
 
     def level_set(self, item: dict, field: str) -> tuple[Equation, ...] | None:
         """``on``: an array of equations ``lhs = rhs`` (default: none)."""

@@ -10,15 +10,17 @@ outside the case language reads the form's fields.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+import re
+from collections.abc import Mapping, Sequence
 from dataclasses import replace
 
 import sympy as sp
 
-from ..dynamics import Dynamics, Given
+from ..dynamics import Dynamics, Given, Vector
 from ..mathematics import flow, grading
 from ..mathematics import mechanics as mech
 from ..model import Case, Expression, System, Weights, as_weights
+from .parser import Namespace
 from .printer import to_text
 
 Functions = Mapping[str, tuple[sp.FunctionClass, tuple[sp.Symbol, ...]]]
@@ -26,6 +28,16 @@ Functions = Mapping[str, tuple[sp.FunctionClass, tuple[sp.Symbol, ...]]]
 
 def dynamics(system: System, parameters: Mapping[str, sp.Symbol], functions: Functions) -> Dynamics:
     """The ``Dynamics`` of a system in any of the forms a case file may use."""
+    if system.variables:
+        return _own_state(system, parameters, functions)
+    return _paper_state(system, parameters, functions)
+
+
+def _paper_state(
+    system: System, parameters: Mapping[str, sp.Symbol], functions: Functions
+) -> Dynamics:
+    """The reference paper's state (M, gamma): its equations (2.2) with Pi_mu, or a
+    Hamiltonian's Pi grad H, on the bracket deformed by kappa."""
     mu = system.torque_exprs
     kappa = sp.sympify(system.kappa.expr)
     pi = sp.ImmutableMatrix(mech.poisson_tensor(mu, kappa))
@@ -71,8 +83,98 @@ def dynamics(system: System, parameters: Mapping[str, sp.Symbol], functions: Fun
         functions=functions,
         nonzero=nonzero,
         defined=(defining, *mu, *([kappa] if kappa != 0 else [])),
-        given=(*energy, *torque, *deformed),
+        given=(*energy, *torque, *deformed, *_definitions(system)),
         grading=graded,
+    )
+
+
+def _own_state(
+    system: System, parameters: Mapping[str, sp.Symbol], functions: Functions
+) -> Dynamics:
+    """A system on a state of its own: its equations as given, or the bracket given entry
+    by entry (antisymmetry filling in the rest) with dx/dt = {x, H} = (Pi grad H)_x."""
+    symbols = tuple(sp.Symbol(name, real=True) for name in system.variables)
+    position = {name: i for i, name in enumerate(system.variables)}
+    pi: sp.ImmutableMatrix | None = None
+    h = None if system.hamiltonian is None else system.hamiltonian.expr
+    if system.equations:
+        field = tuple(e.expr for e in system.equations)
+        given = tuple(
+            Given(
+                f"d({x})/dt",
+                f"d{x}/dt",
+                sp.Derivative(sp.Function(x)(sp.Symbol("t")), sp.Symbol("t")),
+                e.expr,
+                e.text,
+            )
+            for x, e in zip(system.variables, system.equations, strict=True)
+        )
+    else:
+        n = len(symbols)
+        matrix = sp.zeros(n, n)
+        for x, y, value in system.bracket:
+            matrix[position[x], position[y]] = value.expr
+            matrix[position[y], position[x]] = -value.expr
+        pi = sp.ImmutableMatrix(matrix)
+        assert system.hamiltonian is not None  # the reader requires it with a bracket
+        field = flow.hamiltonian_field(pi, h, symbols)
+        given = (_given("H", "Hamiltonian H", "H", system.hamiltonian),) + tuple(
+            Given(
+                f"{{{x}, {y}}}", f"bracket {{{x}, {y}}}", sp.Symbol(f"{{{x}, {y}}}"), v.expr, v.text
+            )
+            for x, y, v in system.bracket
+        )
+    vectors = _vectors(system.variables, symbols)
+    graded = grading.homogeneous_weights(field, vectors, {}, symbols)
+    if graded is not None:
+        weight = dict(graded)
+        vectors = tuple(replace(v, weight=weight[v.name]) for v in vectors)
+    defined = (*field, *([] if h is None else [h]))
+    if pi is not None:
+        defined += tuple(pi)
+    return Dynamics(
+        variables=symbols,
+        vectors=vectors,
+        field=tuple(field),
+        hamiltonian=h,
+        bracket=pi,
+        from_bracket=pi is not None,
+        parameters=tuple(parameters.values()),
+        functions=functions,
+        defined=defined,
+        given=(*given, *_definitions(system)),
+        grading=graded or tuple((v.name, v.weight) for v in vectors),
+    )
+
+
+def _vectors(names: Sequence[str], symbols: Sequence[sp.Symbol]) -> tuple[Vector, ...]:
+    """The state grouped into vectors: a stem with components 1, 2, 3 listed together
+    (``alpha1 alpha2 alpha3``) is the vector ``alpha`` (drawn on a sphere of rational
+    radius at sample points), any other variable a vector of its own."""
+    by_name = dict(zip(names, symbols, strict=True))
+    out: list[Vector] = []
+    taken: set[str] = set()
+    for name in names:
+        if name in taken:
+            continue
+        found = re.fullmatch(r"(.*?)[123]", name)
+        stem = found.group(1) if found else ""
+        parts = [f"{stem}{k}" for k in "123"] if stem else []
+        if parts and all(p in by_name for p in parts) and not taken & set(parts):
+            out.append(Vector(stem, tuple(by_name[p] for p in parts), rational_norm=True))
+            taken.update(parts)
+        else:
+            out.append(Vector(name, (by_name[name],)))
+            taken.add(name)
+    # the state's order is the variables' order: a vector's components are listed together
+    return tuple(out)
+
+
+def _definitions(system: System) -> tuple[Given, ...]:
+    """The definitions of a case, as parts of its system to show."""
+    return tuple(
+        Given(name, f"definition {name}", sp.Symbol(name), e.expr, e.text)
+        for name, e in system.definitions
     )
 
 
@@ -151,13 +253,21 @@ def with_torque(case: Case, torque: tuple[Expression, Expression, Expression]) -
 
 
 def columns(system: System) -> dict:
-    """The system's fields as the store keeps them in its columns, as written."""
+    """The system's fields as the store keeps them in its columns, as written; ``form``
+    holds those of a system on its own state (and definitions), None for the paper's."""
+    own = {
+        "variables": list(system.variables),
+        "equations": {x: e.text for x, e in zip(system.variables, system.equations, strict=False)},
+        "bracket": {f"{x}, {y}": v.text for x, y, v in system.bracket},
+        "definitions": {name: e.text for name, e in system.definitions},
+    }
     return {
         "inertia": [e.text for e in system.inertia],
         "potential": system.potential.text,
         "torque": [e.text for e in system.torque],
         "hamiltonian": system.hamiltonian.text if system.hamiltonian else None,
         "kappa": system.kappa.text,
+        "form": {k: v for k, v in own.items() if v} or None,
     }
 
 
@@ -171,4 +281,28 @@ def stored_texts(system: System) -> dict[str, str]:
     if found["hamiltonian"] is not None:
         texts["hamiltonian"] = found["hamiltonian"]
     texts["kappa"] = found["kappa"]
+    form = found["form"] or {}
+    texts.update({f"equations.{x}": t for x, t in form.get("equations", {}).items()})
+    texts.update({f"bracket.{k}": t for k, t in form.get("bracket", {}).items()})
+    texts.update({f"definitions.{k}": t for k, t in form.get("definitions", {}).items()})
     return texts
+
+
+def namespace(case: Case) -> Namespace:
+    """The names an expression of ``case`` may use (its parameters, functions, and for a
+    system on its own state its variables and definitions): the namespace in which a
+    level set, a residual or a correction stored as text is parsed again."""
+    system = case.system
+    variables = (
+        {name: sp.Symbol(name, real=True) for name in system.variables}
+        if system.variables
+        else None
+    )
+    parts: dict[str, int] = {}
+    definitions: dict[str, tuple[sp.Expr, int]] = {}
+    for name, value in system.definitions:
+        own = len(re.findall(r"[\w.]+|\*\*|[-+*/]", value.text))
+        used = sum(parts[n] for n in re.findall(r"[A-Za-z_]\w*", value.text) if n in parts)
+        parts[name] = own + used
+        definitions[name] = (value.expr, parts[name])
+    return Namespace(case.parameters, case.functions, variables, definitions)

@@ -69,20 +69,49 @@ _UNDEFINED = (sp.zoo, sp.oo, -sp.oo, sp.nan)
 
 @dataclass(frozen=True)
 class Namespace:
-    """The names a case declares: parameter symbols and arbitrary functions.
+    """The names a case declares: parameter symbols, arbitrary functions, and for a
+    system on its own phase space its state variables and definitions.
 
     ``functions`` maps a name to its sympy function class and its argument
     symbols (taken from ``registry.mathematics.mechanics``), e.g. ``a -> (a, (s,))``.
+    ``variables`` are the case's own state variables by name (None: the reference
+    paper's M1..M3, gamma1..gamma3 and s); ``definitions`` map a name to the expression
+    it stands for (expanded already) and the parts it counts for in the case's budget
+    each time it is used (so that definitions built on definitions cannot grow without
+    bound).
     """
 
     parameters: Mapping[str, sp.Symbol] = field(default_factory=dict)
     functions: Mapping[str, tuple[sp.FunctionClass, tuple[sp.Symbol, ...]]] = field(
         default_factory=dict
     )
+    variables: Mapping[str, sp.Symbol] | None = None
+    definitions: Mapping[str, tuple[sp.Expr, int]] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "parameters", MappingProxyType(dict(self.parameters)))
         object.__setattr__(self, "functions", MappingProxyType(dict(self.functions)))
+        if self.variables is not None:
+            object.__setattr__(self, "variables", MappingProxyType(dict(self.variables)))
+        object.__setattr__(self, "definitions", MappingProxyType(dict(self.definitions)))
+
+    @property
+    def state(self) -> Mapping[str, sp.Symbol]:
+        """The state variables by name (the paper's, with ``s``, unless the case names its
+        own)."""
+        return VARIABLES if self.variables is None else self.variables
+
+    @property
+    def paper_state(self) -> bool:
+        """Whether the state is the reference paper's (M, gamma, with s = M.gamma)."""
+        return self.variables is None
+
+    def variable_list(self) -> str:
+        """The state variables as a message lists them."""
+        if self.variables is None:
+            return _VARIABLE_LIST
+        names = list(self.variables)
+        return ", ".join(names[:-1]) + f" or {names[-1]}" if len(names) > 1 else names[0]
 
 
 EMPTY = Namespace()
@@ -321,16 +350,20 @@ class _Builder:
         return mantissa * sp.Rational(10) ** (int(exponent) - len(fraction))
 
     def name(self, node: ast.Name) -> sp.Expr:
-        """A variable, constant or declared parameter."""
+        """A variable, constant, declared parameter or definition (its expression)."""
         name = node.id
-        for table in (VARIABLES, CONSTANTS, self.ns.parameters):
+        for table in (self.ns.state, CONSTANTS, self.ns.parameters):
             if name in table:
                 return table[name]
+        if name in self.ns.definitions:
+            expr, parts = self.ns.definitions[name]
+            self.budget.spend("parts", parts, self.text)
+            return expr
         if name in FUNCTIONS or name == "diff":
             raise self.fail(f"'{name}' is a function; call it as {name}(...)")
         if name in self.ns.functions:
             raise self.fail(f"'{name}' is a function; call it as {self.declared_call(name)}")
-        candidates = [*VARIABLES, *CONSTANTS, *self.ns.parameters]
+        candidates = [*self.ns.state, *CONSTANTS, *self.ns.parameters, *self.ns.definitions]
         hint = _suggestion(name, candidates) or "declare it under [parameters]"
         raise self.fail(f"unknown name {_show(name)} ({hint})")
 
@@ -523,15 +556,18 @@ class _Builder:
         if len(args) != 2:
             raise self.fail("diff takes two arguments: diff(expression, variable)")
         var = args[1]
-        if not (isinstance(var, ast.Name) and var.id in VARIABLES):
-            raise self.fail(f"the second argument of diff must be one of {_VARIABLE_LIST}")
+        state = self.ns.state
+        if not (isinstance(var, ast.Name) and var.id in state):
+            raise self.fail(f"the second argument of diff must be one of {self.ns.variable_list()}")
         expr, size = self.build(args[0], depth + 1)
         work = _diff_work(expr, limits.MAX_DIFF_WORK - self.diff_work)
         self.diff_work += work
         if self.diff_work > limits.MAX_DIFF_WORK:
             raise self.fail("expression too large to differentiate")
         self.budget.spend("diff_work", work, self.text)
-        symbol = VARIABLES[var.id]
+        symbol = state[var.id]
+        if not self.ns.paper_state:
+            return sp.diff(expr, symbol), size + 10
         if symbol != s:
             return total_diff(expr, symbol), size + 10
         if expr.free_symbols & set(STATE):

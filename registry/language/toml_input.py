@@ -111,12 +111,14 @@ def load_toml(text: str, file: str) -> dict:
 
 def toml_message(message: str) -> str:
     """tomllib's message, escaped and cut: the keys it quotes can be as long as the file."""
-    body, at = re.fullmatch(r"(.*?)((?: \(at line \d+, column \d+\))?)", message, re.S).groups()
+    whole = re.fullmatch(r"(.*?)((?: \(at line \d+, column \d+\))?)", message, re.S)
+    assert whole is not None  # the pattern matches every text
+    body, where = whole.groups()
 
     def escaped(text: str) -> str:
         return "".join(c if " " <= c <= "~" else ascii(c)[1:-1] for c in text)
 
-    return escaped(cut(body, 100, shown=escaped)) + at
+    return escaped(cut(body, 100, shown=escaped)) + where
 
 
 # Outside strings and comments: brackets, separators, dots and long digit runs.
@@ -158,9 +160,10 @@ def toml_shape_problem(text: str) -> str | None:
             pos = len(text) if end < 0 else end
         elif char in "\"'":
             quote = text[pos - 1 : pos + 2] if text[pos : pos + 2] == char * 2 else char
-            pos = string_end(text, pos + len(quote) - 1, quote)
-            if pos is None:
+            closed = string_end(text, pos + len(quote) - 1, quote)
+            if closed is None:
                 return None  # unterminated: tomllib says where
+            pos = closed
         else:
             return f"number too long (more than {MAX_DIGITS} digits){at(text, event.start())}"
         if depth + dots > MAX_TOML_DEPTH:

@@ -31,11 +31,17 @@ from . import mechanics as mech
 CANDIDATES: tuple[tuple[int, int], ...] = ((1, 2), (1, 1), (2, 1))
 
 
-def per_variable(weights: Weights | tuple[int, int], vectors: Sequence[Vector]) -> tuple[int, ...]:
-    """The weight of each state variable, vector by vector (a vector the weights do not
-    name keeps its default weight)."""
+def per_variable(
+    weights: Weights | tuple[int, int],
+    vectors: Sequence[Vector],
+    variables: Sequence[sp.Symbol] | None = None,
+) -> tuple[int, ...]:
+    """The weight of each state variable (a vector the weights do not name keeps its
+    default weight), in the order of ``variables`` (default: vector by vector)."""
     given = dict(as_weights(weights))
-    return tuple(given.get(v.name, v.weight) for v in vectors for _ in v.components)
+    by_symbol = {x: given.get(v.name, v.weight) for v in vectors for x in v.components}
+    order = variables if variables is not None else [x for v in vectors for x in v.components]
+    return tuple(by_symbol[x] for x in order)
 
 
 def shift(
@@ -43,12 +49,14 @@ def shift(
     weights: Weights | tuple[int, int],
     vectors: Sequence[Vector] = mech.VECTORS,
     shorthands: Mapping[sp.Symbol, sp.Expr] = mech.SHORTHANDS,
+    variables: Sequence[sp.Symbol] | None = None,
 ) -> int | None:
     """d such that every monomial of dx_i/dt has weight w_i + d, or None where there is
     none (a field that is not weighted-homogeneous for ``weights``, or not rational in
-    the state). ``field`` lists dx/dt for the variables of ``vectors``, in their order."""
-    w = per_variable(weights, vectors)
-    state = [x for v in vectors for x in v.components]
+    the state). ``field`` lists dx/dt for ``variables`` (default: those of ``vectors``,
+    vector by vector), in their order."""
+    state = list(variables) if variables is not None else [x for v in vectors for x in v.components]
+    w = per_variable(weights, vectors, state)
     shifts: set[int] = set()
     for wi, x in zip(w, field, strict=True):
         numer, denom = sp.fraction(sp.together(sp.sympify(x).subs(dict(shorthands))))
@@ -92,11 +100,16 @@ def homogeneous_weights(
     field: Sequence[sp.Expr],
     vectors: Sequence[Vector] = mech.VECTORS,
     shorthands: Mapping[sp.Symbol, sp.Expr] = mech.SHORTHANDS,
+    variables: Sequence[sp.Symbol] | None = None,
 ) -> Weights | None:
     """The first of the ``candidates`` under which ``field`` is weighted-homogeneous, or
     None."""
     return next(
-        (w for w in candidates(vectors) if shift(field, w, vectors, shorthands) is not None),
+        (
+            w
+            for w in candidates(vectors)
+            if shift(field, w, vectors, shorthands, variables) is not None
+        ),
         None,
     )
 
@@ -106,10 +119,11 @@ def grading_note(
     weights: Weights | tuple[int, int],
     vectors: Sequence[Vector] = mech.VECTORS,
     shorthands: Mapping[sp.Symbol, sp.Expr] = mech.SHORTHANDS,
+    variables: Sequence[sp.Symbol] | None = None,
 ) -> str:
     """What the ansatz means for these weights: "" for a homogeneous field, else the note
     that its degrees are coupled (stored with the search and printed by discover)."""
-    if shift(field, weights, vectors, shorthands) is not None:
+    if shift(field, weights, vectors, shorthands, variables) is not None:
         return ""
     named = ", ".join(f"{name}: {w}" for name, w in _named(weights, vectors))
     return (

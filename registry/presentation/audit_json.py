@@ -32,13 +32,14 @@ def result_document(result: CheckResult) -> dict:
 def claim_document(outcome: ClaimOutcome) -> dict:
     """One entry of a case's ``claims``: verdicts, details, evidence, corrections, conditions."""
     claim = outcome.claim
-    entry: dict = {
-        "label": claim.label,
-        "kind": str(claim.kind),
-        "integral": str(outcome.integral.verdict),
-        "casimir": str(outcome.casimir.verdict),
-        "verdict": str(outcome.verdict),
-    }
+    entry: dict = {"label": claim.label, "kind": str(claim.kind)}
+    # the verdict of each property checked (integral and casimir for integrals and
+    # Casimirs, measure or relation for those kinds), then the claim's own
+    entry.update({name: str(r.verdict) for name, r in outcome.results.items()})
+    entry.pop("invariant", None)  # given below, with the level set
+    entry["verdict"] = str(outcome.verdict)
+    if outcome.not_applicable:
+        entry["not_applicable"] = dict(outcome.not_applicable)
     if claim.on:
         entry["on"] = [eq.text for eq in claim.on]
         if outcome.invariant is not None:

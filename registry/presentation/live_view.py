@@ -23,7 +23,8 @@ TABLES: dict[str, str] = {
     "cases": "One row per stored case version: id, version, title, the case file's text "
     "and content hash, the system's expressions, when it was added.",
     "case_aliases": "Earlier ids of a case version (a renamed case is found under either).",
-    "claims": "One row per claim of a case version: label, kind (integral or casimir), "
+    "claims": "One row per claim of a case version: label, kind (integral, casimir, measure "
+    "or relation), "
     "expression and level set in the case-file language; provenance literature or "
     "discovered (attached by a recorded search).",
     "audit_runs": "One row per audit run: start and end (UTC), status, code and sympy "
@@ -34,6 +35,7 @@ TABLES: dict[str, str] = {
     "corrections": "Families, re-checked corrections (Casimirs, torques) and parameter "
     "conditions found by each run.",
     "evidence": "Numerical evidence of each run: drift of a claim next to that of H.",
+    "drift_curves": "The trajectory each run integrated for a refuted claim, to draw its drift.",
     "searches": "Recorded searches for polynomial integrals, with their completeness statement.",
     "discoveries": "Sets of parameter values where a search found integrals, and the integrals.",
     "latest_verdicts": "The newest verdict of every check and claim of the newest case "

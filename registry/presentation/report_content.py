@@ -22,6 +22,7 @@ import sympy as sp
 
 from ..audit.outcome import CaseOutcome, ClaimOutcome
 from ..errors import RegistryError, UnknownRunError
+from ..language import forms
 from ..language.parser import Namespace, parse_equation, parse_expression
 from ..model import (
     Case,
@@ -123,6 +124,11 @@ def by_topic(outcomes: Sequence[CaseOutcome]) -> dict[str, list[CaseOutcome]]:
     return dict(sorted(groups.items(), key=lambda g: (g[0] == OTHER_TOPIC, g[0])))
 
 
+def _cell(result: CheckResult | None) -> str:
+    """A check's verdict in a table cell ("-" where the check does not apply)."""
+    return "-" if result is None else str(result.verdict)
+
+
 def _summary(w: Writer, outcomes: Sequence[CaseOutcome]) -> None:
     """One row per claim: case (linked to its section), claim, kind, integral, casimir,
     verdict."""
@@ -133,7 +139,7 @@ def _summary(w: Writer, outcomes: Sequence[CaseOutcome]) -> None:
             rows.append((name, "-", "", "", "", Verdict.ERROR if case.error is not None else ""))
         for c in case.claims:
             label = c.label + (" (on set)" if c.on_set else "")
-            row = (name, label, c.claim.kind, c.integral.verdict, c.casimir.verdict)
+            row = (name, label, c.claim.kind, _cell(c.integral), _cell(c.casimir))
             rows.append((*row, c.verdict))
     w.heading(2, "Summary", anchor("summary"))
     w.table(("case", "claim", "kind", "integral", "casimir", "verdict"), rows)
@@ -317,7 +323,7 @@ def _case_section(w: Writer, outcome: CaseOutcome, plot: Plotter | None) -> None
     doi = f" (doi {case.source.doi})" if case.source.doi else ""
     version = "?" if outcome.version is None else outcome.version
     w.para(f"Source: {source}{doi}. Version {version}.")
-    ns = Namespace(case.parameters, case.functions)
+    ns = forms.namespace(case)
     _system(w, case)
     _case_checks(w, outcome, ns)
     for claim in outcome.claims:

@@ -31,6 +31,7 @@ from markupsafe import Markup
 
 from ..audit.outcome import CaseOutcome, ClaimOutcome
 from ..errors import RegistryError
+from ..language import forms
 from ..language.parser import Namespace, parse_equation, parse_expression
 from ..language.printer import to_text
 from ..model import Case, CheckResult, Correction, Verdict
@@ -226,7 +227,7 @@ class _Views:
         """The claims of each case with their verdicts and repairs (``_claims``), by id."""
         out = {}
         for case_id, entry in self.entries.items():
-            ns = Namespace(entry.case.parameters, entry.case.functions)
+            ns = forms.namespace(entry.case)
             out[case_id] = _claims(entry.case, entry.outcome, ns)
         return out
 
@@ -259,7 +260,7 @@ class _Views:
     def case_page(self, entry: CaseEntry) -> dict[str, Any]:
         """Everything a case's page shows."""
         case, outcome = entry.case, entry.outcome
-        ns = Namespace(case.parameters, case.functions)
+        ns = forms.namespace(case)
         versions = self.catalog.versions
         history = _records(versions[versions["case"] == case.id])
         search = self.newest_search(case.id)
@@ -537,11 +538,7 @@ def site_files(catalog: Catalog, base_url: str = "") -> dict[str, bytes]:
     searches = []
     for s in views.searches:
         searched = views.entries.get(s["case"])
-        ns = (
-            Namespace(searched.case.parameters, searched.case.functions)
-            if searched
-            else Namespace({})
-        )
+        ns = forms.namespace(searched.case) if searched else Namespace({})
         found = [_discovery(d, ns) for d in views.discoveries if d["search"] == s["search"]]
         searches.append({**s, "discoveries": found, "known_case": searched is not None})
     page("searches.html", "searches.html", searches=searches)
@@ -551,7 +548,7 @@ def site_files(catalog: Catalog, base_url: str = "") -> dict[str, bytes]:
         outcome = entry.outcome
         if outcome is None:
             continue
-        ns = Namespace(entry.case.parameters, entry.case.functions)
+        ns = forms.namespace(entry.case)
         claims = [c for c in views.claims[entry.case.id] if c["corrections"] or c["conditions"]]
         jacobi = _branches(outcome.jacobi_conditions, ns)
         casimirs = [_correction(c, ns) for c in outcome.casimirs]

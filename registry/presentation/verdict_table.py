@@ -11,7 +11,7 @@ from collections import Counter
 from collections.abc import Sequence
 
 from ..audit.outcome import CaseOutcome
-from ..model import Verdict, VerdictChange
+from ..model import CheckResult, Verdict, VerdictChange
 from .text_table import text_table
 
 #: Verdicts that leave a note under the table.
@@ -21,6 +21,11 @@ _UNDECIDED = (Verdict.INCONCLUSIVE, Verdict.ERROR)
 def disagreements(outcomes: Sequence[CaseOutcome]) -> list[str]:
     """Claims whose numerical evidence contradicts their symbolic verdict (case/claim)."""
     return [f"{o.case_id}/{c.label}" for o in outcomes for c in o.claims if c.contradicted]
+
+
+def _verdict(result: CheckResult | None) -> str:
+    """A check's verdict in a table cell ("-" where the check does not apply)."""
+    return "-" if result is None else str(result.verdict)
 
 
 def verdict_table(outcomes: Sequence[CaseOutcome], run: int | None = None) -> str:
@@ -51,8 +56,8 @@ def verdict_table(outcomes: Sequence[CaseOutcome], run: int | None = None) -> st
                     poisson,
                     label,
                     claim.claim.kind,
-                    claim.integral.verdict,
-                    claim.casimir.verdict,
+                    _verdict(claim.integral),
+                    _verdict(claim.casimir),
                     claim.verdict,
                 )
             )

@@ -21,6 +21,7 @@ from ..model import (
     Claim,
     Conditions,
     Correction,
+    DriftCurve,
     Evidence,
     FamilyRecord,
     IntegralSet,
@@ -39,6 +40,7 @@ from .tables import (
     ClaimRow,
     CorrectionRow,
     DiscoveryRow,
+    DriftCurveRow,
     EvidenceRow,
     ResultRow,
     SearchRow,
@@ -246,6 +248,7 @@ def check_result(row: ResultRow, label: str | None) -> CheckResult:
         residual=row.residual,
         witness=witness(row.witness),
         seconds=row.seconds,
+        detail=row.detail or "",
     )
 
 
@@ -318,7 +321,25 @@ def result_row(
         witness=None if result.witness is None else result.witness.as_dict(),
         seconds=float(result.seconds),
         reused=reused,
+        detail=result.detail,
     )
+
+
+def curve_row(run_id: int, case_pk: int, claim_id: int, curve: DriftCurve) -> DriftCurveRow:
+    """The row of a drift curve of one claim."""
+    return DriftCurveRow(
+        run_id=run_id,
+        case_pk=case_pk,
+        claim_id=claim_id,
+        t=list(curve.t),
+        di=list(curve.di),
+        dh=list(curve.dh),
+    )
+
+
+def drift_curve(row: DriftCurveRow, case_id: str, label: str) -> DriftCurve:
+    """A drift curve from its row, its case's id and its claim's label."""
+    return DriftCurve(case_id, label, tuple(row.t), tuple(row.di), tuple(row.dh))
 
 
 def evidence_row(run_id: int, case_pk: int, claim_id: int, found: Evidence) -> EvidenceRow:

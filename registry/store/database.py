@@ -39,8 +39,9 @@ from ..errors import (
     UnknownRunError,
     WritePrivilegeError,
 )
+from ..language import forms
 from ..language.casefile import parse_case_text
-from ..language.parser import Namespace, parse_equation, parse_expression
+from ..language.parser import parse_equation, parse_expression
 from ..model import (
     Case,
     CaseAudit,
@@ -59,8 +60,10 @@ from .conversions import (
     check_result,
     claim_row,
     correction_rows,
+    curve_row,
     derived,
     discovery_rows,
+    drift_curve,
     evidence,
     evidence_row,
     fill_source,
@@ -88,6 +91,7 @@ from .tables import (
     ClaimRow,
     CorrectionRow,
     DiscoveryRow,
+    DriftCurveRow,
     EvidenceRow,
     ResultRow,
     RunRow,
@@ -143,7 +147,7 @@ class StoredCase:
         case = parse_case_text(self.text, self.path or self.case_id)
         if not self.attached:
             return case
-        ns = Namespace(case.parameters, case.functions)
+        ns = forms.namespace(case)
         extra = tuple(
             Claim(
                 a.label,
@@ -616,6 +620,11 @@ class Store:
                 for e in audit.evidence
                 if e.claim in claim_ids
             )
+            session.add_all(
+                curve_row(run_id, case_pk, claim_ids[c.claim], c)
+                for c in audit.curves
+                if c.claim in claim_ids
+            )
             for result in audit.results:
                 claim_id = None if result.claim is None else claim_ids[result.claim]
                 session.add(result_row(run_id, case_pk, claim_id, result, reused))
@@ -717,12 +726,19 @@ def _audits(session: Session, where: Any) -> list[tuple[str, CaseAudit]]:
             .where(EvidenceRow.run_id == run_id, EvidenceRow.case_pk == case_pk)
             .order_by(EvidenceRow.id)
         ).all()
+        curves = session.execute(
+            select(DriftCurveRow, ClaimRow.label)
+            .join(ClaimRow, ClaimRow.id == DriftCurveRow.claim_id)
+            .where(DriftCurveRow.run_id == run_id, DriftCurveRow.case_pk == case_pk)
+            .order_by(DriftCurveRow.id)
+        ).all()
         audit = CaseAudit(
             case_id,
             content_hash,
             tuple(results),
             **derived(corrections),
             evidence=tuple(evidence(row, label) for row, label in found),
+            curves=tuple(drift_curve(row, case_id, label) for row, label in curves),
         )
         found_audits.append((case_id, audit))
     return found_audits

@@ -36,6 +36,7 @@ from .tables import (
     ClaimRow,
     CorrectionRow,
     DiscoveryRow,
+    DriftCurveRow,
     EvidenceRow,
     MetaRow,
     ResultRow,
@@ -109,7 +110,7 @@ def verify_connection(conn: Connection, location: str) -> Verification:
         owner = cases.get(t.case_pk)
         if owner is None:
             continue  # its text did not parse: already reported
-        problem = _reparse(t, Namespace(owner.parameters, owner.functions))
+        problem = _reparse(t, forms.namespace(owner))
         if problem:
             problems.append(f"{names[t.case_pk]}: {t.place}: {problem}")
 
@@ -172,6 +173,7 @@ def database_problems(conn: Connection) -> list[str]:
         ResultRow.__table__,
         CorrectionRow.__table__,
         EvidenceRow.__table__,
+        DriftCurveRow.__table__,
     )  # type: ignore[assignment]
     for table in tables:
         crossed = conn.execute(
@@ -290,6 +292,9 @@ def stored_expressions(conn: Connection) -> list[StoredText]:
         if r.hamiltonian is not None:
             out.append(StoredText(r.id, "hamiltonian", r.hamiltonian))
         out.append(StoredText(r.id, "kappa", r.kappa))
+        form = r.form or {}
+        for key in ("equations", "bracket", "definitions"):
+            out += [StoredText(r.id, f"{key}.{k}", t) for k, t in form.get(key, {}).items()]
     for c in conn.execute(select(claims).order_by(claims.c.id)):
         # a claim a search attached to a version is not in its text: named apart
         where = (

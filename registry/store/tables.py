@@ -32,7 +32,7 @@ from sqlalchemy.orm import DeclarativeBase, Mapped, mapped_column
 from sqlalchemy.types import TypeDecorator
 
 #: Version of the table layout, kept in the ``meta`` table (the Alembic revision, as a number).
-SCHEMA_VERSION = 7
+SCHEMA_VERSION = 8
 
 #: The states of an audit run; every run starts as ``running``.
 RUN_STATUSES = ("running", "complete", "failed", "interrupted")
@@ -135,6 +135,9 @@ class CaseRow(Base):
     hamiltonian: Mapped[str | None] = mapped_column(Text, nullable=True)
     #: The bracket's parameter as written (``system.kappa``): "0" is e(3).
     kappa: Mapped[str] = mapped_column(Text, default="0", server_default="0")
+    #: A system on a state of its own, as written: variables, equations, bracket entries,
+    #: definitions (NULL for the reference paper's forms without definitions).
+    form: Mapped[dict[str, Any] | None] = mapped_column(JSON(none_as_null=True), nullable=True)
 
 
 class CaseAliasRow(Base):
@@ -204,6 +207,8 @@ class ResultRow(Base):
     witness: Mapped[dict[str, Any] | None] = mapped_column(JSON(none_as_null=True))
     seconds: Mapped[float] = mapped_column(Float, default=0.0)
     reused: Mapped[bool] = mapped_column(Boolean, default=False, server_default=false())
+    #: what a verified check adds for people (a relation's cofactor)
+    detail: Mapped[str] = mapped_column(Text, default="", server_default="")
 
 
 class CorrectionRow(Base):
@@ -249,6 +254,21 @@ class EvidenceRow(Base):
     departure: Mapped[float | None] = mapped_column(Float)
     projected: Mapped[bool] = mapped_column(Boolean, default=False, server_default=false())
     reason: Mapped[str] = mapped_column(Text, default="", server_default="")
+
+
+class DriftCurveRow(Base):
+    """The trajectory an audit integrated for a refuted claim, to be drawn: the times and
+    the changes of I and of H along it."""
+
+    __tablename__ = "drift_curves"
+
+    id: Mapped[int] = mapped_column(primary_key=True)
+    run_id: Mapped[int] = mapped_column(ForeignKey("audit_runs.id"), index=True)
+    case_pk: Mapped[int] = mapped_column(ForeignKey("cases.id"), index=True)
+    claim_id: Mapped[int] = mapped_column(ForeignKey("claims.id"))
+    t: Mapped[list[float]] = mapped_column(JSON)
+    di: Mapped[list[float]] = mapped_column(JSON)
+    dh: Mapped[list[float]] = mapped_column(JSON)
 
 
 class SearchRow(Base):

@@ -64,8 +64,10 @@ def test_a_case_that_cannot_be_loaded_is_one_error():
 
 def test_a_claim_s_verdict_is_that_of_the_property_its_kind_names():
     v, r = Verdict.VERIFIED, Verdict.REFUTED
-    assert claim_verdict(ClaimKind.INTEGRAL, v, r) is v
-    assert claim_verdict("casimir", "verified", "refuted") is r
+    assert claim_verdict(ClaimKind.INTEGRAL, {"integral": v, "casimir": r}) is v
+    assert claim_verdict("casimir", {"integral": "verified", "casimir": "refuted"}) is r
+    assert claim_verdict("measure", {"measure": "refuted"}) is r
+    assert claim_verdict("relation", {}) is Verdict.INCONCLUSIVE  # its check did not run
 
 
 def test_the_default_budget_bounds_every_check():

@@ -22,6 +22,8 @@ def test_every_check_is_registered_with_a_statement_and_a_cost():
         "invariant",
         "integral",
         "casimir",
+        "measure",
+        "relation",
     ]
     for spec in CHECKS.values():
         assert spec.statement and "\n" not in spec.statement
@@ -30,6 +32,8 @@ def test_every_check_is_registered_with_a_statement_and_a_cost():
         "invariant",
         "integral",
         "casimir",
+        "measure",
+        "relation",
     ]
 
 

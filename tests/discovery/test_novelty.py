@@ -17,6 +17,7 @@ from registry.discovery import novelty
 from registry.discovery.ansatz import PolynomialSystem
 from registry.discovery.linear import Field
 from registry.discovery.search import discover, search_options
+from registry.execution.executor import LocalPool
 from registry.language.casefile import load_case
 from registry.language.parser import Namespace, parse_expression
 from registry.mathematics import mechanics as mech
@@ -129,7 +130,7 @@ def test_the_survey_of_the_catalog_adds_no_claim_equal_to_an_existing_one():
     cases = {c.id: c for c in (load_case(p) for p in sorted(CASES.rglob("*.toml")))}
     work = [(c, o) for c in cases.values() for o in stated_options(c)]
     found = 0
-    for search in searched(work, budget=60, jobs=2):
+    for search in searched(work, budget=60, executor=LocalPool(2)):
         if not search.decided:
             reason = search.coverage[0]
             assert any(w in reason for w in ("function", "invariant")), reason

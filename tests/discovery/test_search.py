@@ -22,22 +22,15 @@ from pathlib import Path
 import pytest
 import sympy as sp
 
-from registry.discovery.ansatz import count_monomials
 from registry.discovery.locus import same
-from registry.discovery.search import (
-    _cofactor,
-    _system,
-    cofactor_monomials,
-    discover,
-    search_options,
-)
+from registry.discovery.search import discover, search_options
 from registry.errors import DiscoveryError
+from registry.execution.executor import InProcess, LocalPool
 from registry.language.casefile import load_case, parse_case_text
 from registry.language.forms import with_system
 from registry.language.forms import with_values as substituted
 from registry.language.parser import Namespace, parse_expression
 from registry.mathematics import mechanics as mech
-from registry.mathematics.case_mechanics import CaseMechanics
 from registry.model import Verdict
 from tests.helpers.samples import FAMILIES, family
 
@@ -46,7 +39,8 @@ def search(name: str, **options):
     case = family(name)
     budget = options.pop("budget", 120)
     jobs = options.pop("jobs", 1)
-    return discover(case, search_options(case, **options), budget=budget, jobs=jobs)
+    executor = InProcess() if jobs == 1 else LocalPool(jobs)
+    return discover(case, search_options(case, **options), budget=budget, executor=executor)
 
 
 def where(found) -> dict[tuple[str, ...], tuple[str, ...]]:
@@ -408,43 +402,6 @@ def test_without_hess_condition_there_is_no_relation_and_first_integrals_are_not
     )
     search = discover(case, search_options(case, degree=1, relations=True))
     assert search.complete and search.special == ()
-
-
-def test_a_cofactor_ranges_over_the_newton_polytope_of_the_field():
-    """Newton(K) lies in conv{exps(m) - e_i : m in X_i}: for the heavy top (homogeneous
-    for M: 1, gamma: 2) that is M1, M2, M3, the cofactors' weight 1; a torque with terms
-    of several degrees ((gamma3^2 + c0)(1 + s^2)) allows cofactors of several weights,
-    far fewer monomials than every one of the largest weight; only that weight is
-    searched, and the search says that the others are not."""
-    root = Path(__file__).resolve().parents[2] / "data/cases"
-    hess = load_case(root / "heavy-top/hess-1890-heavy-top.toml")
-    cofactor, coefficients = _cofactor(search_options(hess, degree=1, relations=True),
-                                       CaseMechanics(hess), [])  # fmt: skip
-    assert sp.Poly(cofactor, *mech.STATE).monoms() == [
-        (1, 0, 0, 0, 0, 0),
-        (0, 1, 0, 0, 0, 0),
-        (0, 0, 1, 0, 0, 0),
-    ]
-    axis = load_case(root / "axis-torque.toml")
-    options = search_options(axis, degree=2, relations=True)
-    allowed = cofactor_monomials(*_polynomial_field(options, axis))
-    weights = {_weight(m) for m in allowed}
-    assert len(weights) > 1 and 0 in weights  # a constant part, and several weights
-    assert len(allowed) < count_monomials(max(weights), (1, 1, 1, 2, 2, 2)) // 10
-    undecided: list[str] = []
-    cofactor, coefficients = _cofactor(options, CaseMechanics(axis), [], undecided)
-    top = [m for m in allowed if _weight(m) == max(weights)]
-    assert len(coefficients) == len(top) < len(allowed)
-    assert undecided and "are not searched" in undecided[0]
-
-
-def _weight(monomial) -> int:
-    return sum(a * w for a, w in zip(monomial, (1, 1, 1, 2, 2, 2), strict=True))
-
-
-def _polynomial_field(options, case):
-    system = _system(options, CaseMechanics(case), [])[0]
-    return system.field, system.n, system.weights
 
 
 def test_relations_in_a_ring_with_an_inverse_take_the_degrees_of_the_normal_form():

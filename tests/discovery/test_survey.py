@@ -9,6 +9,7 @@ from dataclasses import replace
 import pytest
 
 from registry.discovery.survey import not_searched, searched, stated_options
+from registry.execution.executor import LocalPool
 from registry.language.casefile import parse_case_text
 from registry.model import Provenance, SearchOptions
 from registry.presentation.search_output import search_document, statement
@@ -95,7 +96,7 @@ def test_worker_processes_find_the_same(jobs):
     cases = [case("a*gamma3", ("M3", "")), case("a*gamma1", ("M3", "s = 0"))]
     work = [(c, o) for c in cases for o in stated_options(c)]
     here = list(searched(work, budget=60))
-    apart = list(searched(work, budget=60, jobs=jobs))
+    apart = list(searched(work, budget=60, executor=LocalPool(jobs)))
     assert [s.generic for s in apart] == [s.generic for s in here]
     assert [s.options for s in apart] == [o for _, o in work]
 
@@ -107,7 +108,7 @@ def test_a_search_cut_short_by_its_budget_in_a_worker_says_so_and_establishes_no
     kovalevskaya = "(M1**2 - M2**2 - 4*a*gamma1)**2 + (2*M1*M2 - 4*a*gamma2)**2"
     c = case("a*gamma1", (kovalevskaya, ""), ("M3", ""))
     work = [(c, stated_options(c)[0])] * 2
-    for cut in searched(work, budget=1e-3, jobs=2):
+    for cut in searched(work, budget=1e-3, executor=LocalPool(2)):
         assert not cut.decided and not cut.complete
         assert any("time budget exceeded (0.001 s)" in line for line in cut.coverage)
         sentence = statement(cut)

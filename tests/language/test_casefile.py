@@ -489,7 +489,8 @@ CASES = {
         [
             (
                 "claims[0].kind",
-                "unknown claim kind 'integrall' (expected 'integral' or 'casimir')",
+                "unknown claim kind 'integrall' "
+                "(expected 'integral', 'casimir', 'measure' or 'relation')",
                 None,
             )
         ],
@@ -623,5 +624,6 @@ def test_error_names_the_file(tmp_path):
     with pytest.raises(CaseFormatError) as info:
         load_case(path)
     assert str(info.value) == (
-        f"{path}: claims[0].kind: unknown claim kind 'integrall' (expected 'integral' or 'casimir')"
+        f"{path}: claims[0].kind: unknown claim kind 'integrall' "
+        f"(expected 'integral', 'casimir', 'measure' or 'relation')"
     )

@@ -66,6 +66,7 @@ ADDED = (
     "authors", "year", "title", "journal", "booktitle", "publisher", "volume", "issue",
     "pages", "url", "topic", "notes", "provenance", "search_id",  # 0004
     "hamiltonian", "kappa",  # 0007
+    "form", "detail",  # 0008
 )  # fmt: skip
 
 
@@ -126,7 +127,9 @@ def upgraded(table: str, row: dict) -> dict:
 
 
 def test_revisions_form_one_chain_ending_at_the_schema_version():
-    assert migrate.known_revisions() == ["0001", "0002", "0003", "0004", "0005", "0006", "0007"]
+    assert migrate.known_revisions() == [
+        "0001", "0002", "0003", "0004", "0005", "0006", "0007", "0008"
+    ]  # fmt: skip
     assert int(migrate.head()) == SCHEMA_VERSION
 
 
@@ -241,7 +244,7 @@ def test_a_newer_revision_is_refused_with_a_clear_message(db_target, databases, 
     before = _snapshot(path)
     expected = (
         f"database {str(path)!r} has schema revision 0099, newer than this registry "
-        "supports (revision 0007); upgrade the registry package to open it"
+        "supports (revision 0008); upgrade the registry package to open it"
     )
     with pytest.raises(SchemaTooNewError) as info:
         Store(path)
@@ -279,8 +282,8 @@ def _snapshot(target: str) -> tuple:
 def test_a_newer_schema_from_before_alembic_is_refused(tmp_path):
     path = first_schema_db(tmp_path / "old.sqlite")
     with closing(sqlite3.connect(path)) as conn, conn:
-        conn.execute("UPDATE meta SET value = '7' WHERE key = 'schema_version'")
-    with pytest.raises(SchemaTooNewError, match="has schema version 7"):
+        conn.execute("UPDATE meta SET value = '9' WHERE key = 'schema_version'")
+    with pytest.raises(SchemaTooNewError, match="has schema version 9"):
         Store(path)
     assert not list(tmp_path.glob("*.bak"))  # refused before any copy or change
 
@@ -373,6 +376,9 @@ def test_revision_0007_copies_each_stored_systems_hamiltonian_and_kappa(tmp_path
         store.add_case(hamiltonian_form)
         store.add_case(inertia_form)
     with closing(sqlite3.connect(path)) as conn, conn:  # back to what 0006 built
+        conn.execute("DROP TABLE drift_curves")
+        conn.execute("ALTER TABLE check_results DROP COLUMN detail")
+        conn.execute("ALTER TABLE cases DROP COLUMN form")
         conn.execute("ALTER TABLE cases DROP COLUMN hamiltonian")
         conn.execute("ALTER TABLE cases DROP COLUMN kappa")
         conn.execute("UPDATE alembic_version SET version_num = '0006'")
