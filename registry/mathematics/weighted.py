@@ -91,6 +91,8 @@ def split_field(
             )
             continue
         for monomial, coeff in poly.terms():
+            if coeff == 0:  # the zero polynomial's one term
+                continue
             if not _rational_over_q(coeff, parameters):
                 problems.append(
                     Problem(

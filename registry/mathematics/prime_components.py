@@ -1,0 +1,267 @@
+"""The irreducible components of a polynomial system's zero set, away from the origin,
+each in shape position: the balances of Kovalevskaya's method.
+
+The system is solved by Groebner bases over k = Q (or Q(p) for parameters p), never by
+``sympy.solve``. A basis (graded reverse lexicographic, the cheap order) whose element
+factors splits the system into one branch per factor. An irreducible branch of
+dimension d has a maximal independent set S of d variables (no leading monomial lies in
+k[S]); over the field k(S) it is zero-dimensional, and a linear form u = l(x) in the
+other variables puts it in *shape position* (the shape lemma): a lexicographic basis
+{x_i - h_i(u), g(u)} with g irreducible over k(S). Then k(S)[x]/I = k(S)[u]/(g) is a
+field, so the component is prime, and its points over the algebraic closure are the
+roots of g. Where the eliminant g factors, the branch splits again.
+
+Components on which S is not independent are not seen over k(S): with a lexicographic
+basis in which the other variables precede S, they lie where a leading coefficient
+h(S) vanishes (Gianni, Trager and Zacharias, J. Symb. Comput. 6 (1988), Prop. 3.7),
+so the branch I + (h) is decomposed too. Components contained in others (a point of a
+family) are dropped at the end, and so is the origin.
+"""
+
+from __future__ import annotations
+
+import itertools
+import random
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+
+import sympy as sp
+
+from .factoring import factor_list
+
+#: The most systems a decomposition visits before it gives up (each a Groebner basis).
+MAX_BRANCHES = 400
+#: Linear forms tried for shape position before a branch is given up.
+MAX_FORMS = 12
+
+
+class DecompositionLimit(Exception):
+    """The decomposition would exceed ``MAX_BRANCHES`` systems or find no shape position."""
+
+
+@dataclass(frozen=True)
+class Component:
+    """One irreducible component over k: its free variables S (dimension len(S)) and its
+    generic point x_i = h_i(u) (``coordinates``, rational in S and the parameters),
+    where u = ``element`` is a root of the irreducible ``minimal`` polynomial over k(S).
+
+    ``ideal`` generates its prime ideal in k[x] (for containment tests)."""
+
+    variables: tuple[sp.Symbol, ...]
+    parameters: tuple[sp.Symbol, ...]
+    free: tuple[sp.Symbol, ...]
+    symbol: sp.Symbol
+    element: sp.Expr
+    minimal: sp.Poly
+    coordinates: Mapping[sp.Symbol, sp.Expr]
+    ideal: tuple[sp.Expr, ...]
+
+    @property
+    def dimension(self) -> int:
+        return len(self.free)
+
+    @property
+    def degree(self) -> int:
+        """The number of points (or families) over the algebraic closure of k(S) it holds."""
+        return self.minimal.degree()
+
+    @property
+    def domain(self) -> sp.polys.domains.Domain:
+        """k(S): Q, or the rational functions of the parameters and free variables."""
+        return self.minimal.domain
+
+    def vanishes(self, expr: sp.Expr) -> bool:
+        """Whether a polynomial (or rational function) in the variables vanishes on the
+        component: at its generic point, modulo the minimal polynomial."""
+        value = sp.together(sp.sympify(expr).xreplace(dict(self.coordinates)))
+        numer = sp.fraction(value)[0]
+        return sp.Poly(numer, self.symbol, domain=self.domain).rem(self.minimal).is_zero
+
+
+def ground_domain(symbols: Sequence[sp.Symbol]) -> sp.polys.domains.Domain:
+    """Q, or the field of rational functions over Q of ``symbols``."""
+    return sp.QQ.frac_field(*symbols) if symbols else sp.QQ
+
+
+def components(
+    equations: Sequence[sp.Expr],
+    variables: Sequence[sp.Symbol],
+    parameters: Sequence[sp.Symbol] = (),
+    *,
+    origin: Sequence[sp.Symbol] | None = None,
+    seed: int = 0,
+) -> tuple[Component, ...]:
+    """The irreducible components of ``equations = 0`` on which the ``origin`` variables
+    (default: all) are not all zero, none contained in another, largest dimension first
+    (module doc for the method).
+
+    >>> x, y = sp.symbols("x y")
+    >>> [(c.free, c.minimal.as_expr()) for c in components([x * (x**2 - 2), x * y], [x, y])]
+    [((y,), x), ((), x**2 - 2)]
+    """
+    decomposition = _Decomposition(tuple(variables), tuple(parameters), random.Random(seed))
+    found = decomposition.run([sp.expand(e) for e in equations])
+    zero = tuple(variables) if origin is None else tuple(origin)
+    return _maximal([c for c in found if not all(c.vanishes(x) for x in zero)])
+
+
+@dataclass(frozen=True)
+class _Shape:
+    symbol: sp.Symbol
+    element: sp.Expr
+    minimal: sp.Poly
+    coordinates: dict[sp.Symbol, sp.Expr]
+
+
+class _Decomposition:
+    def __init__(self, variables, parameters, rng: random.Random):
+        self.variables = variables
+        self.parameters = parameters
+        self.k = ground_domain(parameters)
+        self.rng = rng
+
+    def run(self, equations: list[sp.Expr]) -> list[Component]:
+        found: list[Component] = []
+        seen: set[frozenset] = set()
+        stack = [equations]
+        while stack:
+            system = stack.pop()
+            basis = sp.groebner(system, *self.variables, order="grevlex", domain=self.k)
+            key = frozenset(basis.exprs)
+            if key in seen:
+                continue
+            seen.add(key)
+            if len(seen) > MAX_BRANCHES:
+                raise DecompositionLimit(f"more than {MAX_BRANCHES} branches")
+            if basis.exprs == [1]:
+                continue
+            branches = self._split(basis.exprs)
+            if branches is None:
+                branches, component = self._branch(basis)
+                if component is not None:
+                    found.append(component)
+            stack.extend(branches)
+        return found
+
+    def _factors(self, expr: sp.Expr, wrt: Sequence[sp.Symbol]) -> list[tuple[sp.Expr, int]]:
+        """The factors of ``expr`` that are not units: those involving ``wrt``."""
+        gens = [*wrt, *sorted(sp.sympify(expr).free_symbols - set(wrt), key=str)]
+        return [(f, e) for f, e in factor_list(expr, gens) if f.free_symbols & set(wrt)]
+
+    def _split(self, basis: list[sp.Expr]) -> list[list[sp.Expr]] | None:
+        """One branch per factor of the first element that is not irreducible."""
+        for element in basis:
+            factors = self._factors(element, self.variables)
+            if len(factors) > 1 or factors[0][1] > 1:
+                return [[*basis, f] for f, _ in factors]
+        return None
+
+    def _branch(self, basis: sp.GroebnerBasis) -> tuple[list[list[sp.Expr]], Component | None]:
+        """The branches an irreducible system splits into, or its component (and the
+        branches where a leading coefficient of its free variables vanishes)."""
+        free = _independent_set(basis.exprs, self.variables)
+        others = [x for x in self.variables if x not in free]
+        generators = list(basis.exprs)
+        remainder: list[list[sp.Expr]] = []
+        if free:
+            lex = sp.groebner(generators, *others, *free, order="lex", domain=self.k)
+            generators = list(lex.exprs)
+            leading = [sp.Poly(e, *others).LC() for e in generators]
+            for f, _ in self._factors(sp.Mul(*leading), free):
+                remainder.append([*basis.exprs, f])
+        field = ground_domain([*self.parameters, *free])
+        shape = self._shape(generators, others, field)
+        if isinstance(shape, list):
+            return [[*basis.exprs, b] for b in shape] + remainder, None
+        ideal = tuple(basis.exprs)
+        if remainder:  # the prime ideal is the branch's saturation by the leading coefficients
+            ideal = _saturate(ideal, sp.Mul(*(b[-1] for b in remainder)), self.variables, self.k)
+        coordinates = {x: shape.coordinates.get(x, x) for x in self.variables}
+        component = Component(
+            self.variables,
+            self.parameters,
+            tuple(free),
+            shape.symbol,
+            shape.element,
+            shape.minimal,
+            coordinates,
+            ideal,
+        )
+        return remainder, component
+
+    def _shape(self, generators, gens, field) -> _Shape | list[sp.Expr]:
+        """Shape position over ``field`` through a linear form, or the polynomials (in the
+        variables) whose vanishing splits the system, when the form's eliminant factors."""
+        if not gens:  # every variable is free: the component is the whole space
+            u = sp.Dummy("u")
+            return _Shape(u, sp.Integer(0), sp.Poly(u, u, domain=field), {})
+        for element in self._forms(gens):
+            if element in gens:
+                u, order = element, [x for x in gens if x != element] + [element]
+                system = list(generators)
+            else:
+                u = sp.Dummy("u")
+                order, system = [*gens, u], [*generators, u - element]
+            lex = sp.groebner(system, *order, order="grevlex", domain=field).fglm("lex")
+            eliminant = lex.exprs[-1]
+            factors = self._factors(eliminant, [u])
+            if len(factors) > 1 or factors[0][1] > 1:
+                return [sp.fraction(sp.together(f.subs(u, element)))[0] for f, _ in factors]
+            coordinates = _solved(lex.exprs[:-1], order[:-1])
+            if coordinates is not None:
+                minimal = sp.Poly(eliminant, u, domain=field).monic()
+                if element in gens:
+                    coordinates[element] = element
+                return _Shape(u, element, minimal, coordinates)
+        raise DecompositionLimit(f"no shape position found in {MAX_FORMS} linear forms")
+
+    def _forms(self, gens: Sequence[sp.Symbol]):
+        """The variables, last first, then random small combinations of them."""
+        yield from reversed(gens)
+        for _ in range(MAX_FORMS - len(gens)):
+            yield sp.Add(*(self.rng.randint(-3, 3) * x for x in gens[:-1]), gens[-1])
+
+
+def _solved(basis: Sequence[sp.Expr], gens: Sequence[sp.Symbol]) -> dict | None:
+    """{x: h(u)} when ``basis`` is {x - h(u) for x in gens} (shape position), else None."""
+    if len(basis) != len(gens):
+        return None
+    solved = {}
+    for e, x in zip(basis, gens, strict=True):
+        h = sp.expand(x - e)
+        if h.free_symbols & set(gens):
+            return None
+        solved[x] = h
+    return solved
+
+
+def _independent_set(basis: list[sp.Expr], variables: Sequence[sp.Symbol]) -> tuple:
+    """A maximal set S of variables independent modulo the ideal: no leading monomial of
+    the (graded reverse lexicographic) basis lies in k[S]; its size is the dimension."""
+    supports = []
+    for e in basis:
+        monomial = sp.Poly(e, *variables).monoms(order="grevlex")[0]
+        supports.append({x for x, m in zip(variables, monomial, strict=True) if m})
+    for size in range(len(variables), -1, -1):
+        for subset in itertools.combinations(variables, size):
+            if not any(s <= set(subset) for s in supports):
+                return subset
+    return ()  # pragma: no cover - the empty set is always independent
+
+
+def _saturate(ideal, h: sp.Expr, variables, k) -> tuple[sp.Expr, ...]:
+    """Generators of I : h^oo, by eliminating y from I + (1 - y h)."""
+    y = sp.Dummy("y")
+    basis = sp.groebner([*ideal, 1 - y * h], y, *variables, order="lex", domain=k)
+    kept = [e for e in basis.exprs if not e.has(y)]
+    return tuple(sp.groebner(kept, *variables, order="grevlex", domain=k).exprs)
+
+
+def _maximal(found: list[Component]) -> tuple[Component, ...]:
+    """The components contained in no other (a duplicate kept once), largest first."""
+    ordered = sorted(found, key=lambda c: -c.dimension)
+    kept: list[Component] = []
+    for c in ordered:
+        if not any(all(c.vanishes(q) for q in other.ideal) for other in kept):
+            kept.append(c)
+    return tuple(kept)
