@@ -83,9 +83,7 @@ def component_balances(component: Component) -> list[Balance]:
     if g.degree() > 2 and not component.free:
         triangular = _triangular_points(component)
         if triangular is not None:
-            return [
-                Balance(p, component, _tidy(component.element.xreplace(p))) for p in triangular
-            ]
+            return [Balance(p, component, _tidy(component.element.xreplace(p))) for p in triangular]
     constant = g.domain.is_QQ or not (set(g.free_symbols) - {u})
     roots = algebraic.exact_roots(_over_q(g) if constant else g)
     if roots is None:
