@@ -42,11 +42,12 @@ class Extension:
 
     def element(self, expr: sp.Expr) -> sp.Poly:
         """The element a rational function of u (and the ground field's symbols) is."""
+        try:  # most are polynomials in u already
+            return self.poly(sp.expand(expr))
+        except (sp.PolynomialError, sp.CoercionFailed):
+            pass
         numer, denom = sp.fraction(sp.together(sp.sympify(expr)))
-        value = self.poly(numer)
-        if denom != 1:
-            value = self.reduce(value * self.inverse(self.poly(denom)))
-        return value
+        return self.reduce(self.poly(numer) * self.inverse(self.poly(denom)))
 
     def poly(self, expr: sp.Expr) -> sp.Poly:
         """A polynomial in u, reduced modulo g."""
@@ -93,12 +94,23 @@ def exact_roots(poly: sp.Poly) -> tuple[sp.Expr, ...] | None:
     short = poly.degree() <= 4 or len(poly.terms()) <= 2
     found = sp.roots(poly, cubics=False, quartics=False) if short else {}
     if sum(found.values()) == poly.degree() and all(
-        sp.count_ops(r) <= MAX_RADICAL_OPS for r in found
+        sp.count_ops(r) <= MAX_RADICAL_OPS and _radical(r) for r in found
     ):
         return tuple(sorted(found, key=numeric_key))
     if poly.domain.is_QQ or poly.domain.is_ZZ:
         return tuple(sp.CRootOf(poly, i) for i in range(poly.degree()))
     return None
+
+
+def _radical(expr: sp.Expr) -> bool:
+    """Built from rationals, I and symbols by +, * and rational powers only (sympy may
+    write the square root of a complex number with cos and atan)."""
+    return all(
+        isinstance(node, sp.Symbol | sp.Rational | sp.Add | sp.Mul | sp.Pow)
+        or node is sp.I
+        or node.is_Rational
+        for node in sp.preorder_traversal(expr)
+    )
 
 
 def numeric_key(root: sp.Expr) -> tuple:

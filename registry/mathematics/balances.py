@@ -80,7 +80,7 @@ def component_balances(component: Component) -> list[Balance]:
     when the roots have a closed form, else one given through the root u."""
     g, u = component.minimal, component.symbol
     coords = component.coordinates
-    if g.degree() > 2 and not component.free:
+    if g.degree() > 2 and not component.free and not g.domain.is_QQ:
         triangular = _triangular_points(component)
         if triangular is not None:
             return [Balance(p, component, _tidy(component.element.xreplace(p))) for p in triangular]
@@ -98,7 +98,8 @@ def component_balances(component: Component) -> list[Balance]:
 def _triangular_points(component: Component) -> list[dict[sp.Symbol, sp.Expr]] | None:
     """The points of a zero-dimensional component solved level by level from its
     lexicographic basis (last variable first), when that basis is triangular and every
-    level has degree <= 2: short radicals, also over Q(parameters). None otherwise."""
+    level has degree <= 2: short radicals over Q(parameters), where no root can be told
+    apart numerically. None otherwise."""
     variables = component.variables
     domain = component.domain
     basis = sp.groebner(component.ideal, *variables, order="lex", domain=domain).exprs
@@ -115,6 +116,9 @@ def _triangular_points(component: Component) -> list[dict[sp.Symbol, sp.Expr]] |
         extended = []
         for point in points:
             poly = sp.Poly(sp.expand(levels[x].xreplace(point)), x)
+            if poly.degree() == 1:  # most levels: x = -b/a, no need for sympy's roots
+                extended.append({**point, x: _tidy(-poly.nth(0) / poly.nth(1))})
+                continue
             roots = sp.roots(poly)
             if sum(roots.values()) != poly.degree() or any(m > 1 for m in roots.values()):
                 return None

@@ -26,6 +26,9 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
 import sympy as sp
+from sympy.polys.matrices import DomainMatrix
+from sympy.polys.orderings import grevlex
+from sympy.polys.rings import PolyRing
 
 from .factoring import factor_list
 
@@ -73,9 +76,23 @@ class Component:
     def vanishes(self, expr: sp.Expr) -> bool:
         """Whether a polynomial (or rational function) in the variables vanishes on the
         component: at its generic point, modulo the minimal polynomial."""
-        value = sp.together(sp.sympify(expr).xreplace(dict(self.coordinates)))
-        numer = sp.fraction(value)[0]
-        return sp.Poly(numer, self.symbol, domain=self.domain).rem(self.minimal).is_zero
+        value = sp.sympify(expr).xreplace(dict(self.coordinates))
+        try:  # the coordinates are polynomials in u: so is the value, unless expr has a
+            numer = sp.Poly(sp.expand(value), self.symbol, domain=self.domain)
+        except (sp.PolynomialError, sp.CoercionFailed):  # denominator in the variables
+            numer = sp.Poly(sp.fraction(sp.together(value))[0], self.symbol, domain=self.domain)
+        return numer.rem(self.minimal).is_zero
+
+    def equations(self) -> tuple[sp.Expr, ...]:
+        """Generators of its prime ideal: g(l(x)) and x - h(l(x)) for an isolated
+        component in shape position (short), else the stored ``ideal``."""
+        if self.free:
+            return self.ideal
+        u, element = self.symbol, self.element
+        return (
+            self.minimal.as_expr().subs(u, element),
+            *(x - h.subs(u, element) for x, h in self.coordinates.items() if x != element),
+        )
 
 
 def ground_domain(symbols: Sequence[sp.Symbol]) -> sp.polys.domains.Domain:
@@ -135,6 +152,11 @@ class _Decomposition:
                 raise DecompositionLimit(f"more than {MAX_BRANCHES} branches")
             if basis.exprs == [1]:
                 continue
+            if basis.is_zero_dimensional:
+                points = self._zero_dimensional(basis)
+                if points is not None:
+                    found.extend(points)
+                    continue
             branches = self._split(basis.exprs)
             if branches is None:
                 branches, component = self._branch(basis)
@@ -142,6 +164,31 @@ class _Decomposition:
                     found.append(component)
             stack.extend(branches)
         return found
+
+    def _zero_dimensional(self, basis: sp.GroebnerBasis) -> list[Component] | None:
+        """The components of a finite system at once: when a linear form u generates the
+        algebra k[x]/I (``_cyclic``), k[x]/I = k[u]/(g) and each irreducible factor of g
+        is one component, with no further basis. None when no form does (a multiple point
+        of embedding dimension 2 or more): the system is then split on factors."""
+        algebra = _Algebra(basis, self.variables, self.k)
+        for element in self._forms(list(self.variables)):
+            u = element if element in self.variables else sp.Dummy("u")
+            cyclic = algebra.cyclic(element, u)
+            if cyclic is None:
+                continue
+            eliminant, solved = cyclic
+            found = []
+            for f, _ in self._factors(eliminant.as_expr(), [u]):
+                minimal = sp.Poly(f, u, domain=self.k).monic()
+                coordinates = {x: h.rem(minimal).as_expr() for x, h in solved.items()}
+                ideal = (*basis.exprs, sp.fraction(sp.together(f.subs(u, element)))[0])
+                found.append(
+                    Component(
+                        self.variables, self.parameters, (), u, element, minimal, coordinates, ideal
+                    )
+                )
+            return found
+        return None
 
     def _factors(self, expr: sp.Expr, wrt: Sequence[sp.Symbol]) -> list[tuple[sp.Expr, int]]:
         """The factors of ``expr`` that are not units: those involving ``wrt``."""
@@ -170,7 +217,7 @@ class _Decomposition:
             for f, _ in self._factors(sp.Mul(*leading), free):
                 remainder.append([*basis.exprs, f])
         field = ground_domain([*self.parameters, *free])
-        shape = self._shape(generators, others, field)
+        shape = self._shape(generators, others, field, None if free else basis)
         if isinstance(shape, list):
             return [[*basis.exprs, b] for b in shape] + remainder, None
         ideal = tuple(basis.exprs)
@@ -189,9 +236,10 @@ class _Decomposition:
         )
         return remainder, component
 
-    def _shape(self, generators, gens, field) -> _Shape | list[sp.Expr]:
+    def _shape(self, generators, gens, field, known=None) -> _Shape | list[sp.Expr]:
         """Shape position over ``field`` through a linear form, or the polynomials (in the
-        variables) whose vanishing splits the system, when the form's eliminant factors."""
+        variables) whose vanishing splits the system, when the form's eliminant factors.
+        ``known``: the generators' graded basis in ``gens``, reused for the last variable."""
         if not gens:  # every variable is free: the component is the whole space
             u = sp.Dummy("u")
             return _Shape(u, sp.Integer(0), sp.Poly(u, u, domain=field), {})
@@ -202,7 +250,11 @@ class _Decomposition:
             else:
                 u = sp.Dummy("u")
                 order, system = [*gens, u], [*generators, u - element]
-            lex = sp.groebner(system, *order, order="grevlex", domain=field).fglm("lex")
+            if known is not None and order == list(gens):
+                graded = known
+            else:
+                graded = sp.groebner(system, *order, order="grevlex", domain=field)
+            lex = graded.fglm("lex")
             eliminant = lex.exprs[-1]
             factors = self._factors(eliminant, [u])
             if len(factors) > 1 or factors[0][1] > 1:
@@ -220,6 +272,91 @@ class _Decomposition:
         yield from reversed(gens)
         for _ in range(MAX_FORMS - len(gens)):
             yield sp.Add(*(self.rng.randint(-3, 3) * x for x in gens[:-1]), gens[-1])
+
+
+class _Algebra:
+    """k[x]/I for a zero-dimensional I: its standard monomials (a basis) and the matrices
+    of multiplication by each variable, from one graded basis; any linear form's powers
+    then cost matrix products, no further reduction (the idea of FGLM)."""
+
+    def __init__(self, basis: sp.GroebnerBasis, gens, k):
+        self.k, self.gens = k, tuple(gens)
+        self.monomials = _standard_monomials(basis, gens)
+        self.index = {m: i for i, m in enumerate(self.monomials)}
+        ring = PolyRing(self.gens, k, grevlex)
+        self.divisors = [ring.from_dict(p.as_dict(native=True)) for p in basis.polys]
+        self.ring = ring
+        self.times = [self._multiplication(i) for i in range(len(self.gens))]
+
+    @property
+    def size(self) -> int:
+        return len(self.monomials)
+
+    def _coordinates(self, monomial: tuple[int, ...]) -> list:
+        if monomial in self.index:
+            column = [self.k.zero] * self.size
+            column[self.index[monomial]] = self.k.one
+            return column
+        remainder = self.ring({monomial: self.k.one}).rem(self.divisors)
+        column = [self.k.zero] * self.size
+        for m, c in remainder.items():
+            column[self.index[m]] = c
+        return column
+
+    def _multiplication(self, i: int) -> DomainMatrix:
+        columns = [
+            self._coordinates(tuple(e + (j == i) for j, e in enumerate(m))) for m in self.monomials
+        ]
+        return DomainMatrix([list(r) for r in zip(*columns, strict=True)], (self.size,) * 2, self.k)
+
+    def cyclic(self, element: sp.Expr, u: sp.Symbol):
+        """(g, {x: h_x}) with g(u) = 0 and x = h_x(u) in k[x]/I for u = ``element`` (a linear
+        form), when 1, u, ..., u^(D-1) span the algebra: then k[x]/I = k[u]/(g), the shape
+        lemma by linear algebra. None when they do not."""
+        k, size = self.k, self.size
+        form = sp.Poly(element, *self.gens, domain=k)
+        times = DomainMatrix.zeros((size, size), k)
+        for i, x in enumerate(self.gens):
+            c = form.coeff_monomial(x)
+            if c:
+                times += self.times[i] * k.convert(c)
+        vector = DomainMatrix([[c] for c in self._coordinates((0,) * len(self.gens))], (size, 1), k)
+        powers = [vector]
+        for _ in range(size):
+            powers.append(times * powers[-1])
+        square = DomainMatrix.hstack(*powers[:size])
+        if square.rank() < size:
+            return None
+        unit = [tuple(int(j == i) for j in range(len(self.gens))) for i in range(len(self.gens))]
+        targets = [powers[size]] + [
+            DomainMatrix([[c] for c in self._coordinates(m)], (size, 1), k) for m in unit
+        ]
+        solution = square.lu_solve(DomainMatrix.hstack(*targets)).to_list()
+        eliminant = sp.Poly.from_list(
+            [k.one, *(-solution[i][0] for i in reversed(range(size)))], u, domain=k
+        )
+        solved = {
+            x: sp.Poly.from_list([solution[i][j + 1] for i in reversed(range(size))], u, domain=k)
+            for j, x in enumerate(self.gens)
+        }
+        return eliminant, solved
+
+
+def _standard_monomials(basis: sp.GroebnerBasis, gens) -> list[tuple[int, ...]]:
+    """The exponents of the monomials no leading monomial divides (finitely many for a
+    zero-dimensional ideal): a basis of k[x]/I."""
+    leading = [sp.Poly(e, *gens).monoms(order=basis.order)[0] for e in basis.exprs]
+    found: set[tuple[int, ...]] = set()
+    frontier = [(0,) * len(gens)]
+    while frontier:
+        monomial = frontier.pop()
+        if monomial in found or any(
+            all(a >= b for a, b in zip(monomial, lm, strict=True)) for lm in leading
+        ):
+            continue
+        found.add(monomial)
+        frontier += [tuple(e + (j == i) for j, e in enumerate(monomial)) for i in range(len(gens))]
+    return sorted(found)
 
 
 def _solved(basis: Sequence[sp.Expr], gens: Sequence[sp.Symbol]) -> dict | None:
@@ -262,6 +399,6 @@ def _maximal(found: list[Component]) -> tuple[Component, ...]:
     ordered = sorted(found, key=lambda c: -c.dimension)
     kept: list[Component] = []
     for c in ordered:
-        if not any(all(c.vanishes(q) for q in other.ideal) for other in kept):
+        if not any(all(c.vanishes(q) for q in other.equations()) for other in kept):
             kept.append(c)
     return tuple(kept)
