@@ -103,11 +103,18 @@ def characteristic_polynomial(component: Component, matrix: sp.Matrix) -> Compon
     """det(lambda - K) over the component's field, split as in the module doc."""
     ext = algebraic.Extension(component.symbol, component.minimal)
     n, point = matrix.rows, dict(component.coordinates)
-    entries = [[sp.sympify(matrix[i, j]).xreplace(point) for j in range(n)] for i in range(n)]
-    dm = DomainMatrix.from_list_sympy(n, n, entries)
-    # coords[k][j]: the coefficient of u^j in the coefficient of lambda^(n-k)
-    coords = [ext.coordinates(ext.element(dm.domain.to_sympy(c))) for c in dm.charpoly()]
     k, u = ext.domain, component.symbol
+    ring = k[u]  # division-free (Berkowitz) over k[u], reduced modulo g at the end
+    rows = [
+        [
+            ring.convert(ext.element(sp.sympify(matrix[i, j]).xreplace(point)).as_expr())
+            for j in range(n)
+        ]
+        for i in range(n)
+    ]
+    charpoly = DomainMatrix(rows, (n, n), ring).charpoly()
+    # coords[i][j]: the coefficient of u^j in the coefficient of lambda^(n-i)
+    coords = [ext.coordinates(_in_u(c, u, k)) for c in charpoly]
     parts = [
         sp.Poly.from_list([row[j] for row in coords], LAMBDA, domain=k) for j in range(ext.degree)
     ]
@@ -134,6 +141,12 @@ def characteristic_polynomial(component: Component, matrix: sp.Matrix) -> Compon
         resultant = sp.resultant(component.minimal.as_expr(), rest_expr, u)
         norm = tuple(f for f, _ in factor_list(resultant, [LAMBDA]))
     return ComponentPolynomial(factors, rest_expr, varying, norm)
+
+
+def _in_u(element, u: sp.Symbol, k) -> sp.Poly:
+    """An element of k[u] (a ring element) as a Poly in u over k, without expressions."""
+    terms = {monomial: k.convert(c) for monomial, c in element.items()}
+    return sp.Poly.from_dict(terms or {(0,): k.zero}, u, domain=k)
 
 
 def balance_exponents(balance: Balance, polynomial: ComponentPolynomial) -> Exponents:

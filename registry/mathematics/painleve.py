@@ -30,6 +30,7 @@ import sympy as sp
 from sympy.polys.orderings import lex
 from sympy.polys.rings import PolyElement, PolyRing
 
+from . import algebraic
 from .prime_components import Component
 from .weighted import WeightedField
 
@@ -110,7 +111,8 @@ class _Recursion:
         self.u = component.symbol
         symbols = [s for r in resonances for s in self.free[r]]
         self.ring = PolyRing([self.u, *symbols], component.domain, lex)
-        self.g = self.ring.from_expr(component.minimal.as_expr())
+        self.ext = algebraic.Extension(component.symbol, component.minimal)
+        self.g = self._lift(component.minimal)
         point = dict(component.coordinates)
         self.a = [[self.element(point[x])] for x in split.variables]
         self.matrix = [
@@ -123,17 +125,20 @@ class _Recursion:
 
     def element(self, expr: sp.Expr) -> PolyElement:
         """A rational function of u (coefficients in k) as a reduced element of F."""
-        numer, denom = sp.fraction(sp.together(sp.sympify(expr)))
-        value = self.ring.from_expr(numer).rem(self.g)
-        if denom != 1:
-            value = (value * self.inverse(self.ring.from_expr(denom))).rem(self.g)
-        return value
+        return self._lift(self.ext.element(expr))
+
+    def _lift(self, value: sp.Poly) -> PolyElement:
+        """A Poly in u over k as an element of the ring k[u, free] (no expressions)."""
+        zeros = (0,) * (self.ring.ngens - 1)
+        return self.ring.from_dict(
+            {(e, *zeros): c for (e,), c in value.as_dict(native=True).items()}
+        )
 
     def inverse(self, value: PolyElement) -> PolyElement:
-        domain = self.ring.domain
-        poly = sp.Poly(value.as_expr(), self.u, domain=domain)
-        minimal = sp.Poly(self.g.as_expr(), self.u, domain=domain)
-        return self.ring.from_expr(poly.invert(minimal).as_expr())
+        """1/value in F, for an element without free coefficients."""
+        k = self.ring.domain
+        poly = sp.Poly.from_dict({(m[0],): c for m, c in value.items()}, self.u, domain=k)
+        return self._lift(self.ext.inverse(poly))
 
     def _terms(self) -> list[list[tuple[PolyElement, tuple[int, ...], int]]]:
         """Per component: (coefficient, monomial as a tuple of variable indices, delay

@@ -2,20 +2,22 @@
 each in shape position: the balances of Kovalevskaya's method.
 
 The system is solved by Groebner bases over k = Q (or Q(p) for parameters p), never by
-``sympy.solve``. A basis (graded reverse lexicographic, the cheap order) whose element
-factors splits the system into one branch per factor. An irreducible branch of
-dimension d has a maximal independent set S of d variables (no leading monomial lies in
-k[S]); over the field k(S) it is zero-dimensional, and a linear form u = l(x) in the
-other variables puts it in *shape position* (the shape lemma): a lexicographic basis
-{x_i - h_i(u), g(u)} with g irreducible over k(S). Then k(S)[x]/I = k(S)[u]/(g) is a
-field, so the component is prime, and its points over the algebraic closure are the
-roots of g. Where the eliminant g factors, the branch splits again.
+``sympy.solve``. A *finite* system is decomposed at once: from one graded (grevlex)
+basis, the multiplication matrices of the algebra k[x]/I give the powers of a linear
+form u = l(x) by linear algebra (as in FGLM); when they span the algebra,
+k[x]/I = k[u]/(g) (the shape lemma), so x_i = h_i(u), and each irreducible factor of g
+over k is one prime component: a field k[u]/(g_j) whose roots are its points.
 
-Components on which S is not independent are not seen over k(S): with a lexicographic
-basis in which the other variables precede S, they lie where a leading coefficient
-h(S) vanishes (Gianni, Trager and Zacharias, J. Symb. Comput. 6 (1988), Prop. 3.7),
-so the branch I + (h) is decomposed too. Components contained in others (a point of a
-family) are dropped at the end, and so is the origin.
+Otherwise a basis element that factors splits the system into one branch per factor.
+An irreducible branch of dimension d has a maximal independent set S of d variables
+(no leading monomial lies in k[S]); over the field k(S) it is zero-dimensional and a
+linear form puts it in shape position, {x_i - h_i(u), g(u)} with g irreducible over
+k(S) (where g factors, the branch splits again): a family of balances with free
+coordinates S. Components on which S is not independent are not seen over k(S): with a
+lexicographic basis in which the other variables precede S, they lie where a leading
+coefficient h(S) vanishes (Gianni, Trager and Zacharias, J. Symb. Comput. 6 (1988),
+Prop. 3.7), so the branch I + (h) is decomposed too. Components contained in others
+(a point of a family) are dropped at the end, and so is the origin.
 """
 
 from __future__ import annotations

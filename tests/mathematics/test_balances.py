@@ -8,7 +8,7 @@ import sympy as sp
 
 from registry.mathematics.balances import balance_equations, balances
 from registry.mathematics.weighted import split_field
-from tests.helpers.tops import HEAVY_WEIGHTS, STATE, euler_top, heavy_top
+from tests.helpers.tops import HEAVY_WEIGHTS, STATE, energy, euler_top, heavy_top
 
 x, y = sp.symbols("x y")
 
@@ -77,6 +77,21 @@ def test_kovalevskaya_top_two_families_of_balances_and_two_points():
     assert {b.point[m1] for b in families} == {sp.I * m2, -sp.I * m2}
     assert all(b.free == (m2,) for b in families)
     assert all(solves(split, b.point) for b in found)  # the families: for every M2
+
+
+def test_weighted_homogeneous_integrals_vanish_at_every_balance():
+    """I(c t^(-w)) = t^(-k) I(c) is constant only if I(c) = 0: H, M.gamma and |gamma|^2
+    of the heavy top vanish at each balance (families: for every value of M2)."""
+    inertia, r = (2, 2, 1), (1, 0, 0)
+    m, g = STATE[:3], STATE[3:]
+    integrals = [
+        energy(inertia, r),
+        sum(a * b for a, b in zip(m, g, strict=True)),
+        sum(b**2 for b in g),
+    ]
+    split = split_field(STATE, heavy_top(inertia, r), HEAVY_WEIGHTS)
+    for b in balances(split):
+        assert all(is_zero(integral.xreplace(b.point)) for integral in integrals)
 
 
 def test_lagrange_top_has_a_circle_of_balances():

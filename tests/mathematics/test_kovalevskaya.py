@@ -123,6 +123,15 @@ def test_yoshida_the_free_rigid_body_energy_and_momentum_have_degree_two():
     assert result.degrees == (2,)
 
 
+def test_the_free_rigid_body_with_symbolic_moments():
+    """Over Q(A, B, C): four balances in radicals of the moments, each with -1, 2, 2."""
+    A, B, C = sp.symbols("A B C", positive=True)
+    result = exponents(STATE[:3], euler_top((A, B, C)), (1, 1, 1))
+    assert [b.exponents.values for b in result.balances] == [(-1, 2, 2)] * 4
+    assert result.all_integer and result.painleve_passes
+    assert any("generic" in n for n in result.notes)
+
+
 def test_yoshida_the_heavy_top_integrals_of_degree_two_three_four():
     """Kovalevskaya's top: H (2), M.gamma (3), |gamma|^2 (4) and Kovalevskaya's integral
     (4) have their degrees among the exponents of every balance."""
