@@ -63,6 +63,25 @@ class Extension:
             raise ZeroDivisionError("division by zero in an algebraic extension")
         return value.invert(self.minimal)
 
+    def evaluate(self, poly: sp.Poly, values: Sequence[sp.Poly]) -> sp.Poly:
+        """poly(values) in F, for a polynomial over k in as many generators as values: by
+        arithmetic on polynomials in u, without expressions (fast over Q(p))."""
+        powers: dict[tuple[int, int], sp.Poly] = {}
+
+        def power(i: int, e: int) -> sp.Poly:
+            if (i, e) not in powers:
+                powers[i, e] = values[i] if e == 1 else self.reduce(power(i, e - 1) * values[i])
+            return powers[i, e]
+
+        total = sp.Poly(0, self.symbol, domain=self.domain)
+        for monomial, c in poly.as_dict(native=True).items():
+            term = sp.Poly.from_dict({(0,): c}, self.symbol, domain=self.domain)
+            for i, e in enumerate(monomial):
+                if e:
+                    term = self.reduce(term * power(i, e))
+            total += term
+        return self.reduce(total)
+
     def coordinates(self, value: sp.Poly) -> list:
         """The coefficients of 1, u, ..., u^(d-1): the element in the power basis."""
         coeffs = self.reduce(value).all_coeffs()[::-1]

@@ -80,7 +80,10 @@ def component_balances(component: Component) -> list[Balance]:
     when the roots have a closed form, else one given through the root u."""
     g, u = component.minimal, component.symbol
     coords = component.coordinates
-    if g.degree() > 2 and not component.free and not g.domain.is_QQ:
+    # levels of degree <= 2 multiply to a power of 2: only then can the triangular
+    # solve succeed, and its lexicographic basis over Q(p) is not spent in vain
+    power_of_two = g.degree() & (g.degree() - 1) == 0
+    if g.degree() > 2 and power_of_two and not component.free and not g.domain.is_QQ:
         triangular = _triangular_points(component)
         if triangular is not None:
             return [Balance(p, component, _tidy(component.element.xreplace(p))) for p in triangular]

@@ -102,19 +102,19 @@ class ComponentPolynomial:
 def characteristic_polynomial(component: Component, matrix: sp.Matrix) -> ComponentPolynomial:
     """det(lambda - K) over the component's field, split as in the module doc."""
     ext = algebraic.Extension(component.symbol, component.minimal)
-    n, point = matrix.rows, dict(component.coordinates)
-    k, u = ext.domain, component.symbol
-    ring = k[u]  # division-free (Berkowitz) over k[u], reduced modulo g at the end
+    n, k, u = matrix.rows, ext.domain, component.symbol
+    ring = k[u]  # Berkowitz's division-free algorithm over k[u], reduced modulo g after
     rows = [
-        [
-            ring.convert(ext.element(sp.sympify(matrix[i, j]).xreplace(point)).as_expr())
-            for j in range(n)
-        ]
+        [ring.ring.from_dict(dict(component.evaluate(matrix[i, j]).as_dict(native=True)))
+         for j in range(n)]
         for i in range(n)
+    ]  # fmt: skip
+    charpoly = [  # the coefficients of lambda^n, ..., lambda^0
+        ext.reduce(sp.Poly.from_dict(dict(c.items()) or {(0,): k.zero}, u, domain=k))
+        for c in DomainMatrix(rows, (n, n), ring).charpoly()
     ]
-    charpoly = DomainMatrix(rows, (n, n), ring).charpoly()
     # coords[i][j]: the coefficient of u^j in the coefficient of lambda^(n-i)
-    coords = [ext.coordinates(_in_u(c, u, k)) for c in charpoly]
+    coords = [ext.coordinates(c) for c in charpoly]
     parts = [
         sp.Poly.from_list([row[j] for row in coords], LAMBDA, domain=k) for j in range(ext.degree)
     ]
@@ -123,30 +123,33 @@ def characteristic_polynomial(component: Component, matrix: sp.Matrix) -> Compon
         if not part.is_zero:
             common = common.gcd(part)
     common = common.monic()
-    full = sp.Add(
-        *(
-            LAMBDA ** (n - i) * u**j * k.to_sympy(c)
-            for i, row in enumerate(coords)
-            for j, c in enumerate(row)
-        )
+    quotient = _divide(charpoly, common, ext)
+    rest = sp.Add(
+        *(LAMBDA ** (len(quotient) - 1 - i) * q.as_expr() for i, q in enumerate(quotient))
     )
-    rest = sp.Poly(full, LAMBDA, u, domain=k).div(sp.Poly(common.as_expr(), LAMBDA, u, domain=k))[0]
     gens = [LAMBDA, *sorted(common.free_symbols - {LAMBDA}, key=str)]
     factors = tuple((f, e) for f, e in factor_list(common.as_expr(), gens) if f.has(LAMBDA))
     free = set(component.free)
-    rest_expr = rest.as_expr()
-    varying = any(f.free_symbols & free for f, _ in factors) or bool(rest_expr.free_symbols & free)
+    varying = any(f.free_symbols & free for f, _ in factors) or bool(rest.free_symbols & free)
     norm: tuple[sp.Expr, ...] = ()
-    if k.is_QQ and rest.degree(LAMBDA) > 0:
-        resultant = sp.resultant(component.minimal.as_expr(), rest_expr, u)
+    if k.is_QQ and len(quotient) > 1:
+        resultant = sp.resultant(component.minimal.as_expr(), rest, u)
         norm = tuple(f for f, _ in factor_list(resultant, [LAMBDA]))
-    return ComponentPolynomial(factors, rest_expr, varying, norm)
+    return ComponentPolynomial(factors, rest, varying, norm)
 
 
-def _in_u(element, u: sp.Symbol, k) -> sp.Poly:
-    """An element of k[u] (a ring element) as a Poly in u over k, without expressions."""
-    terms = {monomial: k.convert(c) for monomial, c in element.items()}
-    return sp.Poly.from_dict(terms or {(0,): k.zero}, u, domain=k)
+def _divide(dividend: list[sp.Poly], divisor: sp.Poly, ext) -> list[sp.Poly]:
+    """The quotient (leading first) of a polynomial in lambda over F by a monic one over
+    k that divides it exactly."""
+    divisor_coeffs = [ext.domain.to_sympy(c) for c in divisor.all_coeffs()]
+    remainder = list(dividend)
+    quotient = []
+    for i in range(len(dividend) - len(divisor_coeffs) + 1):
+        lead = remainder[i]
+        quotient.append(lead)
+        for j, d in enumerate(divisor_coeffs[1:], 1):
+            remainder[i + j] = ext.reduce(remainder[i + j] - lead * d)
+    return quotient
 
 
 def balance_exponents(balance: Balance, polynomial: ComponentPolynomial) -> Exponents:

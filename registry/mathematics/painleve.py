@@ -113,11 +113,9 @@ class _Recursion:
         self.ring = PolyRing([self.u, *symbols], component.domain, lex)
         self.ext = algebraic.Extension(component.symbol, component.minimal)
         self.g = self._lift(component.minimal)
-        point = dict(component.coordinates)
-        self.a = [[self.element(point[x])] for x in split.variables]
+        self.a = [[self._lift(component.evaluate(x))] for x in split.variables]
         self.matrix = [
-            [self.element(sp.sympify(matrix[i, j]).xreplace(point)) for j in range(n)]
-            for i in range(n)
+            [self._lift(component.evaluate(matrix[i, j])) for j in range(n)] for i in range(n)
         ]
         self.terms = self._terms()
         self.memo: dict[tuple[int, ...], list[PolyElement]] = {}

@@ -22,6 +22,7 @@ Prop. 3.7), so the branch I + (h) is decomposed too. Components contained in oth
 
 from __future__ import annotations
 
+import functools
 import itertools
 import random
 from collections.abc import Mapping, Sequence
@@ -32,6 +33,7 @@ from sympy.polys.matrices import DomainMatrix
 from sympy.polys.orderings import grevlex
 from sympy.polys.rings import PolyRing
 
+from .algebraic import Extension
 from .factoring import factor_list
 
 #: The most systems a decomposition visits before it gives up (each a Groebner basis).
@@ -84,6 +86,25 @@ class Component:
         except (sp.PolynomialError, sp.CoercionFailed):  # denominator in the variables
             numer = sp.Poly(sp.fraction(sp.together(value))[0], self.symbol, domain=self.domain)
         return numer.rem(self.minimal).is_zero
+
+    @functools.cached_property
+    def point(self) -> tuple[sp.Poly, ...]:
+        """The generic point's coordinates other than the free ones, as polynomials in u
+        over k(S)."""
+        return tuple(
+            sp.Poly(self.coordinates[x], self.symbol, domain=self.domain)
+            for x in self.variables
+            if x not in self.free
+        )
+
+    def evaluate(self, expr: sp.Expr) -> sp.Poly:
+        """A polynomial in the variables (coefficients in k) at the generic point, as a
+        polynomial in u reduced modulo the minimal polynomial."""
+        bound = [x for x in self.variables if x not in self.free]
+        if not bound:
+            return sp.Poly(expr, self.symbol, domain=self.domain)
+        poly = sp.Poly(expr, *bound, domain=self.domain)
+        return Extension(self.symbol, self.minimal).evaluate(poly, self.point)
 
     def equations(self) -> tuple[sp.Expr, ...]:
         """Generators of its prime ideal: g(l(x)) and x - h(l(x)) for an isolated
