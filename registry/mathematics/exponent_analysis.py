@@ -69,14 +69,15 @@ class BalanceResult:
         b, e = self.balance, self.exponents
         point = dict(b.point)
         extra: dict = {}
+        named: dict = {}
         if b.root is None:  # the point through a root theta of the component's polynomial
-            theta = sp.Symbol("theta")
-            point = {x: v.xreplace({b.component.symbol: theta}) for x, v in point.items()}
-            g = b.component.minimal.as_expr().xreplace({b.component.symbol: theta})
+            named = {b.component.symbol: sp.Symbol("theta")}
+            point = {x: v.xreplace(named) for x, v in point.items()}
+            g = b.component.minimal.as_expr().xreplace(named)
             extra["root_of"] = f"{sp.sstr(g)} = 0"
         return {
             "point": {str(x): sp.sstr(v) for x, v in point.items()},
-            "exponents": _exponent_texts(e),
+            "exponents": _exponent_texts(e, named),
             "integer": e.integer,
             "rational": e.rational,
             "dimension": b.dimension,
@@ -241,11 +242,13 @@ def _tidy(expr: sp.Expr) -> sp.Expr:
     return factor(expr)
 
 
-def _exponent_texts(e: Exponents) -> list[str]:
-    texts = [sp.sstr(v) for v in e.values]
+def _exponent_texts(e: Exponents, named: dict) -> list[str]:
+    """The exponents as text, with multiplicity; a factor whose roots are not written
+    out appears once per root, as "root of <factor>"."""
+    texts = [sp.sstr(v.xreplace(named)) for v in e.values]
     for f, m in e.implicit:
         degree = sp.Poly(f, LAMBDA).degree()
-        texts += [f"root of {sp.sstr(f)}"] * (degree * m)
+        texts += [f"root of {sp.sstr(f.xreplace(named))}"] * (degree * m)
     return texts
 
 

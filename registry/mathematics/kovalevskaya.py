@@ -188,8 +188,11 @@ def _balance_roots(balance: Balance, polynomial: ComponentPolynomial) -> list[sp
     at the balance (ball arithmetic), counted to H's degree; elsewhere the roots of H with
     the balance's root put in, where sympy writes them briefly. None when neither works."""
     component, u, rest = balance.component, balance.component.symbol, polynomial.rest
-    if balance.root is None:
-        return None
+    if balance.root is None:  # written in terms of u, a root of the minimal polynomial
+        linear = sp.Poly(rest, LAMBDA)
+        if linear.degree() != 1:
+            return None
+        return [sp.factor_terms(sp.together(-linear.nth(0) / linear.nth(1)))]
     if polynomial.norm:
         return _roots_by_norm(component, polynomial, balance.root)
     at = sp.Poly(sp.expand(rest.subs(u, balance.root)), LAMBDA)

@@ -58,3 +58,15 @@ def test_a_field_without_balances_says_so():
     assert result.balances == ()
     assert "the leading part has no balance: no Laurent solution x = c t^(-w)" in result.notes
     assert result.statement == ""
+
+
+def test_balances_without_closed_forms_are_given_through_a_root_theta():
+    """Over Q(a) three balances are the roots of a cubic: one entry, written with theta."""
+    a = sp.Symbol("a")
+    result = exponents([x, y], [a * y**2 + 2 * x**2, 2 * x**2 - 2 * x * y + y**2], [1, 1])
+    (balance,) = result.balances
+    document = balance.as_dict()
+    assert document["point"]["y"] == "theta" and "theta" in document["point"]["x"]
+    assert document["root_of"].startswith("theta**3 + ") and document["root_of"].endswith("= 0")
+    assert document["exponents"][0] == "-1" and "theta" in document["exponents"][1]
+    assert not balance.exponents.rational and not result.all_rational
