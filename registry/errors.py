@@ -73,6 +73,20 @@ class ExpressionError(RegistryError, ValueError):
         super().__init__(f"{message}: {_quote(text)}")
 
 
+class WeightedFieldError(RegistryError, ValueError):
+    """A vector field and weights that admit no Kovalevskaya analysis: a component that
+    is not a polynomial in the variables, a weight that is not a positive integer, or
+    terms whose shift makes x = c t^(-w) impossible (``mathematics.weighted``). Every
+    problem is listed, each as a ``Problem`` naming the component or weight."""
+
+    def __init__(self, problems: list[Problem]):
+        self.problems = list(problems)
+        super().__init__(str(self))
+
+    def __str__(self) -> str:
+        return "\n".join(str(p) for p in self.problems)
+
+
 class UnknownCaseError(RegistryError, LookupError):
     """A case id that the registry does not hold."""
 

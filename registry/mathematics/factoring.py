@@ -9,6 +9,8 @@ cost of showing residuals and corrections; FLINT's is the same mathematics, much
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 import sympy as sp
 from sympy.core.mul import _keep_coeff
 from sympy.polys.polyerrors import CoercionFailed, PolynomialError
@@ -71,3 +73,31 @@ def _factor_polynomial(expr: sp.Expr) -> tuple[sp.Rational, sp.Expr]:
         for f, e in factors
     ]
     return sp.Integer(int(content)) / scale, sp.Mul(*parts)
+
+
+def factor_list(expr: sp.Expr, gens: Sequence[sp.Symbol]) -> list[tuple[sp.Expr, int]]:
+    """The irreducible factors over Q of a polynomial in ``gens`` (its numerator, for a
+    rational function), each with its multiplicity, primitive with a positive leading
+    coefficient in sympy's order; the content is dropped (it never vanishes).
+
+    >>> x, a = sp.symbols("x a")
+    >>> factor_list(2 * a * x**2 - 2 * a, [x, a])
+    [(a, 1), (x - 1, 1), (x + 1, 1)]
+    """
+    numer = sp.fraction(sp.together(sp.sympify(expr)))[0]
+    gens = [g for g in gens if numer.has(g)]
+    if not gens:
+        return []
+    poly = sp.Poly(numer, *gens, domain=sp.QQ)
+    if flint is None:  # pragma: no cover - python-flint is a dependency
+        found = [(f.as_expr(), e) for f, e in poly.factor_list()[1]]
+    else:
+        _, integral = poly.clear_denoms(convert=True)
+        ctx = flint.fmpz_mpoly_ctx.get(tuple(f"x{i}" for i in range(len(gens))), "lex")
+        _, factors = factor_mpoly(ctx.from_dict({m: int(c) for m, c in integral.terms()}))
+        found = [
+            (sp.Poly.from_dict({m: int(c) for m, c in f.to_dict().items()}, *gens), e)
+            for f, e in factors
+        ]
+        found = [((-f if f.LC() < 0 else f).as_expr(), e) for f, e in found]
+    return sorted(found, key=lambda fe: sp.default_sort_key(fe[0]))

@@ -1,0 +1,432 @@
+"""Special parameter values of a family of fields: where every Kovalevskaya exponent of
+every balance is an integer (or rational), each value with its own exact analysis.
+
+*Generic part.* Over Q(p) the balances come in irreducible components; the exponents
+of all the balances of one component are the roots of its *exponent polynomial*
+N(lambda; p) = Res_u(g, det(lambda - K)), the product of the characteristic polynomials
+of its conjugate balances, monic with coefficients in Q(p). Every exponent of every
+balance is an integer exactly when every root of the product of the N's is, and that
+is decided on their irreducible factors over Q(p) (``integrality``).
+
+*Where the generic part does not hold.* N specialises correctly at p0 when no balance
+escapes to infinity there and no new balance appears. So the *exceptional* values are
+(a) the poles of N's coefficients and of the components' coordinates and minimal
+polynomials (balances escaping or the representation failing), and (b) the parameter
+values of the components that exist only there (found by solving the balance equations
+with the parameters as unknowns: a component on which p is algebraic over Q, such as
+Kovalevskaya's family of balances at A = B = 2C). Values where a denominator of the
+field vanishes are not admissible. Every rational exceptional value is analysed on its
+own; an irrational one is listed, unexamined, and the result is then not complete.
+
+*What is guaranteed.* For one free parameter, ``complete`` says that no admissible
+value outside the lists has all exponents integer (resp. rational, among rational
+values): the candidates come from necessary conditions bounded as in ``integrality``,
+and each value reported is confirmed by an exact analysis at that value. With several
+free parameters the conditions are reported and small rational values are searched;
+nothing is claimed complete.
+"""
+
+from __future__ import annotations
+
+import itertools
+import time
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+
+import sympy as sp
+
+from . import algebraic
+from .balances import balance_equations
+from .exponent_analysis import ExponentAnalysis, analyse
+from .factoring import factor_list
+from .integrality import Candidates, integer_candidates, rational_candidates
+from .kovalevskaya import LAMBDA, characteristic_polynomial, kovalevskaya_matrix
+from .prime_components import Component, components
+from .weighted import WeightedField, split_field
+
+#: Members of an infinite family analysed to confirm it (index -MEMBERS..MEMBERS).
+MEMBERS = 2
+#: The small rational values tried for each parameter when there are several.
+GRID = tuple(sorted({*map(sp.Integer, range(-3, 4)), *(sp.Rational(a, 2) for a in (-3, -1, 1, 3))}))
+
+
+@dataclass(frozen=True)
+class SpecialSet:
+    """Parameter values where every exponent is an integer (``kind`` "integer") or
+    rational: one point (``values``, with its exact ``analysis``), or an infinite family
+    given in terms of an ``index`` (an integer n or a rational t, ``ranges`` says which)
+    with the analyses of a few members."""
+
+    kind: str
+    values: Mapping[sp.Symbol, sp.Expr]
+    analysis: ExponentAnalysis | None = None
+    index: sp.Symbol | None = None
+    ranges: str = ""
+    members: tuple[ExponentAnalysis, ...] = ()
+    notes: tuple[str, ...] = ()
+
+    def as_dict(self) -> dict:
+        found: dict = {
+            "kind": self.kind,
+            "values": {str(k): sp.sstr(v) for k, v in self.values.items()},
+        }
+        if self.index is not None:
+            found["index"] = {"name": str(self.index), "ranges": self.ranges}
+            found["members"] = [
+                {"exponents": _exponents(a), "painleve": _painleve(a)} for a in self.members
+            ]
+        if self.analysis is not None:
+            found["exponents"] = _exponents(self.analysis)
+            found["painleve"] = _painleve(self.analysis)
+        found["notes"] = list(self.notes)
+        return found
+
+
+@dataclass(frozen=True)
+class ExponentFamily:
+    """The generic analysis of a family over Q(free), its exponent polynomial's factors,
+    the exceptional parameter values, and the special sets found."""
+
+    free: tuple[sp.Symbol, ...]
+    generic: ExponentAnalysis
+    factors: tuple[tuple[sp.Expr, int], ...]
+    exceptional: tuple[sp.Expr, ...]
+    unexamined: tuple[sp.Expr, ...]
+    integer: tuple[SpecialSet, ...]
+    rational: tuple[SpecialSet, ...]
+    complete_integer: bool
+    complete_rational: bool
+    coverage: tuple[str, ...] = ()
+    seconds: float = field(default=0.0, compare=False)
+
+    def as_dict(self) -> dict:
+        """The generic analysis's document with ``free`` and the ``special`` list."""
+        document = self.generic.as_dict()
+        document["free"] = [str(p) for p in self.free]
+        document["exponent_polynomial"] = [
+            {"factor": sp.sstr(f), "multiplicity": m} for f, m in self.factors
+        ]
+        document["exceptional"] = [f"{sp.sstr(q)} = 0" for q in self.exceptional]
+        document["special"] = [s.as_dict() for s in (*self.integer, *self.rational)]
+        document["complete"] = {
+            "integer": self.complete_integer,
+            "rational": self.complete_rational,
+        }
+        document["coverage"] = list(self.coverage)
+        document["seconds"] = round(self.seconds, 3)
+        return document
+
+
+def exponent_family(
+    variables: Sequence[sp.Symbol],
+    field: Sequence[sp.Expr],
+    weights: Sequence[int],
+    free: Sequence[sp.Symbol],
+    *,
+    seed: int = 0,
+) -> ExponentFamily:
+    """The special values of the ``free`` parameters (every symbol of the field other
+    than the variables) where all exponents are integers, or rational (module doc)."""
+    start = time.perf_counter()
+    free = tuple(free)
+    split = split_field(variables, field, weights, parameters=free)
+    generic = analyse(split, painleve=False, seed=seed)
+    matrix = kovalevskaya_matrix(split)
+    factors, varying, poles = _exponent_polynomial(generic, matrix)
+    invalid = _field_denominators(split)
+    special = _special_components(split, invalid, seed)
+    exceptional = tuple(dict.fromkeys([*poles, *special]))
+    if len(free) == 1:
+        return _one_parameter(split, generic, factors, exceptional, invalid, varying, start)
+    integer_sets, rational_sets = _grid_search(split, factors, invalid)
+    coverage = [
+        "several free parameters: small rational values searched "
+        f"({len(GRID)} per parameter); not complete"
+    ]
+    return ExponentFamily(
+        free,
+        generic,
+        factors,
+        exceptional,
+        exceptional,
+        integer_sets,
+        rational_sets,
+        False,
+        False,
+        tuple(coverage),
+        time.perf_counter() - start,
+    )
+
+
+def _one_parameter(split, generic, factors, exceptional, invalid, varying, start):
+    """The special sets of one free parameter p: the generic candidates (``integrality``)
+    confirmed one by one, and every rational exceptional value analysed on its own."""
+    (p,) = split.parameters
+    polys = [f for f, _ in factors]
+    roots = _roots(exceptional, p, invalid)
+    unexamined = tuple(v for v in roots if not v.is_rational)
+    integer_candidates_ = integer_candidates(polys, p, LAMBDA)
+    rational_candidates_ = rational_candidates(polys, p, LAMBDA)
+    integer, int_complete = _integer_sets(integer_candidates_, split, p, roots, invalid, polys)
+    rational, rat_complete = _rational_sets(rational_candidates_, split, p, roots, invalid)
+    note = ("an exceptional value (the generic analysis may not hold): analysed on its own",)
+    for v in roots:
+        analysis = (
+            _analysis_at(split.field, split.variables, split.weights, {p: v})
+            if v.is_rational
+            else None
+        )
+        if analysis is None:
+            continue
+        if analysis.all_integer:
+            integer += (SpecialSet("integer", {p: v}, analysis, notes=note),)
+        elif analysis.all_rational:
+            rational += (SpecialSet("rational", {p: v}, analysis, notes=note),)
+    coverage = [*integer_candidates_.notes, *rational_candidates_.notes]
+    if varying:
+        coverage.append("some family of balances has exponents that vary along it: not handled")
+    if unexamined:
+        shown = ", ".join(sp.sstr(v) for v in unexamined)
+        coverage.append(f"irrational exceptional values not examined: {shown}")
+    examined = not unexamined and not varying
+    int_complete, rat_complete = int_complete and examined, rat_complete and examined
+    coverage.append(
+        f"integer: {'complete' if int_complete else 'not complete'}; rational (rational "
+        f"parameter values): {'complete' if rat_complete else 'not complete'}"
+    )
+    return ExponentFamily(
+        (p,),
+        generic,
+        factors,
+        exceptional,
+        unexamined,
+        _sorted(integer),
+        _sorted(rational),
+        int_complete,
+        rat_complete,
+        tuple(coverage),
+        time.perf_counter() - start,
+    )
+
+
+def _exponent_polynomial(generic: ExponentAnalysis, matrix: sp.Matrix):
+    """The irreducible factors (over Q(free)) of the product of the components' exponent
+    polynomials, whether some factor varies along a family, and the pole equations."""
+    seen: dict[int, Component] = {}
+    for b in generic.balances:
+        seen.setdefault(id(b.balance.component), b.balance.component)
+    total: dict[sp.Expr, int] = {}
+    varying = False
+    poles: list[sp.Expr] = []
+    params = set(generic.parameters)
+    for component in seen.values():
+        polynomial = characteristic_polynomial(component, matrix)
+        u, g = component.symbol, component.minimal
+        norm = sp.Mul(*(f ** (e * g.degree()) for f, e in polynomial.common))
+        if sp.degree(polynomial.rest, LAMBDA) > 0:
+            norm *= sp.resultant(g.as_expr(), polynomial.rest, u)
+        gens = [LAMBDA, *sorted(norm.free_symbols - {LAMBDA}, key=str)]
+        for f, e in factor_list(norm, gens):
+            if not f.has(LAMBDA):
+                continue
+            if f.free_symbols & set(component.free):
+                varying = True
+                continue
+            total[f] = total.get(f, 0) + e
+            poles.append(sp.Poly(f, LAMBDA).LC())
+        data = [g.as_expr(), *component.coordinates.values()]
+        for expr in data:
+            for c in sp.Poly(sp.together(expr), u).coeffs() if expr.has(u) else [expr]:
+                poles.append(sp.fraction(sp.cancel(c))[1])
+    equations = []
+    for q in poles:
+        for f, _ in factor_list(q, sorted(params, key=str)):
+            if f.free_symbols & params and f not in equations:
+                equations.append(f)
+    factors = tuple(sorted(total.items(), key=lambda fe: sp.default_sort_key(fe[0])))
+    return factors, varying, equations
+
+
+def _field_denominators(split: WeightedField) -> tuple[sp.Expr, ...]:
+    """The irreducible factors of the field's denominators: where it is not defined."""
+    found: list[sp.Expr] = []
+    for v in split.field:
+        for f, _ in factor_list(sp.fraction(sp.together(v))[1], split.parameters):
+            if f not in found:
+                found.append(f)
+    return tuple(found)
+
+
+def _special_components(split: WeightedField, invalid, seed: int) -> list[sp.Expr]:
+    """Polynomials q(p) whose roots carry components of balances that exist only there:
+    the balance equations solved with the parameters as unknowns (module doc, (b))."""
+    equations = [sp.fraction(sp.together(e))[0] for e in balance_equations(split)]
+    unknowns = [*split.variables, *split.parameters]
+    found: list[sp.Expr] = []
+    for c in components(equations, unknowns, origin=split.variables, seed=seed):
+        if any(c.vanishes(d) for d in invalid):
+            continue
+        ext = algebraic.Extension(c.symbol, c.minimal)
+        for p in split.parameters:
+            if p in c.free:
+                continue
+            z = sp.Dummy("z")
+            q = algebraic.minimal_polynomial(ext, ext.element(c.coordinates[p]), z)
+            if not (q.as_expr().free_symbols - {z}):
+                found.append(sp.expand(q.as_expr().subs(z, p)))
+    return found
+
+
+def _roots(equations: Sequence[sp.Expr], p: sp.Symbol, invalid) -> list[sp.Expr]:
+    """The real roots of the exceptional equations (one parameter), without the values
+    where the field is not defined."""
+    bad = {r for d in invalid for r in sp.Poly(d, p).real_roots()} if invalid else set()
+    found = []
+    for q in equations:
+        for r in sp.Poly(q, p).real_roots():
+            if r not in bad and r not in found:
+                found.append(r)
+    return found
+
+
+def _analysis_at(field, variables, weights, values) -> ExponentAnalysis | None:
+    """The exact analysis at given parameter values (None where the field is undefined)."""
+    try:
+        concrete = [sp.sympify(v).subs(values) for v in field]
+    except ZeroDivisionError:  # pragma: no cover - sympy gives zoo instead
+        return None
+    if any(c.has(sp.zoo, sp.nan) for c in concrete):
+        return None
+    return analyse(split_field(variables, concrete, weights))
+
+
+def _integer_sets(cands: Candidates, split, p, exceptional, invalid, factors):
+    sets = []
+    complete = cands.complete
+    for v in cands.values:
+        if v in exceptional or _undefined(invalid, p, v):
+            continue
+        if v.is_rational:
+            analysis = _analysis_at(split.field, split.variables, split.weights, {p: v})
+            if analysis is not None and analysis.all_integer:
+                sets.append(SpecialSet("integer", {p: v}, analysis))
+        else:
+            sets.append(
+                SpecialSet(
+                    "integer",
+                    {p: v},
+                    notes=("irrational value: checked on the exponent polynomial only",),
+                )
+            )
+    for expr, index, ranges in cands.families:
+        if expr == p:  # every value: the exponents do not depend on p
+            sets.append(SpecialSet("integer", {}, index=p, ranges="every admissible value"))
+            continue
+        members = _members(split, p, expr, index)
+        if all(m.all_integer for m in members):
+            sets.append(
+                SpecialSet("integer", {p: expr}, index=index, ranges=ranges, members=tuple(members))
+            )
+        else:
+            complete = False
+            for k in range(-MEMBERS * 3, MEMBERS * 3 + 1):
+                value = expr.subs(index, k)
+                if value in exceptional or _undefined(invalid, p, value):
+                    continue
+                analysis = _analysis_at(split.field, split.variables, split.weights, {p: value})
+                if analysis is not None and analysis.all_integer:
+                    sets.append(SpecialSet("integer", {p: value}, analysis))
+    return tuple(sets), complete
+
+
+def _rational_sets(cands: Candidates, split, p, exceptional, invalid):
+    sets = []
+    for v in cands.values:
+        if v in exceptional or _undefined(invalid, p, v):
+            continue
+        analysis = _analysis_at(split.field, split.variables, split.weights, {p: v})
+        if analysis is not None and analysis.all_rational and not analysis.all_integer:
+            sets.append(SpecialSet("rational", {p: v}, analysis))
+    for expr, index, ranges in cands.families:
+        members = _members(split, p, expr, index, rational=True) if expr != p else []
+        values = {} if expr == p else {p: expr}
+        sets.append(
+            SpecialSet("rational", values, index=index, ranges=ranges, members=tuple(members))
+        )
+    return tuple(sets), cands.complete
+
+
+def _members(split, p, expr, index, rational: bool = False) -> list[ExponentAnalysis]:
+    """Exact analyses of a few members of a family (the admissible ones)."""
+    found = []
+    picks = [sp.Rational(k, 2) if rational else k for k in range(-MEMBERS, MEMBERS + 1)]
+    for k in picks:
+        value = sp.cancel(expr.subs(index, k))
+        if value.has(sp.zoo, sp.nan):
+            continue
+        analysis = _analysis_at(split.field, split.variables, split.weights, {p: value})
+        if analysis is not None:
+            found.append(analysis)
+    return found
+
+
+def _undefined(invalid, p, value) -> bool:
+    return any(sp.simplify(d.subs(p, value)) == 0 for d in invalid)
+
+
+def _grid_search(split: WeightedField, factors, invalid):
+    """Several parameters: small rational values where the exponent polynomial's roots are
+    integers (or rational), each confirmed by an exact analysis."""
+    params = split.parameters
+    integer, rational = [], []
+    for point in itertools.product(GRID, repeat=len(params)):
+        values = dict(zip(params, point, strict=True))
+        if any(sp.simplify(d.subs(values)) == 0 for d in invalid):
+            continue
+        kind = _root_kind([f.subs(values) for f, _ in factors])
+        if kind is None:
+            continue
+        analysis = _analysis_at(split.field, split.variables, split.weights, values)
+        if analysis is None:
+            continue
+        if analysis.all_integer:
+            integer.append(SpecialSet("integer", values, analysis))
+        elif analysis.all_rational:
+            rational.append(SpecialSet("rational", values, analysis))
+    return tuple(integer), tuple(rational)
+
+
+def _root_kind(polys: Sequence[sp.Expr]) -> str | None:
+    """ "integer" or "rational" when every root of every polynomial is, else None."""
+    kind = "integer"
+    for f in polys:
+        numer = sp.fraction(sp.together(f))[0]
+        if not numer.has(LAMBDA):
+            return None
+        for g, _ in sp.factor_list(numer, LAMBDA)[1]:
+            if sp.degree(g, LAMBDA) > 1:
+                return None
+            a1, a0 = sp.Poly(g, LAMBDA).all_coeffs()
+            if not (-a0 / a1).is_integer:
+                kind = "rational"
+    return kind
+
+
+def _sorted(sets) -> tuple[SpecialSet, ...]:
+    return tuple(
+        sorted(
+            sets,
+            key=lambda s: (s.index is not None, sp.default_sort_key(tuple(s.values.items()))),
+        )
+    )
+
+
+def _exponents(analysis: ExponentAnalysis) -> list[list[str]]:
+    return [[sp.sstr(v) for v in b.exponents.values] for b in analysis.balances]
+
+
+def _painleve(analysis: ExponentAnalysis) -> dict:
+    return {
+        "passes": analysis.painleve_passes,
+        "conditions": list(analysis.conditions),
+    }

@@ -1,0 +1,427 @@
+"""The irreducible components of a polynomial system's zero set, away from the origin,
+each in shape position: the balances of Kovalevskaya's method.
+
+The system is solved by Groebner bases over k = Q (or Q(p) for parameters p), never by
+``sympy.solve``. A *finite* system is decomposed at once: from one graded (grevlex)
+basis, the multiplication matrices of the algebra k[x]/I give the powers of a linear
+form u = l(x) by linear algebra (as in FGLM); when they span the algebra,
+k[x]/I = k[u]/(g) (the shape lemma), so x_i = h_i(u), and each irreducible factor of g
+over k is one prime component: a field k[u]/(g_j) whose roots are its points.
+
+Otherwise a basis element that factors splits the system into one branch per factor.
+An irreducible branch of dimension d has a maximal independent set S of d variables
+(no leading monomial lies in k[S]); over the field k(S) it is zero-dimensional and a
+linear form puts it in shape position, {x_i - h_i(u), g(u)} with g irreducible over
+k(S) (where g factors, the branch splits again): a family of balances with free
+coordinates S. Components on which S is not independent are not seen over k(S): with a
+lexicographic basis in which the other variables precede S, they lie where a leading
+coefficient h(S) vanishes (Gianni, Trager and Zacharias, J. Symb. Comput. 6 (1988),
+Prop. 3.7), so the branch I + (h) is decomposed too. Components contained in others
+(a point of a family) are dropped at the end, and so is the origin.
+"""
+
+from __future__ import annotations
+
+import functools
+import itertools
+import random
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+
+import sympy as sp
+from sympy.polys.matrices import DomainMatrix
+from sympy.polys.orderings import grevlex
+from sympy.polys.rings import PolyRing
+
+from .algebraic import Extension
+from .factoring import factor_list
+
+#: The most systems a decomposition visits before it gives up (each a Groebner basis).
+MAX_BRANCHES = 400
+#: Linear forms tried for shape position before a branch is given up.
+MAX_FORMS = 12
+
+
+class DecompositionLimit(Exception):
+    """The decomposition would exceed ``MAX_BRANCHES`` systems or find no shape position."""
+
+
+@dataclass(frozen=True)
+class Component:
+    """One irreducible component over k: its free variables S (dimension len(S)) and its
+    generic point x_i = h_i(u) (``coordinates``, rational in S and the parameters),
+    where u = ``element`` is a root of the irreducible ``minimal`` polynomial over k(S).
+
+    ``ideal`` generates its prime ideal in k[x] (for containment tests)."""
+
+    variables: tuple[sp.Symbol, ...]
+    parameters: tuple[sp.Symbol, ...]
+    free: tuple[sp.Symbol, ...]
+    symbol: sp.Symbol
+    element: sp.Expr
+    minimal: sp.Poly
+    coordinates: Mapping[sp.Symbol, sp.Expr]
+    ideal: tuple[sp.Expr, ...]
+
+    @property
+    def dimension(self) -> int:
+        return len(self.free)
+
+    @property
+    def degree(self) -> int:
+        """The number of points (or families) over the algebraic closure of k(S) it holds."""
+        return self.minimal.degree()
+
+    @property
+    def domain(self) -> sp.polys.domains.Domain:
+        """k(S): Q, or the rational functions of the parameters and free variables."""
+        return self.minimal.domain
+
+    def vanishes(self, expr: sp.Expr) -> bool:
+        """Whether a polynomial (or rational function) in the variables vanishes on the
+        component: at its generic point, modulo the minimal polynomial."""
+        value = sp.sympify(expr).xreplace(dict(self.coordinates))
+        try:  # the coordinates are polynomials in u: so is the value, unless expr has a
+            numer = sp.Poly(sp.expand(value), self.symbol, domain=self.domain)
+        except (sp.PolynomialError, sp.CoercionFailed):  # denominator in the variables
+            numer = sp.Poly(sp.fraction(sp.together(value))[0], self.symbol, domain=self.domain)
+        return numer.rem(self.minimal).is_zero
+
+    @functools.cached_property
+    def point(self) -> tuple[sp.Poly, ...]:
+        """The generic point's coordinates other than the free ones, as polynomials in u
+        over k(S)."""
+        return tuple(
+            sp.Poly(self.coordinates[x], self.symbol, domain=self.domain)
+            for x in self.variables
+            if x not in self.free
+        )
+
+    def evaluate(self, expr: sp.Expr) -> sp.Poly:
+        """A polynomial in the variables (coefficients in k) at the generic point, as a
+        polynomial in u reduced modulo the minimal polynomial."""
+        bound = [x for x in self.variables if x not in self.free]
+        if not bound:
+            return sp.Poly(expr, self.symbol, domain=self.domain)
+        poly = sp.Poly(expr, *bound, domain=self.domain)
+        return Extension(self.symbol, self.minimal).evaluate(poly, self.point)
+
+    def equations(self) -> tuple[sp.Expr, ...]:
+        """Generators of its prime ideal: g(l(x)) and x - h(l(x)) for an isolated
+        component in shape position (short), else the stored ``ideal``."""
+        if self.free:
+            return self.ideal
+        u, element = self.symbol, self.element
+        return (
+            self.minimal.as_expr().subs(u, element),
+            *(x - h.subs(u, element) for x, h in self.coordinates.items() if x != element),
+        )
+
+
+def ground_domain(symbols: Sequence[sp.Symbol]) -> sp.polys.domains.Domain:
+    """Q, or the field of rational functions over Q of ``symbols``."""
+    return sp.QQ.frac_field(*symbols) if symbols else sp.QQ
+
+
+def components(
+    equations: Sequence[sp.Expr],
+    variables: Sequence[sp.Symbol],
+    parameters: Sequence[sp.Symbol] = (),
+    *,
+    origin: Sequence[sp.Symbol] | None = None,
+    seed: int = 0,
+) -> tuple[Component, ...]:
+    """The irreducible components of ``equations = 0`` on which the ``origin`` variables
+    (default: all) are not all zero, none contained in another, largest dimension first
+    (module doc for the method).
+
+    >>> x, y = sp.symbols("x y")
+    >>> [(c.free, c.minimal.as_expr()) for c in components([x * (x**2 - 2), x * y], [x, y])]
+    [((y,), x), ((), x**2 - 2)]
+    """
+    decomposition = _Decomposition(tuple(variables), tuple(parameters), random.Random(seed))
+    found = decomposition.run([sp.expand(e) for e in equations])
+    zero = tuple(variables) if origin is None else tuple(origin)
+    return _maximal([c for c in found if not all(c.vanishes(x) for x in zero)])
+
+
+@dataclass(frozen=True)
+class _Shape:
+    symbol: sp.Symbol
+    element: sp.Expr
+    minimal: sp.Poly
+    coordinates: dict[sp.Symbol, sp.Expr]
+
+
+class _Decomposition:
+    def __init__(self, variables, parameters, rng: random.Random):
+        self.variables = variables
+        self.parameters = parameters
+        self.k = ground_domain(parameters)
+        self.rng = rng
+
+    def run(self, equations: list[sp.Expr]) -> list[Component]:
+        found: list[Component] = []
+        seen: set[frozenset] = set()
+        stack = [equations]
+        while stack:
+            system = stack.pop()
+            basis = sp.groebner(system, *self.variables, order="grevlex", domain=self.k)
+            key = frozenset(basis.exprs)
+            if key in seen:
+                continue
+            seen.add(key)
+            if len(seen) > MAX_BRANCHES:
+                raise DecompositionLimit(f"more than {MAX_BRANCHES} branches")
+            if basis.exprs == [1]:
+                continue
+            if basis.is_zero_dimensional:
+                points = self._zero_dimensional(basis)
+                if points is not None:
+                    found.extend(points)
+                    continue
+            branches = self._split(basis.exprs)
+            if branches is None:
+                branches, component = self._branch(basis)
+                if component is not None:
+                    found.append(component)
+            stack.extend(branches)
+        return found
+
+    def _zero_dimensional(self, basis: sp.GroebnerBasis) -> list[Component] | None:
+        """The components of a finite system at once: when a linear form u generates the
+        algebra k[x]/I (``_cyclic``), k[x]/I = k[u]/(g) and each irreducible factor of g
+        is one component, with no further basis. None when no form does (a multiple point
+        of embedding dimension 2 or more): the system is then split on factors."""
+        algebra = _Algebra(basis, self.variables, self.k)
+        for element in self._forms(list(self.variables)):
+            u = element if element in self.variables else sp.Dummy("u")
+            cyclic = algebra.cyclic(element, u)
+            if cyclic is None:
+                continue
+            eliminant, solved = cyclic
+            found = []
+            for f, _ in self._factors(eliminant.as_expr(), [u]):
+                minimal = sp.Poly(f, u, domain=self.k).monic()
+                coordinates = {x: h.rem(minimal).as_expr() for x, h in solved.items()}
+                ideal = (*basis.exprs, sp.fraction(sp.together(f.subs(u, element)))[0])
+                found.append(
+                    Component(
+                        self.variables, self.parameters, (), u, element, minimal, coordinates, ideal
+                    )
+                )
+            return found
+        return None
+
+    def _factors(self, expr: sp.Expr, wrt: Sequence[sp.Symbol]) -> list[tuple[sp.Expr, int]]:
+        """The factors of ``expr`` that are not units: those involving ``wrt``."""
+        gens = [*wrt, *sorted(sp.sympify(expr).free_symbols - set(wrt), key=str)]
+        return [(f, e) for f, e in factor_list(expr, gens) if f.free_symbols & set(wrt)]
+
+    def _split(self, basis: list[sp.Expr]) -> list[list[sp.Expr]] | None:
+        """One branch per factor of the first element that is not irreducible."""
+        for element in basis:
+            factors = self._factors(element, self.variables)
+            if len(factors) > 1 or factors[0][1] > 1:
+                return [[*basis, f] for f, _ in factors]
+        return None
+
+    def _branch(self, basis: sp.GroebnerBasis) -> tuple[list[list[sp.Expr]], Component | None]:
+        """The branches an irreducible system splits into, or its component (and the
+        branches where a leading coefficient of its free variables vanishes)."""
+        free = _independent_set(basis.exprs, self.variables)
+        others = [x for x in self.variables if x not in free]
+        generators = list(basis.exprs)
+        remainder: list[list[sp.Expr]] = []
+        if free:
+            lex = sp.groebner(generators, *others, *free, order="lex", domain=self.k)
+            generators = list(lex.exprs)
+            leading = [sp.Poly(e, *others).LC() for e in generators]
+            for f, _ in self._factors(sp.Mul(*leading), free):
+                remainder.append([*basis.exprs, f])
+        field = ground_domain([*self.parameters, *free])
+        shape = self._shape(generators, others, field, None if free else basis)
+        if isinstance(shape, list):
+            return [[*basis.exprs, b] for b in shape] + remainder, None
+        ideal = tuple(basis.exprs)
+        if remainder:  # the prime ideal is the branch's saturation by the leading coefficients
+            ideal = _saturate(ideal, sp.Mul(*(b[-1] for b in remainder)), self.variables, self.k)
+        coordinates = {x: shape.coordinates.get(x, x) for x in self.variables}
+        component = Component(
+            self.variables,
+            self.parameters,
+            tuple(free),
+            shape.symbol,
+            shape.element,
+            shape.minimal,
+            coordinates,
+            ideal,
+        )
+        return remainder, component
+
+    def _shape(self, generators, gens, field, known=None) -> _Shape | list[sp.Expr]:
+        """Shape position over ``field`` through a linear form, or the polynomials (in the
+        variables) whose vanishing splits the system, when the form's eliminant factors.
+        ``known``: the generators' graded basis in ``gens``, reused for the last variable."""
+        if not gens:  # every variable is free: the component is the whole space
+            u = sp.Dummy("u")
+            return _Shape(u, sp.Integer(0), sp.Poly(u, u, domain=field), {})
+        for element in self._forms(gens):
+            if element in gens:
+                u, order = element, [x for x in gens if x != element] + [element]
+                system = list(generators)
+            else:
+                u = sp.Dummy("u")
+                order, system = [*gens, u], [*generators, u - element]
+            if known is not None and order == list(gens):
+                graded = known
+            else:
+                graded = sp.groebner(system, *order, order="grevlex", domain=field)
+            lex = graded.fglm("lex")
+            eliminant = lex.exprs[-1]
+            factors = self._factors(eliminant, [u])
+            if len(factors) > 1 or factors[0][1] > 1:
+                return [sp.fraction(sp.together(f.subs(u, element)))[0] for f, _ in factors]
+            coordinates = _solved(lex.exprs[:-1], order[:-1])
+            if coordinates is not None:
+                minimal = sp.Poly(eliminant, u, domain=field).monic()
+                if element in gens:
+                    coordinates[element] = element
+                return _Shape(u, element, minimal, coordinates)
+        raise DecompositionLimit(f"no shape position found in {MAX_FORMS} linear forms")
+
+    def _forms(self, gens: Sequence[sp.Symbol]):
+        """The variables, last first, then random small combinations of them."""
+        yield from reversed(gens)
+        for _ in range(MAX_FORMS - len(gens)):
+            yield sp.Add(*(self.rng.randint(-3, 3) * x for x in gens[:-1]), gens[-1])
+
+
+class _Algebra:
+    """k[x]/I for a zero-dimensional I: its standard monomials (a basis) and the matrices
+    of multiplication by each variable, from one graded basis; any linear form's powers
+    then cost matrix products, no further reduction (the idea of FGLM)."""
+
+    def __init__(self, basis: sp.GroebnerBasis, gens, k):
+        self.k, self.gens = k, tuple(gens)
+        self.monomials = _standard_monomials(basis, gens)
+        self.index = {m: i for i, m in enumerate(self.monomials)}
+        ring = PolyRing(self.gens, k, grevlex)
+        self.divisors = [ring.from_dict(p.as_dict(native=True)) for p in basis.polys]
+        self.ring = ring
+        self.times = [self._multiplication(i) for i in range(len(self.gens))]
+
+    @property
+    def size(self) -> int:
+        return len(self.monomials)
+
+    def _coordinates(self, monomial: tuple[int, ...]) -> list:
+        if monomial in self.index:
+            column = [self.k.zero] * self.size
+            column[self.index[monomial]] = self.k.one
+            return column
+        remainder = self.ring({monomial: self.k.one}).rem(self.divisors)
+        column = [self.k.zero] * self.size
+        for m, c in remainder.items():
+            column[self.index[m]] = c
+        return column
+
+    def _multiplication(self, i: int) -> DomainMatrix:
+        columns = [
+            self._coordinates(tuple(e + (j == i) for j, e in enumerate(m))) for m in self.monomials
+        ]
+        return DomainMatrix([list(r) for r in zip(*columns, strict=True)], (self.size,) * 2, self.k)
+
+    def cyclic(self, element: sp.Expr, u: sp.Symbol):
+        """(g, {x: h_x}) with g(u) = 0 and x = h_x(u) in k[x]/I for u = ``element`` (a linear
+        form), when 1, u, ..., u^(D-1) span the algebra: then k[x]/I = k[u]/(g), the shape
+        lemma by linear algebra. None when they do not."""
+        k, size = self.k, self.size
+        form = sp.Poly(element, *self.gens, domain=k)
+        times = DomainMatrix.zeros((size, size), k)
+        for i, x in enumerate(self.gens):
+            c = form.coeff_monomial(x)
+            if c:
+                times += self.times[i] * k.convert(c)
+        vector = DomainMatrix([[c] for c in self._coordinates((0,) * len(self.gens))], (size, 1), k)
+        powers = [vector]
+        for _ in range(size):
+            powers.append(times * powers[-1])
+        square = DomainMatrix.hstack(*powers[:size])
+        if square.rank() < size:
+            return None
+        unit = [tuple(int(j == i) for j in range(len(self.gens))) for i in range(len(self.gens))]
+        targets = [powers[size]] + [
+            DomainMatrix([[c] for c in self._coordinates(m)], (size, 1), k) for m in unit
+        ]
+        solution = square.lu_solve(DomainMatrix.hstack(*targets)).to_list()
+        eliminant = sp.Poly.from_list(
+            [k.one, *(-solution[i][0] for i in reversed(range(size)))], u, domain=k
+        )
+        solved = {
+            x: sp.Poly.from_list([solution[i][j + 1] for i in reversed(range(size))], u, domain=k)
+            for j, x in enumerate(self.gens)
+        }
+        return eliminant, solved
+
+
+def _standard_monomials(basis: sp.GroebnerBasis, gens) -> list[tuple[int, ...]]:
+    """The exponents of the monomials no leading monomial divides (finitely many for a
+    zero-dimensional ideal): a basis of k[x]/I."""
+    leading = [sp.Poly(e, *gens).monoms(order=basis.order)[0] for e in basis.exprs]
+    found: set[tuple[int, ...]] = set()
+    frontier = [(0,) * len(gens)]
+    while frontier:
+        monomial = frontier.pop()
+        if monomial in found or any(
+            all(a >= b for a, b in zip(monomial, lm, strict=True)) for lm in leading
+        ):
+            continue
+        found.add(monomial)
+        frontier += [tuple(e + (j == i) for j, e in enumerate(monomial)) for i in range(len(gens))]
+    return sorted(found)
+
+
+def _solved(basis: Sequence[sp.Expr], gens: Sequence[sp.Symbol]) -> dict | None:
+    """{x: h(u)} when ``basis`` is {x - h(u) for x in gens} (shape position), else None."""
+    if len(basis) != len(gens):
+        return None
+    solved = {}
+    for e, x in zip(basis, gens, strict=True):
+        h = sp.expand(x - e)
+        if h.free_symbols & set(gens):
+            return None
+        solved[x] = h
+    return solved
+
+
+def _independent_set(basis: list[sp.Expr], variables: Sequence[sp.Symbol]) -> tuple:
+    """A maximal set S of variables independent modulo the ideal: no leading monomial of
+    the (graded reverse lexicographic) basis lies in k[S]; its size is the dimension."""
+    supports = []
+    for e in basis:
+        monomial = sp.Poly(e, *variables).monoms(order="grevlex")[0]
+        supports.append({x for x, m in zip(variables, monomial, strict=True) if m})
+    for size in range(len(variables), -1, -1):
+        for subset in itertools.combinations(variables, size):
+            if not any(s <= set(subset) for s in supports):
+                return subset
+    return ()  # pragma: no cover - the empty set is always independent
+
+
+def _saturate(ideal, h: sp.Expr, variables, k) -> tuple[sp.Expr, ...]:
+    """Generators of I : h^oo, by eliminating y from I + (1 - y h)."""
+    y = sp.Dummy("y")
+    basis = sp.groebner([*ideal, 1 - y * h], y, *variables, order="lex", domain=k)
+    kept = [e for e in basis.exprs if not e.has(y)]
+    return tuple(sp.groebner(kept, *variables, order="grevlex", domain=k).exprs)
+
+
+def _maximal(found: list[Component]) -> tuple[Component, ...]:
+    """The components contained in no other (a duplicate kept once), largest first."""
+    ordered = sorted(found, key=lambda c: -c.dimension)
+    kept: list[Component] = []
+    for c in ordered:
+        if not any(all(c.vanishes(q) for q in other.equations()) for other in kept):
+            kept.append(c)
+    return tuple(kept)

@@ -1,0 +1,183 @@
+"""The weighted-homogeneous split of a polynomial vector field: the first step of the
+Kovalevskaya (Painlevé) analysis.
+
+Under integer weights w_i >= 1, a monomial x^m of dx_i/dt = v_i(x) has weighted degree
+|m| = sum_j m_j w_j and *shift* |m| - w_i. Put x = c t^(-w) in the equations: the left
+side is of order t^(-w_i - 1) and a term of shift s of order t^(-w_i - s). The terms of
+shift 1 balance the derivative: they form the *leading part*, for which
+v_i(a^w x) = a^(w_i + 1) v_i(x). Terms of lower shift are corrections of relative order
+t^(1 - s); a term of shift above 1 would dominate the derivative, and no solution behaves
+like c t^(-w) under those weights. The field is *weighted-homogeneous* when it is its own
+leading part.
+
+>>> x, y = sp.symbols("x y")
+>>> split = split_field([x, y], [y + x**2, x * y + 1], [1, 2])
+>>> split.leading, split.homogeneous, split.shifts
+((x**2 + y, x*y), False, (1, -2))
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+
+import sympy as sp
+
+from ..errors import Problem, WeightedFieldError
+
+
+@dataclass(frozen=True)
+class WeightedField:
+    """A polynomial field dx_i/dt = v_i(x) split into parts of one shift each
+    (``parts[s]``: the terms of shift s of every component, highest shift 1 first)."""
+
+    variables: tuple[sp.Symbol, ...]
+    weights: tuple[int, ...]
+    parameters: tuple[sp.Symbol, ...]
+    field: tuple[sp.Expr, ...]
+    parts: Mapping[int, tuple[sp.Expr, ...]]
+
+    @property
+    def leading(self) -> tuple[sp.Expr, ...]:
+        """The leading part: the terms of shift 1, which balance dx/dt for x = c t^(-w)."""
+        return self.parts[1]
+
+    @property
+    def homogeneous(self) -> bool:
+        """Whether the field is weighted-homogeneous (it is its leading part)."""
+        return tuple(self.parts) == (1,)
+
+    @property
+    def shifts(self) -> tuple[int, ...]:
+        """The shifts present, highest (1) first."""
+        return tuple(self.parts)
+
+
+def split_field(
+    variables: Sequence[sp.Symbol],
+    field: Sequence[sp.Expr],
+    weights: Sequence[int],
+    *,
+    parameters: Sequence[sp.Symbol] | None = None,
+) -> WeightedField:
+    """The field split by shift under ``weights``; every problem is reported at once
+    (``WeightedFieldError``).
+
+    The coefficients must be rational functions over Q of the parameters (the names
+    other than the variables; when ``parameters`` is given, exactly those).
+    """
+    variables = tuple(variables)
+    field = tuple(sp.expand(sp.sympify(v)) for v in field)
+    problems = _shape_problems(variables, field, weights)
+    if len(field) != len(variables) or len(weights) != len(variables):
+        raise WeightedFieldError(problems)
+    weighted = not problems  # shifts are computed only under valid weights
+    others = sorted(set().union(*(v.free_symbols for v in field)) - set(variables), key=str)
+    if parameters is None:
+        parameters = others
+    else:
+        undeclared = [str(p) for p in others if p not in set(parameters)]
+        if undeclared:
+            problems.append(
+                Problem("field", "names neither a variable nor a parameter", ", ".join(undeclared))
+            )
+    parts: dict[int, list[list[sp.Expr]]] = {}
+    for i, component in enumerate(field):
+        try:
+            poly = sp.Poly(component, *variables)
+        except sp.PolynomialError:
+            problems.append(
+                Problem(f"field[{i}]", "not a polynomial in the variables", str(component))
+            )
+            continue
+        for monomial, coeff in poly.terms():
+            if coeff == 0:  # the zero polynomial's one term
+                continue
+            if not _rational_over_q(coeff, parameters):
+                problems.append(
+                    Problem(
+                        f"field[{i}]",
+                        "a coefficient is not a rational function over Q of the parameters",
+                        str(coeff),
+                    )
+                )
+            elif weighted:
+                shift = sum(m * int(w) for m, w in zip(monomial, weights, strict=True))
+                shift -= int(weights[i])
+                term = coeff * sp.Mul(*(x**m for x, m in zip(variables, monomial, strict=True)))
+                parts.setdefault(shift, [[] for _ in field])[i].append(term)
+    too_high = sorted(s for s in parts if s > 1)
+    for s in too_high:
+        terms = [t for component in parts[s] for t in component]
+        problems.append(
+            Problem(
+                "field",
+                f"terms of shift {s} > 1 dominate dx/dt under these weights, so no solution "
+                "behaves like c t^(-w)",
+                str(sp.Add(*terms)),
+            )
+        )
+    if not problems and 1 not in parts:
+        problems.append(
+            Problem("field", "no term of shift 1 under these weights: no leading part", None)
+        )
+    if problems:
+        raise WeightedFieldError(problems)
+    weights = tuple(int(w) for w in weights)
+    ordered = {
+        s: tuple(sp.Add(*component) for component in parts[s]) for s in sorted(parts, reverse=True)
+    }
+    return WeightedField(variables, weights, tuple(parameters), field, ordered)
+
+
+def _shape_problems(variables, field, weights) -> list[Problem]:
+    problems = []
+    if len(set(variables)) != len(variables) or not all(
+        isinstance(x, sp.Symbol) for x in variables
+    ):
+        problems.append(Problem("variables", "must be distinct symbols", str(variables)))
+    if len(field) != len(variables):
+        problems.append(
+            Problem("field", f"{len(field)} components for {len(variables)} variables", None)
+        )
+    if len(weights) != len(variables):
+        problems.append(
+            Problem("weights", f"{len(weights)} weights for {len(variables)} variables", None)
+        )
+    for i, w in enumerate(weights):
+        if isinstance(w, bool) or not isinstance(w, int | sp.Integer) or int(w) < 1:
+            problems.append(Problem(f"weights[{i}]", "not a positive integer", str(w)))
+    return problems
+
+
+def _rational_over_q(coeff: sp.Expr, parameters: Sequence[sp.Symbol]) -> bool:
+    """Whether ``coeff`` is a rational function with rational coefficients of the
+    parameters (no floats, no radicals, no I)."""
+    if not parameters:
+        return bool(coeff.is_Rational)
+    if coeff.has(sp.Float) or not coeff.is_rational_function(*parameters):
+        return False
+    try:
+        for part in sp.fraction(sp.together(coeff)):
+            sp.Poly(part, *parameters, domain=sp.QQ)
+    except (sp.CoercionFailed, sp.PolynomialError):
+        return False
+    return True
+
+
+def weighted_degrees(
+    expr: sp.Expr, variables: Sequence[sp.Symbol], weights: Sequence[int]
+) -> tuple[int, ...]:
+    """The weighted degrees of the monomials of a polynomial, highest first (one entry
+    for a weighted-homogeneous one, none for 0).
+
+    >>> x, y = sp.symbols("x y")
+    >>> weighted_degrees(x**4 + y**2 + x, [x, y], [1, 2])
+    (4, 1)
+    """
+    expr = sp.expand(sp.sympify(expr))
+    if expr == 0:
+        return ()
+    monomials = sp.Poly(expr, *variables).monoms()
+    degrees = {sum(m * w for m, w in zip(mono, weights, strict=True)) for mono in monomials}
+    return tuple(sorted(degrees, reverse=True))

@@ -1,0 +1,152 @@
+"""Benchmark of the Kovalevskaya exponents, against a straightforward sympy baseline in
+the same run.
+
+Ours: ``exponents`` (balances by Groebner bases and shape position, exponents per
+component in k[u]/(g)), without and with the Painlevé test. The baseline: ``sympy.solve``
+on the balance equations -w c = v(c), the zero solution dropped, and
+``Matrix.eigenvals`` of K = Dv(c) + diag(w) at each solution. For each case: the
+times, their ratio, the balances each found, and whether the exponents agree on the
+balances both found (families compared at a generic point). Times are CPU seconds of
+this process (the machine's cores are shared); the baseline's time limit is wall clock.
+
+Usage: python scripts/bench_exponents.py [--timeout 120] [--repeat 3]
+Nothing here is asserted by the tests: machines are shared and noisy.
+"""
+
+from __future__ import annotations
+
+import argparse
+import signal
+import time
+from collections import Counter
+
+import sympy as sp
+from sympy.core.cache import clear_cache
+
+from registry.mathematics import mechanics as mech
+from registry.mathematics.exponent_analysis import exponents
+
+WEIGHTS = (1, 1, 1, 2, 2, 2)
+HALF, THIRD = sp.Rational(1, 2), sp.Rational(1, 3)
+CASES = {
+    "Euler (1, 2, 3)": ((1, 2, 3), (0, 0, 0)),
+    "Lagrange (1, 1, 1/3), r = (0, 0, 1)": ((1, 1, THIRD), (0, 0, 1)),
+    "Kovalevskaya (2, 2, 1), r = (1, 0, 0)": ((2, 2, 1), (1, 0, 0)),
+    "Goryachev-Chaplygin (4, 4, 1), r = (1, 0, 0)": ((4, 4, 1), (1, 0, 0)),
+    "asymmetric (3, 4, 5), r = (1, 0, 0)": ((3, 4, 5), (1, 0, 0)),
+    "asymmetric (1, 2, 3), r = (1, 1, 1)": ((1, 2, 3), (1, 1, 1)),
+}
+
+
+def heavy_top(inertia, r):
+    potential = sum(ri * g for ri, g in zip(r, mech.AXIS, strict=True))
+    return [sp.expand(v) for v in mech.vector_field(inertia, potential, (0, 0, 0))]
+
+
+class Timeout(Exception):
+    pass
+
+
+def limited(seconds: float, fn):
+    """fn(), or Timeout after ``seconds`` of wall clock (SIGALRM)."""
+
+    def expire(signum, frame):
+        raise Timeout
+
+    previous = signal.signal(signal.SIGALRM, expire)
+    signal.setitimer(signal.ITIMER_REAL, seconds)
+    try:
+        return fn()
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, previous)
+
+
+def baseline(field):
+    """sympy.solve on the balance equations, then eigenvals at every nonzero solution."""
+    # plain symbols: solve drops complex solutions of the state's real=True symbols
+    variables = sp.symbols("M1 M2 M3 gamma1 gamma2 gamma3")
+    field = [v.xreplace(dict(zip(mech.STATE, variables, strict=True))) for v in field]
+    equations = [sp.expand(v + w * x) for v, w, x in zip(field, WEIGHTS, variables, strict=True)]
+    matrix = sp.Matrix(field).jacobian(variables) + sp.diag(*WEIGHTS)
+    found = []
+    for solution in sp.solve(equations, variables, dict=True):
+        point = {x: solution.get(x, x) for x in variables}
+        if all(sp.simplify(v) == 0 for v in point.values()):
+            continue
+        eigen = matrix.subs(point).eigenvals()
+        found.append(Counter({sp.simplify(e): m for e, m in eigen.items()}))
+    return found
+
+
+def ours(field, painleve: bool):
+    return exponents(mech.STATE, field, WEIGHTS, painleve=painleve)
+
+
+def best(repeat: int, fn):
+    times, value = [], None
+    for _ in range(repeat):
+        clear_cache()
+        start = time.process_time()  # CPU time: the cores are shared, the wall clock noisy
+        value = fn()
+        times.append(time.process_time() - start)
+    return min(times), value
+
+
+def spectra(result) -> list[Counter]:
+    return [Counter(sp.simplify(v) for v in b.exponents.values) for b in result.balances]
+
+
+def same(spectrum: Counter, others: list[Counter]) -> bool:
+    """Whether a spectrum is one of ``others`` (numerically at 30 digits, values with
+    their multiplicities: the two sides write the same numbers differently)."""
+
+    def key(c: Counter):
+        return sorted(
+            (round(complex(sp.N(v, 30)).real, 12), round(complex(sp.N(v, 30)).imag, 12), m)
+            for v, m in c.items()
+        )
+
+    return any(key(spectrum) == key(o) for o in others)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--timeout", type=float, default=120.0)
+    parser.add_argument("--repeat", type=int, default=3)
+    args = parser.parse_args()
+    header = (
+        f"{'case':46} {'ours':>7} {'+ARS':>7} {'sympy':>8} {'ratio':>7} "
+        f"{'balances':>10} {'agree':>6}"
+    )
+    print(header)
+    print("-" * len(header))
+    for name, (inertia, r) in CASES.items():
+        field = heavy_top(inertia, r)
+        t_ours, result = best(args.repeat, lambda f=field: ours(f, False))
+        t_ars, _ = best(args.repeat, lambda f=field: ours(f, True))
+        try:
+            t_base, found = best(
+                args.repeat, lambda f=field: limited(args.timeout, lambda: baseline(f))
+            )
+        except Timeout:
+            t_base, found = None, None
+        mine = spectra(result)
+        if found is None:
+            shown, ratio, counts, agree = f"> {args.timeout:g}", "-", f"{len(mine)}/-", "-"
+        else:
+            shown, ratio = f"{t_base:.2f}", f"{t_base / t_ours:.1f}x"
+            counts = f"{len(mine)}/{len(found)}"
+            agree = "yes" if all(same(s, mine) for s in found) else "NO"
+        print(f"{name:46} {t_ours:7.2f} {t_ars:7.2f} {shown:>8} {ratio:>7} {counts:>10} {agree:>6}")
+    print(
+        "\nours: exponents(painleve=False), +ARS: with the Painlevé test; sympy: solve + "
+        "eigenvals; ratio: sympy / ours; balances: ours / the baseline's solutions (a "
+        "family may come back from solve as a family, as points on it, or not at all); "
+        "agree: every spectrum the baseline found is one of ours. CPU seconds, best of "
+        "--repeat runs of each, sympy's cache cleared before each run."
+    )
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,72 @@
+"""The analysis as a whole: the JSON document of CASE_FORMAT.md, the notes for a field
+that is not homogeneous, the statement, and the time for Kovalevskaya's top."""
+
+from __future__ import annotations
+
+import json
+
+import sympy as sp
+
+from registry.mathematics.exponent_analysis import exponents
+from tests.helpers.clocks import cpu_bound
+from tests.helpers.tops import HEAVY_WEIGHTS, STATE, heavy_top
+
+x, y = sp.symbols("x y")
+
+
+def test_the_document_has_the_keys_of_the_contract_and_is_json():
+    result = exponents(STATE, heavy_top((2, 2, 1), (1, 0, 0)), HEAVY_WEIGHTS)
+    document = json.loads(json.dumps(result.as_dict()))
+    assert {"weights", "homogeneous", "free", "balances", "all_integer", "degrees"} <= set(document)
+    assert {"painleve", "statement", "seconds"} <= set(document)
+    assert document["weights"] == {"M1": 1, "M2": 1, "M3": 1, "gamma1": 2, "gamma2": 2, "gamma3": 2}
+    first = document["balances"][0]
+    assert {"point", "exponents", "integer", "rational"} <= set(first)
+    assert first["point"] == {
+        "M1": "I*M2", "M2": "M2", "M3": "-2*I", "gamma1": "2", "gamma2": "-2*I", "gamma3": "0"
+    }  # fmt: skip
+    assert first["exponents"] == ["-1", "0", "1", "2", "3", "4"]
+    assert first["dimension"] == 1 and first["free"] == ["M2"]
+    assert document["all_integer"] is True and document["degrees"] == [1, 2, 3, 4]
+    assert document["painleve"] == {"passes": True, "compatible": True, "conditions": []}
+
+
+def test_kovalevskaya_top_takes_well_under_two_seconds():
+    with cpu_bound(2.0) as used:
+        exponents(STATE, heavy_top((2, 2, 1), (1, 0, 0)), HEAVY_WEIGHTS)
+    assert used.seconds < 2.0
+
+
+def test_a_field_that_is_not_homogeneous_is_analysed_through_its_leading_part_and_says_so():
+    result = exponents([x, y], [y + x**2 + x, x * y + 1], [1, 2])
+    assert not result.homogeneous and result.leading == (x**2 + y, x * y)
+    assert any("not weighted-homogeneous" in n and "leading part" in n for n in result.notes)
+    assert result.as_dict()["homogeneous"] is False
+
+
+def test_the_statement_names_the_theorems_and_claims_no_more():
+    passing = exponents(STATE, heavy_top((2, 2, 1), (1, 0, 0)), HEAVY_WEIGHTS)
+    assert "Yoshida" in passing.statement and "not a proof" in passing.statement
+    failing = exponents([x, y], [-(x**2), x * y + 1], [1, 1])
+    assert "Ablowitz, Ramani and Segur" in failing.statement
+    assert "does not have the Painlevé property" in failing.statement
+
+
+def test_a_field_without_balances_says_so():
+    # x' = y^2, y' = 0: -c_y = 0 and then -c_x = 0
+    result = exponents([x, y], [y**2, 0], [1, 1])
+    assert result.balances == ()
+    assert "the leading part has no balance: no Laurent solution x = c t^(-w)" in result.notes
+    assert result.statement == ""
+
+
+def test_balances_without_closed_forms_are_given_through_a_root_theta():
+    """Over Q(a) three balances are the roots of a cubic: one entry, written with theta."""
+    a = sp.Symbol("a")
+    result = exponents([x, y], [a * y**2 + 2 * x**2, 2 * x**2 - 2 * x * y + y**2], [1, 1])
+    (balance,) = result.balances
+    document = balance.as_dict()
+    assert document["point"]["y"] == "theta" and "theta" in document["point"]["x"]
+    assert document["root_of"].startswith("theta**3 + ") and document["root_of"].endswith("= 0")
+    assert document["exponents"][0] == "-1" and "theta" in document["exponents"][1]
+    assert not balance.exponents.rational and not result.all_rational

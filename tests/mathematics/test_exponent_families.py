@@ -1,0 +1,58 @@
+"""Special parameter values of a family of fields, each confirmed by its own analysis.
+
+The symmetric heavy top A = B = 1, C = c, centre of mass (1, 0, 0) in the equatorial
+plane: Kowalevski (Acta Math. 12 (1889) 177-232, as reviewed in JFM 21.0935.01) found
+that, besides the known cases, the Laurent series carry five arbitrary constants when
+two moments are equal and twice the third with the centre of gravity in the plane of
+the equal moments: here c = 1/2. The search finds exactly c = 1/2 and the sphere c = 1,
+and says that the search is complete.
+"""
+
+from __future__ import annotations
+
+import json
+
+import sympy as sp
+
+from registry.mathematics.exponent_families import exponent_family
+from tests.helpers.tops import HEAVY_WEIGHTS, STATE, heavy_top
+
+x, y, p, q = sp.symbols("x y p q")
+c = sp.Symbol("c")
+
+
+def test_the_symmetric_heavy_top_is_integral_exactly_for_kovalevskaya_and_the_sphere():
+    family = exponent_family(STATE, heavy_top((1, 1, c), (1, 0, 0)), HEAVY_WEIGHTS, [c])
+    assert [s.values for s in family.integer] == [{c: sp.Rational(1, 2)}, {c: 1}]
+    assert family.complete_integer and family.complete_rational
+    kovalevskaya = family.integer[0].analysis
+    assert kovalevskaya.all_integer and kovalevskaya.painleve_passes
+    assert [list(b.exponents.values) for b in kovalevskaya.balances][0] == [-1, 0, 1, 2, 3, 4]
+    # the generic exponents: 2c - 1 and 2 - 2c, and the roots of c l^2 - c l + 2c - 2
+    factors = {f for f, _ in family.factors}
+    assert {2 * c + sp.Symbol("lambda") - 2, -2 * c + sp.Symbol("lambda") + 1} <= factors
+    (conic,) = [s for s in family.rational if s.index is not None]
+    t = conic.index
+    assert sp.simplify(conic.values[c] - 8 / (t**2 + 7)) == 0
+    # the sphere and Kovalevskaya's case are exceptional: families of balances appear there
+    assert all(s.notes for s in family.integer)
+    json.dumps(family.as_dict())
+
+
+def test_a_lotka_volterra_family_has_finitely_many_integral_members():
+    """x' = x (-x + p y), y' = y (3x - 2y): exponents 4, 1 + p/2 and (4p + 8)/(3p - 2):
+    p = 2m - 2 with 3m - 4 dividing 16, so p in {-10, -2, 0, 2, 6}."""
+    family = exponent_family([x, y], [x * (-x + p * y), y * (3 * x - 2 * y)], [1, 1], [p])
+    assert [s.values[p] for s in family.integer] == [-10, -2, 0, 2, 6]
+    assert family.complete_integer
+    assert all(s.analysis.all_integer for s in family.integer)
+    document = family.as_dict()
+    assert document["free"] == ["p"] and document["complete"]["integer"] is True
+    assert {"values": {"p": "6"}}.items() <= document["special"][4].items()
+
+
+def test_several_free_parameters_are_searched_and_not_claimed_complete():
+    family = exponent_family([x, y], [x * (-x + p * y), y * (q * x - 2 * y)], [1, 1], [p, q])
+    assert not family.complete_integer and not family.complete_rational
+    assert family.integer and all(s.analysis.all_integer for s in family.integer)
+    assert "not complete" in family.coverage[-1]

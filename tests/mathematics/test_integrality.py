@@ -1,0 +1,59 @@
+"""When the roots of polynomials over Q(p) are all integers (or rational): candidates
+from the coefficients, a finite set when a pinned coefficient bounds the others,
+residue classes when none does, conics for rational square discriminants."""
+
+from __future__ import annotations
+
+import sympy as sp
+
+from registry.mathematics.integrality import integer_candidates, rational_candidates
+
+p, lam = sp.symbols("p lambda")
+
+# the symmetric heavy top A = B = 1, C = p, r = (1, 0, 0): its exponent polynomial's
+# factors besides the constant ones (test_exponent_families.py)
+SYMMETRIC_TOP = [lam - 2 * p + 1, lam + 2 * p - 2, p * lam**2 - p * lam + 2 * p - 2]
+
+
+def test_a_pinned_coefficient_bounds_the_others_and_the_search_is_complete():
+    found = integer_candidates(SYMMETRIC_TOP, p, lam)
+    # 2p - 1 = m, and 2 - 2/p = 2 - 4/(m + 1) an integer: m + 1 divides 4
+    assert found.complete and found.families == ()
+    assert sorted(found.values) == [-2, -1, -sp.Rational(1, 2), sp.Rational(1, 2), 1, 2]
+
+
+def test_polynomial_coefficients_give_residue_classes():
+    found = integer_candidates([lam - p / 2, lam - p**2 / 4 - p / 2], p, lam)
+    # p/2 = m: p = 2m, and m^2 + m is always an integer: every even p
+    assert found.complete and found.values == ()
+    ((expr, index, ranges),) = found.families
+    assert expr in (2 * index, -2 * index) and ranges == "n in Z"
+    ((expr, index, _),) = integer_candidates([lam - p / 2, lam - p / 4], p, lam).families
+    assert expr in (4 * index, -4 * index)  # p/4 an integer too: p = 4n
+
+
+def test_constant_exponents_are_integers_everywhere_or_nowhere():
+    assert integer_candidates([lam - 2, lam + 1], p, lam).families == ((p, p, "every value"),)
+    nowhere = integer_candidates([lam**2 - 2], p, lam)
+    assert nowhere.values == () and nowhere.families == () and nowhere.complete
+    assert integer_candidates([lam - sp.Rational(1, 2)], p, lam).notes == (
+        "a constant coefficient is not an integer",
+    )
+
+
+def test_a_pinning_of_higher_degree_is_searched_not_complete():
+    found = integer_candidates([lam - p**2], p, lam)
+    assert not found.complete and sp.sqrt(2) in found.values and 3 in found.values
+
+
+def test_rational_values_where_a_discriminant_is_a_square_form_a_conic():
+    found = rational_candidates(SYMMETRIC_TOP, p, lam)
+    ((expr, t, _),) = found.families
+    assert found.complete
+    # the discriminant 1 - 4 (2 - 2/p) = (8 - 7p)/p is a square exactly on p = 8/(t^2 + 7)
+    assert sp.simplify(expr - 8 / (t**2 + 7)) == 0
+    linear = rational_candidates([lam - p, lam + 1], p, lam)
+    assert linear.families == ((p, p, "every rational value"),)
+    assert rational_candidates([lam**2 - 2], p, lam).families == ()
+    (line,) = rational_candidates([lam**2 - p], p, lam).families
+    assert line[0] == line[1] ** 2

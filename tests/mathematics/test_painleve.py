@@ -1,0 +1,107 @@
+"""The ARS test: Laurent series solved order by order, compatibility conditions at the
+resonances, free coefficients kept symbolic, a Jordan block seen as a missing
+coefficient; both sides of planted failures, and a printed failure reproduced."""
+
+from __future__ import annotations
+
+import sympy as sp
+
+from registry.mathematics.balances import balances
+from registry.mathematics.exponent_analysis import exponents
+from registry.mathematics.kovalevskaya import kovalevskaya_matrix
+from registry.mathematics.painleve import laurent_series
+from registry.mathematics.weighted import split_field
+
+x, y, z, t = sp.symbols("x y z t")
+a, c, eps = sp.symbols("a c epsilon")
+
+
+def planted(coupling):
+    """x' = -x^2 (x = 1/t), z' = 2 x z (z = f4 t^2, resonance 4), y' = 5 x y + coupling
+    z^2 (resonance 8): y/t^5 has derivative coupling f4^2 / t, a logarithm unless the
+    coupling vanishes. Weights x: 1, y: 3, z: 2."""
+    return [x, y, z], [-(x**2), 5 * x * y + coupling * z**2, 2 * x * z], [1, 3, 2]
+
+
+def test_a_planted_logarithm_is_found_unless_the_coupling_vanishes():
+    failing = exponents(*planted(a))
+    (balance,) = failing.balances
+    assert balance.exponents.values == (-1, 4, 8)
+    step8 = balance.painleve.resonances[-1]
+    f4 = balance.painleve.resonances[0].free[0]
+    assert step8.order == 8 and sp.expand(step8.conditions[0] + a * f4**2) == 0
+    assert balance.painleve.obstructions == (
+        f"compatibility condition at resonance 8 fails: -a*{f4}**2",
+    )
+    assert not failing.painleve_passes and failing.all_integer
+    assert failing.conditions == (
+        f"balance 1: compatibility condition at resonance 8 fails: -a*{f4}**2",
+    )
+    passing = exponents(*planted(0))
+    assert passing.painleve_passes and passing.conditions == ()
+    assert not exponents(*planted(3)).painleve_passes
+
+
+def test_the_series_solves_the_equations_to_its_last_order():
+    variables, field, weights = planted(0)
+    split = split_field(variables, field, weights)
+    (balance,) = balances(split)
+    series = laurent_series(split, balance.component, kovalevskaya_matrix(split), {4: 1, 8: 1})
+    laurent = {
+        v: sp.Add(*(t ** (k - w) * series.coefficients[k][i] for k in range(9)))
+        for i, (v, w) in enumerate(zip(variables, weights, strict=True))
+    }
+    for v, f, w in zip(variables, field, weights, strict=True):
+        residual = sp.expand((sp.diff(laurent[v], t) - f.xreplace(laurent)) * t ** (w + 1))
+        low = [residual.coeff(t, k) for k in range(9)]  # orders 0..8 relative to t^-(w+1)
+        assert all(sp.expand(r) == 0 for r in low)
+    free = [s for step in series.resonances for s in step.free]
+    assert [str(f) for f in free] == ["f4", "f8"]
+    assert series.coefficients[4][2] == free[0]  # z = f4 t^2
+
+
+def test_a_jordan_block_at_a_resonance_means_a_missing_coefficient():
+    """y' = 3 x y + a z, z' = 2 x z: exponent 4 twice, but K - 4 has rank 2 when a != 0."""
+    field = [-(x**2), 3 * x * y + a * z, 2 * x * z]
+    (balance,) = exponents([x, y, z], field, [1, 1, 2]).balances
+    (step,) = balance.painleve.resonances
+    assert (step.order, step.multiplicity, len(step.free), step.missing) == (4, 2, 1, 1)
+    assert "not diagonalizable" in balance.painleve.obstructions[0]
+    (diagonal,) = exponents([x, y, z], [-(x**2), 3 * x * y, 2 * x * z], [1, 1, 2]).balances
+    assert diagonal.painleve.compatible and len(diagonal.painleve.resonances[0].free) == 2
+
+
+def test_a_lower_order_term_forces_a_logarithm_in_a_field_that_is_not_homogeneous():
+    """x' = -x^2, y' = x y + a x^2 + epsilon: y = -a/(2t) + epsilon t log t + C t."""
+    result = exponents([x, y], [-(x**2), x * y + a * x**2 + eps], [1, 1])
+    assert not result.homogeneous
+    (balance,) = result.balances
+    assert balance.balance.point == {x: 1, y: -a / 2}
+    assert balance.painleve.obstructions == (
+        "compatibility condition at resonance 2 fails: -epsilon",
+    )
+    assert exponents([x, y], [-(x**2), x * y + a * x**2], [1, 1]).painleve_passes
+
+
+def test_the_printed_fitzhugh_nagumo_conditions_are_reproduced():
+    """W. Hereman's Painlevé-test program, output p_fhn.out (GitHub willyhereman/mytest,
+    painleve/macsyma/single), for sqrt(2) f'' + c f' - 2 sqrt(2) f^3 + (2a + 2) f^2
+    - sqrt(2) a f = 0, prints the failing compatibility conditions at resonance 4:
+    -c (c - 2a + 1)(c + a - 2)(c + a + 1) / (27 sqrt 2) for U0 = 1 and
+    c (c - a - 1)(c - a + 2)(c + 2a - 1) / (27 sqrt 2) for U0 = -1. With u = sqrt(2) f and
+    tau = t / sqrt(2) (rational coefficients): u'' = -c u' + 2u^3 - 2(a + 1)u^2 + 2a u."""
+    u, p = sp.symbols("u p")
+    field = [p, -c * p + 2 * u**3 - 2 * (a + 1) * u**2 + 2 * a * u]
+    result = exponents([u, p], field, [1, 2])
+    printed = {
+        1: -c * (c - 2 * a + 1) * (c + a - 2) * (c + a + 1),
+        -1: c * (c - a - 1) * (c - a + 2) * (c + 2 * a - 1),
+    }
+    for b in result.balances:
+        assert b.exponents.values == (-1, 4)
+        (step,) = b.painleve.resonances
+        (condition,) = step.conditions
+        ratio = sp.cancel(condition / printed[b.balance.point[u]])
+        assert ratio.is_number and ratio != 0
+    assert not exponents([u, p], [p, -p + 2 * u**3 - 2 * u**2], [1, 2]).painleve_passes  # c=1, a=0
+    assert exponents([u, p], [p, 2 * u**3 - 2 * (a + 1) * u**2 + 2 * a * u], [1, 2]).painleve_passes

@@ -1,0 +1,68 @@
+"""Irreducible components of polynomial systems by Groebner bases and shape position:
+families and points, the origin left out, points on families dropped, parameters."""
+
+from __future__ import annotations
+
+import sympy as sp
+
+from registry.mathematics.prime_components import components
+
+x, y, z, a = sp.symbols("x y z a")
+
+
+def points(component):
+    """The component's points as sets of coordinates, from the roots of its polynomial."""
+    u = component.symbol
+    return {
+        tuple(sp.expand(h.subs(u, r)) for h in component.coordinates.values())
+        for r in sp.roots(component.minimal.as_expr(), u)
+    }
+
+
+def test_a_family_and_isolated_points_with_the_points_on_the_family_dropped():
+    # x (x^2 - 2) = 0, x y = 0: the line x = 0 (its origin included), and x = +-sqrt 2, y = 0
+    found = components([x * (x**2 - 2), x * y], [x, y])
+    assert [c.dimension for c in found] == [1, 0]
+    line, pair = found
+    assert line.free == (y,) and line.vanishes(x) and not line.vanishes(y)
+    assert points(pair) == {(sp.sqrt(2), 0), (-sp.sqrt(2), 0)}
+    # (0, 0) is on the line: no separate component, although it solves the system
+    assert len(components([x * (x**2 - 2), x * y, y * (y - 1)], [x, y])) == 2
+
+
+def test_the_origin_is_left_out_and_a_prime_component_keeps_conjugate_points_together():
+    found = components([x**2 - 2 * y**2, y**3 - 2 * y], [x, y])
+    degrees = sorted(c.degree for c in found)
+    assert degrees == [2, 2]  # (+-2, +-sqrt 2): two pairs of conjugates; (0, 0) dropped
+    assert set().union(*(points(c) for c in found)) == {
+        (s * 2, t * sp.sqrt(2)) for s in (1, -1) for t in (1, -1)
+    }
+
+
+def test_a_multiple_point_is_found_once():
+    (point,) = components([x**2 - 2 * x + 1, (y - x) ** 3], [x, y])
+    assert points(point) == {(1, 1)} and point.degree == 1
+
+
+def test_a_point_no_coordinate_separates_is_put_in_shape_position_by_a_linear_form():
+    # x^2 = 1, y^2 = 1: neither coordinate separates the four points
+    found = components([x**2 - 1, y**2 - 1, z - x * y], [x, y, z])
+    assert sum(c.degree for c in found) == 4
+    assert set().union(*(points(c) for c in found)) == {
+        (s, t, s * t) for s in (1, -1) for t in (1, -1)
+    }
+
+
+def test_parameters_stay_symbols_of_the_ground_field():
+    (component,) = components([x**2 - a * y, y - 2], [x, y], [a])
+    assert component.domain == sp.QQ.frac_field(a)
+    assert component.degree == 2 and component.vanishes(x**2 - 2 * a)
+    # over Q(a), x^2 = a^2 splits: two components
+    assert len(components([x**2 - a * y, y - a], [x, y], [a])) == 2
+
+
+def test_a_component_over_special_parameter_values_is_found_with_the_parameter_as_unknown():
+    # x (y - a) = 0, x^2 = a: generically x = +-sqrt a, y = a; at a = 0 also x = 0, y free
+    generic, special = components([x * (y - a), x**2 - a], [x, y, a], origin=[x, y])
+    assert generic.free == (a,) and generic.vanishes(y - a)
+    assert special.free == (y,) and special.vanishes(a) and special.vanishes(x)
