@@ -30,7 +30,7 @@ if TYPE_CHECKING:
     import pandas as pd
     from distributed import Client
 
-    from .model import Case, Equation, Verdict, VerdictChange, Weights
+    from .model import Case, DriftCurve, Equation, Verdict, VerdictChange, Weights
     from .presentation.site import Catalog
     from .runs.audit_run import AuditReport
     from .runs.search_run import SearchReport
@@ -381,7 +381,13 @@ class Registry:
 
         row = report_content.run_row(self.runs(), run)
         outcomes = self.run_report(int(row["run"])).outcomes()
-        curves = drift_curves(report_content.plotted(outcomes)) if plots else None
+        curves: dict[tuple[str, str], DriftCurve | str] | None = None
+        if plots:
+            # the curves the audit stored; a run recorded before audits stored them
+            # has its curves integrated here, once
+            curves = {(c.case, c.claim): c for o in outcomes for c in o.curves}
+            wanted = report_content.plotted(outcomes)
+            curves |= drift_curves([(case, c) for case, c in wanted if (case.id, c) not in curves])
         return report_content.build_report(row, outcomes, fmt, out_dir, curves)
 
     def plot(self, case_id: str, claim: str, path: str | os.PathLike, seed: int = 0) -> Path:

@@ -380,8 +380,9 @@ def none_to_nan(x: float | None) -> float:
 class Evidence:
     """Numerical evidence for a claim: the largest relative drift of I along integrated
     trajectories, that of H (the noise floor), how many runs, and whether the numbers
-    contradict the symbolic verdict they were compared with (``compared_with``: always
-    the ``integral`` check, since a drift speaks of conservation only). ``narrowed``
+    contradict the symbolic verdict they were compared with (``compared_with``: the
+    ``integral`` check for an integral or a Casimir, since a drift speaks of
+    conservation only; ``measure`` or ``relation`` for those kinds). ``narrowed``
     says why the trajectories stand on a smaller set than the claim's, if they do. On a
     level set, ``departure`` is the largest relative residual of its equations where the
     drift was measured, ``projected`` whether the trajectories were projected back onto

@@ -33,6 +33,7 @@ from ..model import (
 )
 from .checks import CHECKS, CheckSpec, not_applicable
 from .corrections import corrections
+from .numeric_evidence import drift_curve
 from .numeric_evidence import evidence as numeric_evidence
 
 #: The case-level checks whose verdicts appear under ``checks`` in the JSON output.
@@ -79,17 +80,17 @@ def audit_case(
     audit = CaseAudit(case.id, case.content_hash, tuple(results))
     if repair if repair is not None else checks is None:
         audit = _with_corrections(audit, m, budget.corrections if budget else None)
+        audit = _with_curves(audit, m, budget.corrections if budget else None)
     if numeric:
         audit = _with_evidence(audit, m, budget.corrections if budget else None)
     return audit
 
 
 def _with_evidence(audit: CaseAudit, m: CaseMechanics, seconds: float | None) -> CaseAudit:
-    integral = {r.claim: r.verdict for r in audit.results if r.check == "integral" and r.claim}
-    invariant = {r.claim: r.verdict for r in audit.results if r.check == "invariant" and r.claim}
+    verdicts = {(r.check, r.claim): r.verdict for r in audit.results if r.claim}
     try:
         with time_limit(seconds):
-            found = numeric_evidence(m, integral, invariant=invariant)
+            found = numeric_evidence(m, verdicts)
     except BudgetExceeded:
         found = tuple(
             Evidence(c.label, math.nan, math.nan, 0, note="time budget exceeded")
@@ -101,6 +102,29 @@ def _with_evidence(audit: CaseAudit, m: CaseMechanics, seconds: float | None) ->
             for c in m.case.claims
         )
     return replace(audit, evidence=found)
+
+
+def _with_curves(audit: CaseAudit, m: CaseMechanics, seconds: float | None) -> CaseAudit:
+    """The drift curve of each refuted claim (one trajectory, what a report draws), so
+    that presenting an audit never integrates; a claim whose trajectory cannot be
+    integrated in the time has none."""
+    refuted = [
+        c.label
+        for c in m.case.claims
+        if claim_verdict(c.kind, {r.check: r.verdict for r in audit.results if r.claim == c.label})
+        is Verdict.REFUTED
+    ]
+    curves = []
+    try:
+        with time_limit(seconds):
+            for label in refuted:
+                try:
+                    curves.append(drift_curve(m, label))
+                except ValueError:
+                    continue  # nothing could be integrated: the report says so
+    except BudgetExceeded:
+        pass  # the curves done so far are kept
+    return replace(audit, curves=tuple(curves))
 
 
 def count_checks(case: Case) -> int:
