@@ -16,7 +16,7 @@ the parameter conditions apply to every case.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import replace
 
 import sympy as sp
@@ -26,6 +26,7 @@ from ..language.printer import to_text
 from ..mathematics import flow
 from ..mathematics import mechanics as mech
 from ..mathematics.case_mechanics import CaseMechanics
+from ..mathematics.domain import Domain
 from ..mathematics.factoring import factor
 from ..mathematics.families import Family, recognise
 from ..mathematics.mechanics import AXIS, MOMENTUM
@@ -174,9 +175,12 @@ def _irrational_parts(term: sp.Expr) -> frozenset:
     )
 
 
-def holds_when(residuals, m: CaseMechanics, target: str) -> Conditions:
-    """The parameter conditions under which ``residuals`` vanish, as case-file equations."""
-    found = parameter_conditions(residuals, m.domain, m.dynamics.nonzero)
+def holds_when(
+    residuals, m: CaseMechanics, target: str, domain: Domain | None = None
+) -> Conditions:
+    """The parameter conditions under which ``residuals`` vanish (on ``domain``, default
+    the case's), as case-file equations."""
+    found = parameter_conditions(residuals, domain or m.domain, m.dynamics.nonzero)
     branches = tuple(tuple(equations_text(b, to_text)) for b in found.branches)
     return Conditions(target, branches, found.reason)
 
@@ -243,13 +247,19 @@ def corrections(
             repaired = corrected_torque(m, claim)
             if repaired is not None:
                 corrections.append(repaired)
-        if claim.on:
-            conditions.append(Conditions(claim.label, reason="not sought on level sets"))
-            continue
-        # the residual its check decided on (memoized by CaseMechanics, not recomputed)
-        if claim.kind is ClaimKind.INTEGRAL:
-            residuals = m.integral_residual(claim.expression.expr)
-        else:
-            residuals = m.casimir_residual(claim.expression.expr)
-        conditions.append(holds_when(residuals, m, claim.label))
+        residuals, domain = decided_on(m, claim)
+        conditions.append(holds_when(residuals, m, claim.label, domain))
     return family_record(family), tuple(corrections), tuple(conditions)
+
+
+def decided_on(m: CaseMechanics, claim: Claim) -> tuple[Mapping[str, sp.Expr], Domain]:
+    """The residuals the check of a claim's kind decided, and where (memoized by
+    CaseMechanics: read, not recomputed)."""
+    expr = claim.expression.expr
+    if claim.kind is ClaimKind.INTEGRAL:
+        return m.integral_residual(expr), m.claim_domain(claim)
+    if claim.kind is ClaimKind.CASIMIR:
+        return m.casimir_residual(expr), m.claim_domain(claim)
+    if claim.kind is ClaimKind.MEASURE:
+        return m.measure_residual(expr), m.claim_domain(claim)
+    return {"dF/dt": m.integral_residual(expr)["dI/dt"]}, m.relation_domain(claim)
