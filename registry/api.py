@@ -348,7 +348,7 @@ class Registry:
     def export_case(self, case_id: str, claim: str | None = None, kind: str = "torque") -> str:
         """A corrected case file (TOML text) from the newest audit of ``case_id``.
 
-        ``kind`` is ``torque`` (the claim becomes a Casimir of a repaired torque) or
+        ``kind`` is ``torque`` (the claim becomes a Casimir of a corrected torque) or
         ``casimir`` (the case's own torque with its derived Casimir as the claim).
         """
         from .runs.audit_run import corrected_case

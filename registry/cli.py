@@ -721,13 +721,13 @@ def export(fmt: str | None, bibtex: bool, output: str | None) -> None:
 
 @main.command("export-case")
 @click.argument("case_id")
-@click.option("--claim", default=None, metavar="LABEL", help="The claim whose repair to use.")
+@click.option("--claim", default=None, metavar="LABEL", help="The claim whose correction to use.")
 @click.option(
     "--kind",
     type=click.Choice(["torque", "casimir"]),
     default="torque",
     show_default=True,
-    help="torque: repaired torque, claim kept; casimir: same torque, derived Casimir.",
+    help="torque: corrected torque, claim kept; casimir: same torque, derived Casimir.",
 )
 @click.option(
     "-o",

@@ -240,10 +240,10 @@ def test_corrections_frame(audited):
     assert isinstance(frame, pd.DataFrame)
     assert set(frame["run"]) == {audited.report.run}
     i2 = frame[(frame["case"] == YEHIA_B) & (frame["claim"] == "I2")]
-    repairs = i2[i2["kind"].isin(["casimir", "torque"])]
-    assert sorted(repairs["kind"]) == ["casimir", "torque"]
-    assert set(repairs["verdict"]) == {"verified"}
-    (casimir,) = repairs[repairs["kind"] == "casimir"]["expression"]
+    corrections = i2[i2["kind"].isin(["casimir", "torque"])]
+    assert sorted(corrections["kind"]) == ["casimir", "torque"]
+    assert set(corrections["verdict"]) == {"verified"}
+    (casimir,) = corrections[corrections["kind"] == "casimir"]["expression"]
     document = audited.report.document()
     (claim,) = [c for e in document["cases"] if e["case"] == YEHIA_B for c in e["claims"]]
     assert casimir in [c.get("expression") for c in claim["corrections"]]

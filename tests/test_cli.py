@@ -311,7 +311,7 @@ def test_audit_json_verdicts(document):
     assert [zhukovsky[k] for k in ("jacobi", "energy", "c1")] == ["verified"] * 3
 
 
-def test_audit_json_repairs(document):
+def test_audit_json_corrections(document):
     i2 = claim_of(document, YEHIA_B, "I2")
     corrections = i2["corrections"]
     assert sorted(c["kind"] for c in corrections) == ["casimir", "torque"]

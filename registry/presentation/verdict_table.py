@@ -30,7 +30,7 @@ def _verdict(result: CheckResult | None) -> str:
 
 def verdict_table(outcomes: Sequence[CaseOutcome], run: int | None = None) -> str:
     """A plain-text table of an audit: one row per claim, then a summary, notes on what
-    was not decided, and the corrections (headed "Repairs", as the golden table has it)."""
+    was not decided, and the corrections."""
     header = ("case", "family", "Poisson", "claim", "kind", "integral", "casimir", "verdict")
     rows = []
     notes = []
@@ -94,7 +94,7 @@ def verdict_table(outcomes: Sequence[CaseOutcome], run: int | None = None) -> st
         )
     lines.extend(f"  note: {n}" for n in notes)
     if corrections:
-        lines += ["", "Repairs (each re-checked):", *corrections]
+        lines += ["", "Corrections (each re-checked):", *corrections]
     return "\n".join(lines)
 
 

@@ -23,7 +23,7 @@ def audited():
     return [audit_case(c) for c in cases], {c.id: c for c in cases}
 
 
-def test_one_row_per_claim_then_the_summary_and_the_repairs(audited):
+def test_one_row_per_claim_then_the_summary_and_the_corrections(audited):
     audits, cases = audited
     table = verdict_table(outcomes(audits, cases), run=4).splitlines()
     assert table[0].split() == HEADER
@@ -31,9 +31,9 @@ def test_one_row_per_claim_then_the_summary_and_the_repairs(audited):
     assert len(rows) == sum(len(c.claims) for c in cases.values())
     assert [YEHIA_B, "psi-gamma-grad-phi", "verified", "I2", "casimir"] == rows[-2][:5]
     assert any(line.startswith("run 4: 2 cases, ") for line in table)
-    repairs = table[table.index("Repairs (each re-checked):") + 1 :]
-    assert f"  {YEHIA_B}/I2: holds when N = 0" in repairs
-    assert any(line.startswith(f"  {YEHIA_B}/I2: corrected torque: mu3 = ") for line in repairs)
+    corrections = table[table.index("Corrections (each re-checked):") + 1 :]
+    assert f"  {YEHIA_B}/I2: holds when N = 0" in corrections
+    assert any(line.startswith(f"  {YEHIA_B}/I2: corrected torque: mu3 = ") for line in corrections)
 
 
 def test_a_case_that_could_not_be_loaded_is_a_row_and_a_note():
