@@ -22,7 +22,7 @@ from . import settings
 from .errors import CaseFormatError, RegistryError
 from .execution.executor import check_options, open_executor
 from .execution.time_budget import TimeBudget, default_budget
-from .settings import DEFAULT_SEARCH_SECONDS as DEFAULT_SEARCH_BUDGET
+from .settings import DEFAULT_SEARCH_SECONDS
 
 # The facade is imported by ``registry --help`` and ``--version``, which must stay quick:
 # sympy, SQLAlchemy and pandas are imported by the methods that use them, not here.
@@ -38,31 +38,21 @@ if TYPE_CHECKING:
     from .store.database import Store
     from .store.integrity import Verification
 
-#: Names of the facade whose modules are imported on first use (PEP 562).
-_LAZY = {
-    "AuditReport": "runs.audit_run",
-    "SearchReport": "runs.search_run",
-    "Verification": "store.integrity",
-    "CopyReport": "store.copying",
-}
-
 
 def __getattr__(name: str) -> Any:
-    if name in _LAZY:
-        import importlib
+    """``AuditReport`` (``registry.AuditReport``), imported on first use (PEP 562)."""
+    if name == "AuditReport":
+        from .runs.audit_run import AuditReport
 
-        return getattr(importlib.import_module(f".{_LAZY[name]}", __package__), name)
+        return AuditReport
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 __all__ = [
-    "DEFAULT_SEARCH_BUDGET",
     "AddResult",
     "AuditReport",
     "CheckInfo",
     "Registry",
-    "SearchReport",
-    "TimeBudget",
     "check_where",
     "checks",
     "diff_text",
@@ -223,7 +213,7 @@ class Registry:
         relations: bool = False,
         record: bool = False,
         fresh: bool = False,
-        budget: float | None = DEFAULT_SEARCH_BUDGET,
+        budget: float | None = DEFAULT_SEARCH_SECONDS,
         jobs: int | None = None,
         progress: Callable[[int, int, str], None] | None = None,
         scheduler: str | Client | None = None,
@@ -260,7 +250,7 @@ class Registry:
         case_ids: Sequence[str] | None = None,
         *,
         fresh: bool = False,
-        budget: float | None = DEFAULT_SEARCH_BUDGET,
+        budget: float | None = DEFAULT_SEARCH_SECONDS,
         jobs: int | None = None,
         progress: Callable[[int, int, str], None] | None = None,
         scheduler: str | Client | None = None,
@@ -560,7 +550,7 @@ def discover_file(
     on: Sequence[str | Equation] = (),
     free: Sequence[str] = (),
     relations: bool = False,
-    budget: float | None = DEFAULT_SEARCH_BUDGET,
+    budget: float | None = DEFAULT_SEARCH_SECONDS,
     jobs: int | None = None,
     progress: Callable[[int, int, str], None] | None = None,
     scheduler: str | Client | None = None,
