@@ -155,7 +155,7 @@ class System:
 
     @property
     def torque_exprs(self) -> tuple[sp.Expr, sp.Expr, sp.Expr]:
-        return tuple(e.expr for e in self.torque)  # type: ignore[return-value]
+        return tuple(e.expr for e in self.torque)
 
     @property
     def kappa_expr(self) -> sp.Expr:
@@ -168,7 +168,7 @@ class FrozenDict(dict):
     def _readonly(self, *args: object, **kwargs: object) -> NoReturn:
         raise TypeError("this mapping is read-only")
 
-    __setitem__ = __delitem__ = clear = pop = popitem = setdefault = update = _readonly  # type: ignore[assignment]
+    __setitem__ = __delitem__ = clear = pop = popitem = setdefault = update = _readonly
 
     def __reduce__(self) -> tuple[type[FrozenDict], tuple[dict]]:
         return (FrozenDict, (dict(self),))

@@ -751,7 +751,7 @@ def _discovered_claim(search_id: int, i: int, text: str, search: Search) -> Clai
     return Claim(
         f"discovered-{search_id}-{i + 1}",
         ClaimKind.INTEGRAL,
-        Expression(text, None),  # type: ignore[arg-type]
+        Expression(text, None),
         tuple(search.options.on),
         notes=f"Found by registry discover, {when}.",
         provenance=Provenance.DISCOVERED,
