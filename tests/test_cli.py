@@ -348,16 +348,17 @@ def test_audit_json_expressions_paste_back_into_a_case_file(document):
 
 
 def test_audit_table(audited, document):
+    """Each case heads the rows of its claims, under the header of the claims' columns."""
     assert audited.table.exit_code == 0, audited.table.output
     lines = audited.table.stdout.splitlines()
-    header = lines[0].split()
-    for word in ("case", "claim", "integral", "casimir", "verdict"):
-        assert word in header
+    assert lines[0].split()[0] == "case"
+    assert lines[1].split() == ["claim", "kind", "integral", "casimir", "verdict"]
+    assert max(map(len, lines)) <= 80
     for case_id, entry in by_case(document).items():
-        rows = [line.split() for line in lines[2:] if line.split()[:1] == [case_id]]
-        assert len(rows) == len(entry["claims"])
+        (heading,) = [i for i, line in enumerate(lines) if line.split()[:1] == [case_id]]
+        rows = [line.split() for line in lines[heading + 1 : heading + 1 + len(entry["claims"])]]
         for row, claim in zip(rows, entry["claims"], strict=True):
-            assert claim["label"] in row
+            assert row[0] == claim["label"]
             assert row[-4:] == [
                 claim["kind"],
                 claim["integral"],
