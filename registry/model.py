@@ -155,7 +155,7 @@ class System:
 
     @property
     def torque_exprs(self) -> tuple[sp.Expr, sp.Expr, sp.Expr]:
-        return tuple(e.expr for e in self.torque)  # type: ignore[return-value]
+        return tuple(e.expr for e in self.torque)
 
     @property
     def kappa_expr(self) -> sp.Expr:
@@ -168,7 +168,7 @@ class FrozenDict(dict):
     def _readonly(self, *args: object, **kwargs: object) -> NoReturn:
         raise TypeError("this mapping is read-only")
 
-    __setitem__ = __delitem__ = clear = pop = popitem = setdefault = update = _readonly  # type: ignore[assignment]
+    __setitem__ = __delitem__ = clear = pop = popitem = setdefault = update = _readonly
 
     def __reduce__(self) -> tuple[type[FrozenDict], tuple[dict]]:
         return (FrozenDict, (dict(self),))
@@ -295,12 +295,12 @@ def component_index(number: int) -> int:
 
 @dataclass(frozen=True)
 class Correction:
-    """A repair, re-checked before it is reported (``checks``: check name -> verdict).
+    """A correction, re-checked before it is reported (``checks``: check name -> verdict).
 
     ``kind`` is ``casimir`` (a Casimir of the case's own torque, ``expression``) or
     ``torque`` (a torque ``torque`` under which the claim is a Casimir, differing
     from the case's in the 0-based components ``changed``). ``claim`` is the claim
-    it repairs, or None for a Casimir the case did not claim. Expressions are
+    it corrects, or None for a Casimir the case did not claim. Expressions are
     written in the case-file language.
     """
 
@@ -317,13 +317,13 @@ class Correction:
 
     @property
     def changed_components(self) -> tuple[tuple[int, str], ...]:
-        """(number, repaired expression) of each changed torque component, mu_number'."""
+        """(number, corrected expression) of each changed torque component, mu_number'."""
         torque = self.torque or ()
         return tuple((component_number(k), torque[k]) for k in self.changed)
 
     @property
     def kept_components(self) -> tuple[int, ...]:
-        """The numbers of the torque components the repair keeps as they were."""
+        """The numbers of the torque components the correction keeps as they were."""
         return tuple(component_number(k) for k in range(3) if k not in self.changed)
 
     def as_dict(self) -> dict:

@@ -71,7 +71,7 @@ def test_every_example_loads_or_is_refused_as_shown(case_id, mark, toml, said):
 )
 def test_the_claims_of_the_examples_are_verified(case_id, toml):
     case = parse_case_text(toml, f"{case_id}.toml")
-    audit = audit_case(case, repair=False)
+    audit = audit_case(case, corrections=False)
     for claim in case.claims:
         verdicts = {r.check: r.verdict for r in audit.results if r.claim == claim.label}
         verdict = claim_verdict(claim.kind, verdicts)
@@ -91,7 +91,7 @@ def test_a_changed_example_is_not_verified(case_id, old, new, check, label):
     (toml,) = [t for i, _, t, _ in EXAMPLES if i == case_id]
     mutated = toml.replace(old, new)
     assert mutated != toml
-    audit = audit_case(parse_case_text(mutated, "mutated.toml"), repair=False)
+    audit = audit_case(parse_case_text(mutated, "mutated.toml"), corrections=False)
     assert audit.result(check, label).verdict is Verdict.REFUTED
 
 

@@ -32,7 +32,7 @@ from ..model import (
     Verdict,
 )
 from .checks import CHECKS, CheckSpec, not_applicable
-from .corrections import corrections
+from .corrections import corrections as derive_corrections
 from .numeric_evidence import drift_curve
 from .numeric_evidence import evidence as numeric_evidence
 
@@ -44,13 +44,13 @@ def audit_case(
     case: Case,
     checks: Iterable[str] | None = None,
     *,
-    repair: bool | None = None,
+    corrections: bool | None = None,
     budget: TimeBudget | None = DEFAULT_BUDGET,
     numeric: bool = False,
 ) -> CaseAudit:
     """Run the named checks (default: all) on ``case``; a crash becomes an ``error`` result.
 
-    With ``repair`` (the default when every check runs) the torque's family, the
+    With ``corrections`` (the default when every check runs) the torque's family, the
     corrections of refuted claims and the conditions for failed identities are derived.
     Each check runs under ``budget.check`` seconds and the corrections under
     ``budget.corrections``; one that runs out is ``inconclusive: time budget exceeded``.
@@ -78,7 +78,7 @@ def audit_case(
             if spec.applies(claim):
                 results.append(_run(spec, m, claim, seconds=seconds))
     audit = CaseAudit(case.id, case.content_hash, tuple(results))
-    if repair if repair is not None else checks is None:
+    if corrections if corrections is not None else checks is None:
         audit = _with_corrections(audit, m, budget.corrections if budget else None)
         audit = _with_curves(audit, m, budget.corrections if budget else None)
     if numeric:
@@ -140,7 +140,7 @@ def count_checks(case: Case) -> int:
 def _with_corrections(audit: CaseAudit, m: CaseMechanics, seconds: float | None) -> CaseAudit:
     try:
         with time_limit(seconds):
-            family, found, conditions = corrections(m, audit.results)
+            family, found, conditions = derive_corrections(m, audit.results)
     except BudgetExceeded:
         reason = f"corrections: time budget exceeded ({seconds:g} s)"
         family, found, conditions = FamilyRecord("none", reason=reason), (), ()

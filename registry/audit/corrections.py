@@ -1,4 +1,4 @@
-"""Repairs of failed claims, each re-checked by the same checks before it is reported.
+"""Corrections of failed claims, each re-checked by the same checks before it is reported.
 
 * A corrected Casimir for the case's own torque (where Pi_mu is Poisson): the
   Casimir of the torque's family (``mathematics.families``), independent of C1.
@@ -109,9 +109,9 @@ def corrected_torque(m: CaseMechanics, claim: Claim) -> Correction | None:
     new = [own[k] if k in kept else _expression(tidy(w[k] + lam * AXIS[k])) for k in range(3)]
     torque = (new[0], new[1], new[2])
     changed = tuple(k for k in range(3) if k not in kept)
-    repaired = CaseMechanics(with_torque(m.case, torque))
-    poisson = jacobi(repaired)
-    holds = casimir(repaired, claim)
+    corrected = CaseMechanics(with_torque(m.case, torque))
+    poisson = jacobi(corrected)
+    holds = casimir(corrected, claim)
     if poisson.verdict is not Verdict.VERIFIED or holds.verdict is not Verdict.VERIFIED:
         return None
     return Correction(
@@ -244,9 +244,9 @@ def corrections(
         if own is not None:
             corrections.append(replace(own, claim=claim.label))
         if e3 and verdict.get(("casimir", claim.label)) is Verdict.REFUTED:
-            repaired = corrected_torque(m, claim)
-            if repaired is not None:
-                corrections.append(repaired)
+            new_torque = corrected_torque(m, claim)
+            if new_torque is not None:
+                corrections.append(new_torque)
         residuals, domain = decided_on(m, claim)
         conditions.append(holds_when(residuals, m, claim.label, domain))
     return family_record(family), tuple(corrections), tuple(conditions)

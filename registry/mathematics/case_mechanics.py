@@ -22,7 +22,7 @@ from ..model import Case, CheckResult, Claim
 from . import flow
 from .domain import Domain
 
-#: Residuals by component name; read-only, since every check and repair shares them.
+#: Residuals by component name; read-only, since every check and correction shares them.
 Residuals = Mapping[str, sp.Expr]
 
 

@@ -5,7 +5,7 @@ import sympy as sp
 from registry.mathematics import zero_test
 from registry.mathematics.certified_evaluation import evaluate
 from registry.mathematics.domain import Domain
-from registry.mathematics.mechanics import AXIS, S_VALUE, M1, M2, gamma1, gamma2, gamma3, s
+from registry.mathematics.mechanics import AXIS, M1, M2, S_VALUE, gamma1, gamma2, gamma3, s
 from registry.mathematics.zero_test import decide
 from registry.model import Verdict
 
