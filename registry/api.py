@@ -30,7 +30,7 @@ if TYPE_CHECKING:
     import pandas as pd
     from distributed import Client
 
-    from .model import Case, DriftCurve, Equation, Verdict, VerdictChange, Weights
+    from .model import Case, DriftCurve, Equation, MeasureSearch, Verdict, VerdictChange, Weights
     from .presentation.site import Catalog
     from .runs.audit_run import AuditReport
     from .runs.search_run import SearchReport
@@ -274,6 +274,17 @@ class Registry:
         )
         with open_executor(jobs, scheduler) as executor:
             return search_run(self.store, target, request, executor, progress)
+
+    def measures(self, target: str | os.PathLike | Case) -> MeasureSearch:
+        """The invariant densities prod F_i**a_i of a case (a case file, a stored case's id,
+        or a ``Case``), by the method of the Jacobi last multiplier
+        (``registry.discovery.measures``): each density proven by the ``measure`` check,
+        the statement complete for that ansatz."""
+        from .model import Case
+
+        if isinstance(target, Case) or Path(target).is_file():
+            return find_measures(target)
+        return find_measures(self.case(str(target)))
 
     def survey(
         self,
@@ -644,6 +655,24 @@ def open_registry(target: str | os.PathLike | None = None, *, create: bool = Tru
 
     where = settings.database() if target is None else target
     return Registry(Store(Path(where) if isinstance(where, os.PathLike) else where, create=create))
+
+
+def find_measures(target: str | os.PathLike | Case) -> MeasureSearch:
+    """The invariant densities prod F_i**a_i of a case file or a ``Case``, without a
+    database (``Registry.measures``)."""
+    from .discovery.measures import measure_search
+    from .language.casefile import load_case
+    from .model import Case
+
+    case = target if isinstance(target, Case) else load_case(target)
+    return measure_search(case)
+
+
+def measure_text(search: MeasureSearch, width: int | None = None) -> str:
+    """A measure search in plain text, as ``registry discover --measure`` prints it."""
+    from .presentation.search_output import measure_text as render
+
+    return render(search, terminal_width(width))
 
 
 def discover_file(

@@ -378,6 +378,12 @@ def _weights(text: str | None) -> dict[str, int] | None:
     is_flag=True,
     help="Search invariant relations F = 0 (Darboux polynomials, dF/dt = K F) instead.",
 )
+@click.option(
+    "--measure",
+    is_flag=True,
+    help="Search invariant measures rho = prod F_i**a_i over the Darboux polynomials among "
+    "the factors of the field (Jacobi's last multiplier) instead.",
+)
 @click.option("--json", "as_json", is_flag=True, help="Print JSON (docs/json-output.md).")
 @click.option(
     "--record",
@@ -402,6 +408,7 @@ def discover(
     on: tuple[str, ...],
     free_text: str,
     relations: bool,
+    measure: bool,
     as_json: bool,
     record: bool,
     fresh: bool,
@@ -426,6 +433,9 @@ def discover(
     weights = _weights(weights_text)
     free = tuple(f.strip() for f in free_text.split(",") if f.strip())
     is_file = Path(target).is_file()
+    if measure:
+        _measures(target, is_file, as_json, relations or record or bool(free) or bool(on))
+        return
     # a file searched without --record needs no database, and creates none
     reg = _registry(create=True) if record or not is_file else _existing_registry()
     options: dict[str, Any] = dict(
@@ -460,6 +470,30 @@ def discover(
         click.echo(f"recorded as search {report.number}")
     for case_id in report.derived:
         click.echo(f"  derived case {case_id}: its integrals are claims for the next audit")
+
+
+def _measures(target: str, is_file: bool, as_json: bool, other_options: bool) -> None:
+    """``discover --measure``: the invariant densities of a case file or a stored case."""
+    from .api import find_measures, measure_text
+    from .errors import UsageError
+
+    if other_options:
+        raise UsageError(
+            "--measure searches densities on its own: it takes none of --relations, --record, "
+            "--free or --on (a density found is added to the case as a claim of kind 'measure')"
+        )
+    if is_file:
+        found = find_measures(target)
+    else:
+        reg = _existing_registry()
+        if reg is None:
+            raise UsageError(f"{target!r} is neither a case file nor a stored case")
+        with reg:
+            found = reg.measures(target)
+    if as_json:
+        click.echo(json.dumps(found.as_dict(), indent=2, ensure_ascii=False))
+    else:
+        click.echo(measure_text(found))
 
 
 @main.command()

@@ -550,6 +550,64 @@ class IntegralSet:
 
 
 @dataclass(frozen=True)
+class Density:
+    """A density rho = prod F**a (``factors``: (F, a) as text), the audit's ``measure``
+    verdict on it, and the factors where it is singular or undefined (a negative or
+    fractional exponent: rho has no finite positive value where that F vanishes)."""
+
+    expression: str
+    factors: tuple[tuple[str, str], ...]
+    verdict: Verdict
+    singular: tuple[str, ...] = ()
+
+    def as_dict(self) -> dict:
+        return {
+            "density": self.expression,
+            "factors": [{"F": f, "exponent": a} for f, a in self.factors],
+            "measure": str(self.verdict),
+            "singular_where": [f"{f} = 0" for f in self.singular],
+        }
+
+
+@dataclass(frozen=True)
+class MeasureSearch:
+    """What the search for densities prod F_i**a_i of a case found: the Darboux
+    polynomials of the ansatz with their cofactors (of the case's own field), the
+    densities (one per solution; the ansatz's every density is one of them times a
+    function of ``integrals``), the first integrals prod F_i**b_i the homogeneous
+    system gives, what was left undecided, the statement, and the time."""
+
+    case: str
+    darboux: tuple[tuple[str, str], ...]
+    densities: tuple[Density, ...]
+    integrals: tuple[str, ...]
+    candidates: tuple[str, ...]
+    complete: bool
+    statement: str
+    undecided: tuple[str, ...] = ()
+    seconds: float = 0.0
+
+    @property
+    def smooth(self) -> tuple[Density, ...]:
+        """The densities that are polynomials (defined and finite everywhere)."""
+        return tuple(d for d in self.densities if not d.singular)
+
+    def as_dict(self) -> dict:
+        return {
+            "case": self.case,
+            "ansatz": "rho = prod F_i**a_i",
+            "candidates": list(self.candidates),
+            "darboux": [{"F": f, "cofactor": k} for f, k in self.darboux],
+            "densities": [d.as_dict() for d in self.densities],
+            "integrals": list(self.integrals),
+            "complete": self.complete,
+            "undecided": list(self.undecided),
+            "statement": self.statement,
+            "seconds": round(self.seconds, 3),
+        }
+
+
+@dataclass(frozen=True)
 class Search:
     """The outcome of an integral search of a case (a family, with ``options.free``).
 

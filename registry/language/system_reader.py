@@ -63,7 +63,10 @@ def _first_of(expr: sp.Expr, symbols: tuple[sp.Symbol, ...]) -> sp.Symbol | None
 def _new_name_problem(name: str, what: str) -> str | None:
     """Why ``name`` cannot name a variable or a definition (``what``), or None."""
     if not (name.isascii() and name.isidentifier()):
-        return "not a valid name (use ASCII letters, digits and '_', not starting with a digit)"
+        return (
+            f"{quoted(name)} is not a valid name "
+            "(use ASCII letters, digits and '_', not starting with a digit)"
+        )
     if keyword.iskeyword(name):
         return f"{quoted(name)} is a reserved name (a Python keyword)"
     if name in FUNCTIONS or name == "diff":

@@ -26,10 +26,15 @@ import sympy as sp
 
 from ..model import Verdict
 from .domain import Domain
-from .normal_form import Atoms, numerator, reduce_radical
+from .factoring import factor
+from .normal_form import CONSTANTS, Atoms, numerator_poly, relation_polys
 from .zero_test import decide
 
 Branch = dict[sp.Symbol, sp.Expr]
+
+#: pi and E, which the normal form keeps as indeterminates, and their values.
+_VALUES = {symbol: value for value, symbol in CONSTANTS.items()}
+_CONSTANT_SYMBOLS = set(_VALUES)
 
 
 @dataclass(frozen=True)
@@ -293,25 +298,28 @@ def _coefficient_equations(
     residuals, params: set[sp.Symbol], domain: Domain
 ) -> set[sp.Expr] | None:
     """The coefficients, in the state and atom symbols, of every normalised numerator
-    (radicals and sin, cos pairs reduced by their relations first)."""
+    (radicals and sin, cos pairs reduced by their relations first), read off the sparse
+    polynomial the zero test's normal form builds (no expression is expanded)."""
     equations: set[sp.Expr] = set()
     state = set(domain.state) | set(domain.shorthands)
     for expr in residuals:
         atoms = Atoms(domain.shorthands)
-        numer = numerator(atoms.rewrite(expr), atoms.shorthands)
-        for rho, q, base in [*atoms.relations(), *atoms.pythagorean()]:
-            numer = reduce_radical(numer, rho, q, base)
+        try:
+            numer, ring = numerator_poly(atoms.rewrite(expr), atoms)
+        except ValueError:
+            return None  # not a rational function of its atoms
+        relations = relation_polys(atoms, ring)
+        if relations and numer:
+            numer = numer.rem(relations)
         constants = _constant_atoms(atoms, state)
-        gens = sorted(numer.free_symbols - params - set(constants), key=str)
-        if not gens:
-            coefficients = [numer]
-        else:
-            try:
-                coefficients = sp.Poly(numer, *gens).coeffs()
-            except sp.PolynomialError:
-                return None
-        for c in coefficients:
-            c = sp.factor(c.xreplace(constants))
+        inside = [g in params or g in constants or g in _CONSTANT_SYMBOLS for g in ring.symbols]
+        groups: dict[tuple, dict] = {}
+        for exps, c in numer.items():
+            key = tuple(e for e, p in zip(exps, inside, strict=True) if not p)
+            mono = tuple(e if p else 0 for e, p in zip(exps, inside, strict=True))
+            groups.setdefault(key, {})[mono] = c
+        for terms in groups.values():
+            c = factor(ring(terms).as_expr().xreplace(_VALUES).xreplace(constants))
             if c != 0:
                 equations.add(_strip_constant_factor(c))
     return equations

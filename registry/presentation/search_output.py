@@ -1,9 +1,10 @@
 """Presenting an integral search: the JSON document of docs/json-output.md (section
-Search output), a plain-text summary, the result in one sentence, and in a few words."""
+Search output), a plain-text summary, the result in one sentence, and in a few words;
+and a measure search in plain text."""
 
 from __future__ import annotations
 
-from ..model import IntegralSet, IntegralStatus, Search, SearchOptions
+from ..model import IntegralSet, IntegralStatus, MeasureSearch, Search, SearchOptions
 from .text_table import wrapped
 
 
@@ -214,6 +215,29 @@ def search_text(search: Search, width: int | None = None) -> str:
     lines.append(f"complete: {'yes' if search.complete else 'no'}")
     lines.extend(f"  coverage: {c}" for c in search.coverage if not search.complete)
     lines.append(statement(search))
+    lines.append(f"{search.seconds:.2f} s")
+    return "\n".join(_hanging(line, width) for line in lines)
+
+
+def measure_text(search: MeasureSearch, width: int | None = None) -> str:
+    """A plain-text summary of a measure search: the Darboux polynomials of the ansatz
+    with their cofactors, each density with the factors where it is singular, the first
+    integrals it may be multiplied by, completeness and the statement."""
+    lines = [f"{search.case}: invariant densities rho = prod F_i**a_i"]
+    if search.darboux:
+        lines.append("Darboux polynomials among the factors tried (dF/dt = K F):")
+        lines.extend(f"    F = {f}    (K = {k})" for f, k in search.darboux)
+    else:
+        lines.append(f"Darboux polynomials: none among the {len(search.candidates)} factors tried")
+    for d in search.densities:
+        lines.append(f"density: rho = {d.expression}    (measure {d.verdict})")
+        lines.extend(f"    singular or undefined where {f} = 0" for f in d.singular)
+    if not search.densities:
+        lines.append("density: none of this form")
+    lines.extend(f"first integral: {i}" for i in search.integrals)
+    lines.append(f"complete: {'yes' if search.complete else 'no'}")
+    lines.extend(f"  undecided: {u}" for u in search.undecided)
+    lines.append(search.statement)
     lines.append(f"{search.seconds:.2f} s")
     return "\n".join(_hanging(line, width) for line in lines)
 
