@@ -49,6 +49,9 @@ def test_the_doc_has_its_examples():
     assert marks <= {None, "refused"}, marks
     assert any("hamiltonian = " in toml for _, _, toml, _ in EXAMPLES)
     assert any("kappa = " in toml for _, _, toml, _ in EXAMPLES)
+    assert any("[system.equations]" in toml for _, _, toml, _ in EXAMPLES)
+    assert any("[system.bracket]" in toml for _, _, toml, _ in EXAMPLES)
+    assert any('kind = "measure"' in toml for _, _, toml, _ in EXAMPLES)
 
 
 @pytest.mark.parametrize(("case_id", "mark", "toml", "said"), EXAMPLES, ids=IDS)
@@ -84,6 +87,15 @@ def test_the_claims_of_the_examples_are_verified(case_id, toml):
         ("example-gyrostat", "(M3 + k3)*gamma3", "M3*gamma3", "casimir", "area"),
         ("example-kappa-axisymmetric", "kappa*(M1**2", "(M1**2", "casimir", "deformed"),
         ("example-lagrange-hamiltonian", "(M1**2 + M2**2)/(2*A)", "M1**2/A", "integral", "M3"),
+        ("example-sleigh", '"1/omega"', '"omega"', "measure", "density"),
+        ("example-sleigh", '"omega"\n', '"v"\n', "relation", "no-turning"),
+        (
+            "example-two-fields",
+            "alpha2**2 + alpha3**2",
+            "alpha2**2 + beta3**2",
+            "casimir",
+            "alpha-squared",
+        ),
     ],
 )
 def test_a_changed_example_is_not_verified(case_id, old, new, check, label):
