@@ -74,6 +74,7 @@ def test_services_held_until_the_run_is_killed(
 
 
 @pytest.mark.slow
+@pytest.mark.serial  # kills a whole test run: not beside the workers of another
 @pytest.mark.skipif(not sys.platform.startswith("linux"), reason="reads /proc")
 @pytest.mark.skipif(HOLD in os.environ, reason="the killed run itself")
 @pytest.mark.parametrize("how", [signal.SIGKILL, signal.SIGTERM], ids=["SIGKILL", "SIGTERM"])
