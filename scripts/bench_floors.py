@@ -9,7 +9,7 @@ and a real regression (ours several times slower) does. CI runs this after the t
 a quiet machine, by the quiet times of docs/benchmarks.md.
 
   audit      plain ``sympy.simplify`` on every residual / our audit, identical checks
-             and no repairs, one process, on the seed cases of ``AUDIT_CASES``
+             and no corrections, one process, on the seed cases of ``AUDIT_CASES``
              (``bench_audit.py``'s naive baseline); each side in a fresh fork, so that
              neither inherits the other's caches, best of ``--repeat``
   startup    ``python -c "import sympy"`` / ``registry --help``, whole processes, best
