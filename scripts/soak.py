@@ -494,7 +494,7 @@ def main(argv: list[str] | None = None) -> int:
     token = f"{os.getpid()}-{time.time_ns()}"
     os.environ[MARK] = token  # after the watchdog: it must not carry the mark
     work = Path(tempfile.mkdtemp(prefix="registry-soak-"))
-    started_at = time.time()
+    started_at, loads_before = time.time(), os.getloadavg()
     log(
         f"soak: {args.clients} clients, {args.minutes:g} min, {args.backend}, "
         f"kill every ~{args.kill_every:g} s, seed {args.seed}; folder {work}"
@@ -558,6 +558,9 @@ def main(argv: list[str] | None = None) -> int:
         clients.problems += soak.exits
         clients.counts = {"failed operations": len(errors), "clients ended early": len(soak.exits)}
         outcomes.append(clients)
+        if server is not None and (args.keep or not all(o.passed for o in outcomes)):
+            with registry.open(db, create=False) as reg:  # to look at once the server is gone
+                reg.copy_to(work / "soak.sqlite")
     finally:
         if soak is not None:
             for slot in soak.slots:
@@ -581,6 +584,7 @@ def main(argv: list[str] | None = None) -> int:
             "mean": statistics.fmean(soak.loads) if soak.loads else None,
             "min": min(soak.loads, default=None),
             "max": max(soak.loads, default=None),
+            "before": loads_before[0],
             "at_end": loads_end[0],
             "samples": len(soak.loads),
         },
@@ -641,7 +645,8 @@ def print_report(report: dict[str, Any], outcomes, found, soak: Soak) -> None:
     if load["samples"]:
         print(
             f"load average (1 min) during the run: mean {load['mean']:.1f}, "
-            f"{load['min']:.1f}-{load['max']:.1f} ({load['samples']} samples)"
+            f"{load['min']:.1f}-{load['max']:.1f} ({load['samples']} samples; "
+            f"{load['before']:.1f} before the soak started)"
         )
     clients = [k for k in soak.kills if k["kind"] == "client"]
     workers = [k for k in soak.kills if k["kind"] == "worker"]

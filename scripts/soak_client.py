@@ -312,7 +312,7 @@ def run(args: argparse.Namespace) -> None:
             journal.write(
                 op=kind,
                 error=f"{type(exc).__name__}: {exc}",
-                trace=traceback.format_exc(limit=-6),
+                trace=traceback.format_exc(),
                 elapsed=time.perf_counter() - started,
             )
             time.sleep(1.0)
