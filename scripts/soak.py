@@ -402,6 +402,20 @@ class Soak:
         log("deadline: the clients finish what they are doing")
         self.finish()
 
+    def state(self, load_before: tuple[float, float, float]) -> dict[str, Any]:
+        """What the checks need of the run, beside the journals and the database."""
+        return {
+            "command": " ".join([Path(sys.executable).name, *sys.argv]),
+            "backend": self.args.backend if self.args.db is None else self.args.db,
+            "clients": self.args.clients,
+            "minutes": self.args.minutes,
+            "kills": self.kills,
+            "killed_pids": sorted(self.killed_pids),
+            "exits": self.exits,
+            "loads": self.loads,
+            "load_before": load_before[0],
+        }
+
     def watch_restarts(self) -> None:
         """Note when a killed worker is back; restart it if its nanny has not in time."""
         assert self.dask is not None or not self.pending
@@ -484,9 +498,17 @@ def main(argv: list[str] | None = None) -> int:
     )
     parser.add_argument("--json", default=None, help="write the figures and checks here")
     parser.add_argument("--keep", action="store_true", help="keep the working folder")
+    parser.add_argument(
+        "--recheck",
+        metavar="FOLDER",
+        default=None,
+        help="only check again the soak kept in FOLDER (its journals, state and database)",
+    )
     args = parser.parse_args(argv)
     if not sys.platform.startswith("linux"):
         parser.error("the soak reads /proc: Linux only")
+    if args.recheck:
+        return recheck(args, Path(args.recheck))
 
     from tests.helpers import watchdog
 
@@ -504,7 +526,7 @@ def main(argv: list[str] | None = None) -> int:
     dask: DaskProcesses | None = None
     soak: Soak | None = None
     outcomes: list[soak_checks.Outcome] = []
-    found: dict[str, Any] = {}
+    state: dict[str, Any] = {}
     try:
         import registry
 
@@ -531,36 +553,15 @@ def main(argv: list[str] | None = None) -> int:
 
         soak = Soak(args, work, db, dask)
         soak.run()
-        loads_end = os.getloadavg()
+        state = soak.state(loads_before)
         if dask is not None:
             dask.stop()
         log("clients and cluster stopped; checking")
-
-        journals = soak_checks.Journals.read(work / "journal")
-        found = soak_checks.figures(journals, args.minutes)
-        with registry.open(db, create=False) as reg:  # marks the runs of killed clients
-            snap = soak_checks.Snapshot.read(reg.store)
-            outcomes.append(soak_checks.acknowledged(snap, journals))
-            outcomes.append(soak_checks.sound(reg, snap, soak.killed_pids, journals))
-        log("the serial run of the same work, in a fresh registry")
-        quiet, seconds = soak_checks.replay(
-            snap,
-            work / "serial.sqlite",
-            family_ids(),
-            *_budgets(),
-        )
-        outcomes.append(soak_checks.serial(snap, quiet, seconds))
-        errors = journals.errors()
-        clients = soak_checks.Outcome("e", "no operation of a client failed, none ended early")
-        for e in errors[: soak_checks.SHOWN]:
-            clients.fail(f"{e['client']} {e['op']}: {e['error'][:300]}")
-        clients.passed = not errors and not soak.exits
-        clients.problems += soak.exits
-        clients.counts = {"failed operations": len(errors), "clients ended early": len(soak.exits)}
-        outcomes.append(clients)
-        if server is not None and (args.keep or not all(o.passed for o in outcomes)):
-            with registry.open(db, create=False) as reg:  # to look at once the server is gone
+        if server is not None:  # for --recheck, once the server is gone
+            with registry.open(db, create=False) as reg:
                 reg.copy_to(work / "soak.sqlite")
+        (work / "state.json").write_text(json.dumps(state, indent=1), encoding="utf-8")
+        outcomes = run_checks(work, db, state)
     finally:
         if soak is not None:
             for slot in soak.slots:
@@ -572,23 +573,78 @@ def main(argv: list[str] | None = None) -> int:
         if server is not None:
             server.stop()
     outcomes.append(no_process_left(token))
+    return conclude(args, work, state, outcomes, time.time() - started_at)
 
-    assert soak is not None
+
+def recheck(args: argparse.Namespace, work: Path) -> int:
+    """The checks again on a soak's kept folder: its database (the copy of a server's),
+    journals and state; the processes are not looked at again."""
+    started = time.time()
+    state = json.loads((work / "state.json").read_text(encoding="utf-8"))
+    copy = work / "soak.sqlite"
+    db = str(copy if copy.exists() else work / "registry.sqlite")
+    log(f"checking again the soak of {work} on {db}")
+    return conclude(args, work, state, run_checks(work, db, state), time.time() - started)
+
+
+def run_checks(work: Path, db: str, state: dict[str, Any]) -> list[soak_checks.Outcome]:
+    """Checks 1, 2, 3 and the clients' errors, on the database ``db`` and the journals and
+    state kept in ``work``; a check that breaks is a failed check, with its traceback."""
+    import traceback
+
+    import registry
+
+    journals = soak_checks.Journals.read(work / "journal")
+    outcomes = []
+    try:
+        with registry.open(db, create=False) as reg:  # marks the runs of killed clients
+            snap = soak_checks.Snapshot.read(reg.store)
+            outcomes.append(soak_checks.acknowledged(snap, journals))
+            outcomes.append(soak_checks.sound(reg, snap, set(state["killed_pids"]), journals))
+        log("the serial run of the same work, in a fresh registry")
+        serial = work / "serial.sqlite"
+        serial.unlink(missing_ok=True)
+        quiet, seconds = soak_checks.replay(snap, serial, family_ids(), *_budgets())
+        outcomes.append(soak_checks.serial(snap, quiet, seconds))
+    except Exception:
+        broken = soak_checks.Outcome("x", "the checks ran to their end")
+        broken.fail(traceback.format_exc())
+        outcomes.append(broken)
+    errors = journals.errors()
+    clients = soak_checks.Outcome("e", "no operation of a client failed, none ended early")
+    for e in errors:
+        clients.fail(f"{e['client']} {e['op']}: {e['error'][:300]}")
+    for ended in state["exits"]:
+        clients.fail(ended)
+    clients.counts = {"failed operations": len(errors), "clients ended early": len(state["exits"])}
+    outcomes.append(clients)
+    return outcomes
+
+
+def conclude(
+    args: argparse.Namespace,
+    work: Path,
+    state: dict[str, Any],
+    outcomes: list[soak_checks.Outcome],
+    seconds: float,
+) -> int:
+    """Print the report (and write it as JSON with --json); the exit status."""
+    found = soak_checks.figures(soak_checks.Journals.read(work / "journal"), state["minutes"])
+    loads = state["loads"]
     report = {
-        "command": " ".join([Path(sys.executable).name, *sys.argv]),
-        "backend": args.backend if args.db is None else args.db,
-        "clients": args.clients,
-        "minutes": args.minutes,
+        "command": state["command"],
+        "backend": state["backend"],
+        "clients": state["clients"],
+        "minutes": state["minutes"],
         "cores": os.cpu_count(),
         "load": {
-            "mean": statistics.fmean(soak.loads) if soak.loads else None,
-            "min": min(soak.loads, default=None),
-            "max": max(soak.loads, default=None),
-            "before": loads_before[0],
-            "at_end": loads_end[0],
-            "samples": len(soak.loads),
+            "mean": statistics.fmean(loads) if loads else None,
+            "min": min(loads, default=None),
+            "max": max(loads, default=None),
+            "before": state["load_before"],
+            "samples": len(loads),
         },
-        "kills": soak.kills,
+        "kills": state["kills"],
         "figures": found,
         "checks": {
             o.name: {
@@ -599,16 +655,16 @@ def main(argv: list[str] | None = None) -> int:
             }
             for o in outcomes
         },
-        "seconds": time.time() - started_at,
+        "seconds": seconds,
     }
-    print_report(report, outcomes, found, soak)
+    print_report(report, outcomes, found)
     if args.json:
         Path(args.json).write_text(json.dumps(report, indent=2, default=str), encoding="utf-8")
     passed = all(o.passed for o in outcomes)
-    if passed and not args.keep:
+    if passed and not args.keep and not args.recheck:
         shutil.rmtree(work, ignore_errors=True)
     else:
-        print(f"working folder kept: {work}")
+        print(f"working folder kept: {work} (python scripts/soak.py --recheck {work})")
     return 0 if passed else 1
 
 
@@ -635,12 +691,13 @@ def no_process_left(token: str) -> soak_checks.Outcome:
     return out
 
 
-def print_report(report: dict[str, Any], outcomes, found, soak: Soak) -> None:
+def print_report(report: dict[str, Any], outcomes, found) -> None:
     print()
     print(
         f"soak: {report['clients']} clients for {report['minutes']:g} min on "
         f"{report['backend']}, {report['cores']} cores"
     )
+    print(f"command: {report['command']}")
     load = report["load"]
     if load["samples"]:
         print(
@@ -648,8 +705,8 @@ def print_report(report: dict[str, Any], outcomes, found, soak: Soak) -> None:
             f"{load['min']:.1f}-{load['max']:.1f} ({load['samples']} samples; "
             f"{load['before']:.1f} before the soak started)"
         )
-    clients = [k for k in soak.kills if k["kind"] == "client"]
-    workers = [k for k in soak.kills if k["kind"] == "worker"]
+    clients = [k for k in report["kills"] if k["kind"] == "client"]
+    workers = [k for k in report["kills"] if k["kind"] == "worker"]
     doing = ", ".join(
         f"{d}: {n}"
         for d, n in sorted(_count(str(k.get("doing") or "idle") for k in clients).items())

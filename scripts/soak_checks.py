@@ -254,6 +254,14 @@ class Snapshot:
             found[key].add(compared(key, tuple(verdict)))
         return found
 
+    def search_result(self, search: int) -> tuple:
+        """What a search established, with its derived cases named by content."""
+        rows = tuple(
+            (*row[:-1], None if row[-1] is None else self.version_hash(row[-1]))
+            for row in self.discoveries.get(search, [])
+        )
+        return (self.searches[search][3], rows)
+
 
 #: What is compared of a verdict: verdict, method, reason, witness, residual.
 VERDICT_FIELDS = ("verdict", "method", "reason", "witness", "residual")
@@ -268,14 +276,6 @@ def compared(key: tuple, verdict: tuple) -> tuple:
     if claim is not None and claim[0] == "discovered":
         return verdict[:3]
     return verdict
-
-    def search_result(self, search: int) -> tuple:
-        """What a search established, with its derived cases named by content."""
-        rows = tuple(
-            (*row[:-1], None if row[-1] is None else self.version_hash(row[-1]))
-            for row in self.discoveries.get(search, [])
-        )
-        return (self.searches[search][3], rows)
 
 
 # ------------------------------------------------------------------------ 1. acknowledged
