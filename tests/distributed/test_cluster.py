@@ -245,3 +245,19 @@ def test_workers_running_other_code_are_refused():
         (worker,) = client.nthreads()
         assert str(caught.value).startswith(f"Dask worker {worker} runs registry ")
         assert "start the workers from the same code" in str(caught.value)
+
+
+def _same_unless_worker_1_dies(dask_worker=None) -> str:
+    """The same answer everywhere, except on the worker named worker-1, which dies while
+    it is asked (as a worker killed at that moment does)."""
+    if dask_worker is not None and dask_worker.name == "worker-1":
+        os.kill(os.getpid(), signal.SIGKILL)
+    return "same"
+
+
+def test_a_worker_that_dies_while_its_code_is_checked_is_not_asked(separate_processes):
+    from distributed import Client
+
+    with Client(separate_processes.address, timeout=30) as client:
+        check_same_code(client, _same_unless_worker_1_dies)
+    assert separate_processes.workers[1].wait(timeout=HANG) == -signal.SIGKILL
