@@ -22,7 +22,7 @@ from . import settings
 from .errors import CaseFormatError, RegistryError
 from .execution.executor import check_options, open_executor
 from .execution.time_budget import TimeBudget, default_budget
-from .settings import DEFAULT_SEARCH_SECONDS
+from .settings import DEFAULT_SEARCH_SECONDS, DEFAULT_SURVEY_SECONDS
 
 # The facade is imported by ``registry --help`` and ``--version``, which must stay quick:
 # sympy, SQLAlchemy and pandas are imported by the methods that use them, not here.
@@ -291,7 +291,7 @@ class Registry:
         case_ids: Sequence[str] | None = None,
         *,
         fresh: bool = False,
-        budget: float | None = DEFAULT_SEARCH_SECONDS,
+        budget: float | None = DEFAULT_SURVEY_SECONDS,
         jobs: int | None = None,
         progress: Callable[[int, int, str], None] | None = None,
         scheduler: str | Client | None = None,

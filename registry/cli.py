@@ -503,7 +503,7 @@ def _measures(target: str, is_file: bool, as_json: bool, other_options: bool) ->
     "--budget",
     "seconds",
     type=click.FloatRange(min=0, min_open=True),
-    default=settings.DEFAULT_SEARCH_SECONDS,
+    default=settings.DEFAULT_SURVEY_SECONDS,
     show_default=True,
     help="Seconds each search may take; then what is proven is recorded.",
 )

@@ -150,6 +150,14 @@ class System:
         return self.hamiltonian is not None
 
     @property
+    def form(self) -> str:
+        """Which of the four forms the file uses: "inertia" or "hamiltonian" (the
+        reference paper's state M, gamma), "equations" or "bracket" (a state of its own)."""
+        if self.variables:
+            return "bracket" if self.bracket or not self.equations else "equations"
+        return "hamiltonian" if self.hamiltonian_form else "inertia"
+
+    @property
     def inertia_exprs(self) -> tuple[sp.Expr, ...]:
         return tuple(e.expr for e in self.inertia)
 

@@ -36,6 +36,10 @@ DEFAULT_CHECK_SECONDS = 5.0
 DEFAULT_CORRECTIONS_SECONDS = 20.0
 #: Seconds an integral search may take by default (``registry discover --budget``).
 DEFAULT_SEARCH_SECONDS = 300.0
+#: Seconds each of a survey's searches may take by default (``registry survey
+#: --budget``): a sweep of the catalog does not wait minutes on one system it cannot
+#: finish (its record says where it stopped; ``registry discover`` takes longer).
+DEFAULT_SURVEY_SECONDS = 60.0
 #: Seconds a command waits for another's lock on the database before it gives up.
 DEFAULT_LOCK_TIMEOUT = 10.0
 

@@ -25,7 +25,7 @@ from ..language.parser import Namespace, parse_equation
 from ..model import Case, Equation, Search, SearchOptions, Weights
 from ..presentation.search_output import search_document, search_text, statement
 from ..presentation.terminal import terminal_width
-from ..settings import DEFAULT_SEARCH_SECONDS
+from ..settings import DEFAULT_SEARCH_SECONDS, DEFAULT_SURVEY_SECONDS
 from ..store import conversions
 from ..store.database import Store, StoredCase
 from ..version import code_version
@@ -135,7 +135,7 @@ def survey_run(
     executor: Executor,
     *,
     fresh: bool = False,
-    budget: float | None = DEFAULT_SEARCH_SECONDS,
+    budget: float | None = DEFAULT_SURVEY_SECONDS,
     progress: Callable[[int, int, str], None] | None = None,
 ) -> list[SearchReport]:
     """``Registry.survey``: the stated searches of every case (or the named ones),

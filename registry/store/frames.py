@@ -62,6 +62,7 @@ def cases_frame(store: Store) -> pd.DataFrame:
             CaseRow.torque,
             CaseRow.hamiltonian,
             CaseRow.kappa,
+            CaseRow.form.label("own_state"),
             SourceRow.authors,
             SourceRow.year,
             SourceRow.title.label("source_title"),
@@ -90,7 +91,28 @@ def cases_frame(store: Store) -> pd.DataFrame:
         ):
             aliases.setdefault(pk, []).append(alias)
     frame["aliases"] = [aliases.get(pk, []) for pk in frame["pk"]]
-    return frame.drop(columns=["pk"])
+    frame.insert(
+        frame.columns.get_loc("hamiltonian"),
+        "form",
+        [
+            _form_name(own, h)
+            for own, h in zip(frame["own_state"], frame["hamiltonian"], strict=True)
+        ],
+    )
+    frame.insert(
+        frame.columns.get_loc("form") + 1,
+        "variables",
+        [list((own or {}).get("variables", [])) for own in frame["own_state"]],
+    )
+    return frame.drop(columns=["pk", "own_state"])
+
+
+def _form_name(own: dict | None, hamiltonian: str | None) -> str:
+    """The form a stored system was written in (``System.form``): "inertia" or
+    "hamiltonian" on the paper's state, "equations" or "bracket" on a state of its own."""
+    if own and own.get("variables"):
+        return "bracket" if own.get("bracket") or not own.get("equations") else "equations"
+    return "hamiltonian" if isinstance(hamiltonian, str) else "inertia"  # NULL reads as NaN
 
 
 @guarded
