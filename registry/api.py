@@ -22,6 +22,7 @@ from . import settings
 from .errors import CaseFormatError, RegistryError
 from .execution.executor import check_options, open_executor
 from .execution.time_budget import TimeBudget, default_budget
+from .settings import DEFAULT_EXPONENT_SECONDS as DEFAULT_EXPONENT_BUDGET
 from .settings import DEFAULT_SEARCH_SECONDS as DEFAULT_SEARCH_BUDGET
 
 # The facade is imported by ``registry --help`` and ``--version``, which must stay quick:
@@ -33,6 +34,7 @@ if TYPE_CHECKING:
     from .model import Case, Equation, Verdict, VerdictChange, Weights
     from .presentation.site import Catalog
     from .runs.audit_run import AuditReport
+    from .runs.exponents_run import ExponentReport
     from .runs.search_run import SearchReport
     from .store.copying import CopyReport
     from .store.database import Store
@@ -42,6 +44,7 @@ if TYPE_CHECKING:
 _LAZY = {
     "AuditReport": "runs.audit_run",
     "SearchReport": "runs.search_run",
+    "ExponentReport": "runs.exponents_run",
     "Verification": "store.integrity",
     "CopyReport": "store.copying",
 }
@@ -60,9 +63,11 @@ __all__ = [
     "AddResult",
     "AuditReport",
     "CheckInfo",
+    "ExponentReport",
     "Registry",
     "SearchReport",
     "TimeBudget",
+    "analyse_exponents",
     "check_where",
     "checks",
     "diff_text",
@@ -295,6 +300,46 @@ class Registry:
         from .store import frames
 
         return frames.discoveries_frame(self.store)
+
+    # --- Kovalevskaya exponents ---------------------------------------------
+
+    def analyse_exponents(
+        self,
+        target: str | os.PathLike | Case,
+        *,
+        weights: Weights | Mapping[str, int] | tuple[int, int] | None = None,
+        free: Sequence[str] = (),
+        record: bool = False,
+        fresh: bool = False,
+        budget: float | None = DEFAULT_EXPONENT_BUDGET,
+        jobs: int | None = None,
+        scheduler: str | Client | None = None,
+    ) -> ExponentReport:
+        """The Kovalevskaya exponents of a case (a case file, a stored case's id, or a
+        ``Case``): every balance of its field's leading part under ``weights`` (by vector,
+        default the case's own), its exponents, Yoshida's degrees and the Painlevé test
+        (``registry.discovery.exponents``); with ``free``, the values of those parameters
+        where every exponent is an integer, half an integer or rational, the candidates
+        analysed in ``jobs`` worker processes or on the Dask cluster of ``scheduler``.
+        A stored analysis of the same case version and options by this code version is
+        reused unless ``fresh``; ``record`` stores this one with the case version (the
+        file added first if need be), keeping the earlier ones. ``reg.exponents()`` lists
+        the recorded analyses."""
+        from .runs.exponents_run import ExponentRequest, exponents_run
+
+        request = ExponentRequest(weights, tuple(free), budget, record, fresh)
+        with open_executor(jobs, scheduler) as executor:
+            return exponents_run(self.store, target, request, executor)
+
+    def exponents(self) -> pd.DataFrame:
+        """One row per recorded Kovalevskaya analysis, oldest first: the case version, the
+        weights, the free parameters, whether it was decided, whether the field is
+        weighted-homogeneous, the balances, whether every exponent is an integer
+        (rational), Yoshida's degrees, the Painlevé test, a family's special sets, the
+        statement, code version and time."""
+        from .store import frames
+
+        return frames.exponents_frame(self.store)
 
     # --- queries ----------------------------------------------------------
 
@@ -572,3 +617,27 @@ def discover_file(
     request = SearchRequest(degree, weights, tuple(on), tuple(free), relations, budget)
     with open_executor(jobs, scheduler) as executor:
         return search_run(None, path, request, executor, progress)
+
+
+def analyse_exponents(
+    target: str | os.PathLike | Case,
+    *,
+    weights: Weights | Mapping[str, int] | tuple[int, int] | None = None,
+    free: Sequence[str] = (),
+    budget: float | None = DEFAULT_EXPONENT_BUDGET,
+    jobs: int | None = None,
+    scheduler: str | Client | None = None,
+) -> ExponentReport:
+    """The Kovalevskaya exponents of a case file or a ``Case`` without a database (in a
+    notebook): nothing is reused or recorded (``Registry.analyse_exponents`` has the
+    options).
+
+    >>> report = analyse_exponents("data/cases/heavy-top/kovalevskaya-1889-heavy-top.toml")
+    >>> report.result.all_integer, report.result.degrees
+    (True, (1, 2, 3, 4))
+    """
+    from .runs.exponents_run import ExponentRequest, exponents_run
+
+    request = ExponentRequest(weights, tuple(free), budget)
+    with open_executor(jobs, scheduler) as executor:
+        return exponents_run(None, target, request, executor)

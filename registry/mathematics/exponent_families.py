@@ -183,7 +183,9 @@ def exponent_family(
     factors, varying, poles = _exponent_polynomial(whole, matrix)
     special = _special_components(split, invalid, seed)
     exceptional = tuple(dict.fromkeys([*poles, *special]))
-    return _one_parameter(split, whole, factors, exceptional, invalid, varying, start, analyses)
+    return _one_parameter(
+        split, whole, factors, exceptional, invalid, varying, start, analyses, seed
+    )
 
 
 def _several_parameters(split, analyses, invalid, grid, start, seed, make_generic):
@@ -259,9 +261,11 @@ def analysis_at(item) -> ExponentAnalysis | None:
     return _analysis_at(field, variables, weights, values)
 
 
-def _one_parameter(split, generic, factors, exceptional, invalid, varying, start, analyses):
+def _one_parameter(split, generic, factors, exceptional, invalid, varying, start, analyses, seed):
     """The special sets of one free parameter p: the generic candidates (``integrality``)
-    confirmed one by one, and every rational exceptional value analysed on its own."""
+    confirmed one by one, and every rational exceptional value analysed on its own.
+    Where every exponent is an integer for every value, the Painlevé test is run over
+    Q(p) and the values where its conditions hold are listed (``_painleve_locus``)."""
     (p,) = split.parameters
     polys = [f for f, _ in factors]
     roots = _roots(exceptional, p, invalid)
@@ -297,8 +301,11 @@ def _one_parameter(split, generic, factors, exceptional, invalid, varying, start
         kind = None if analysis is None else kind_of(analysis)
         if kind is not None:
             found[kind] += (SpecialSet(kind, {p: v}, analysis, notes=note),)
-    # a half-integer (or rational) family's members that are integers are listed there
     coverage = [*integer_candidates_.notes, *half_candidates.notes, *rational_candidates_.notes]
+    if any(s.index == p for s in found["integer"]):
+        generic, passing, notes = _painleve_locus(split, p, roots, invalid, analyses, seed)
+        found["integer"] += passing
+        coverage += notes
     if varying:
         coverage.append("some family of balances has exponents that vary along it: not handled")
     if unexamined:
@@ -326,6 +333,50 @@ def _one_parameter(split, generic, factors, exceptional, invalid, varying, start
         _sorted(found["half-integer"]),
         half_complete,
     )
+
+
+def _painleve_locus(split, p, exceptional, invalid, analyses, seed):
+    """Where every exponent is an integer for every value of p: the generic analysis with
+    the Painlevé test over Q(p), and the values of p where its compatibility conditions
+    all hold (each condition must vanish for every value of the free coefficients, so
+    each of its coefficients in them is an equation in p), each confirmed by an exact
+    analysis; notes on what was not decided (a Jordan block over Q(p), an irrational
+    value)."""
+    generic = analyse(split, painleve=True, seed=seed)
+    equations: list[sp.Expr] = []
+    notes: list[str] = []
+    for b in generic.balances:
+        for r in b.painleve.resonances:
+            if r.missing:
+                notes.append(
+                    f"a resonance {r.order} lacks a free coefficient for generic {p}: the "
+                    "values where the Painlevé test passes were not sought"
+                )
+                return generic, (), tuple(notes)
+            for condition in r.conditions:
+                numer = sp.expand(sp.fraction(sp.together(condition))[0])
+                others = sorted(numer.free_symbols - {p}, key=str)
+                parts = sp.Poly(numer, *others).coeffs() if others else [numer]
+                equations += [sp.expand(c) for c in parts]
+    if not equations:
+        return generic, (), ("the Painlevé test passes for generic values of the parameter",)
+    values = {
+        v
+        for solution in sp.solve(equations, [p], dict=True)
+        if p in solution and (v := solution[p]).is_real
+    }
+    passing = []
+    for v in sorted(values, key=sp.default_sort_key):
+        if v in exceptional or _undefined(invalid, p, v):
+            continue
+        if not v.is_rational:
+            notes.append(f"the Painlevé test's conditions hold at {p} = {v}: not analysed")
+            continue
+        analysis = analyses.at({p: v})
+        if analysis is not None and analysis.painleve_passes:
+            why = ("every compatibility condition of the generic analysis holds here",)
+            passing.append(SpecialSet("integer", {p: v}, analysis, notes=why))
+    return generic, tuple(passing), tuple(notes)
 
 
 def _complete(flag: bool) -> str:

@@ -204,7 +204,7 @@ def test_the_command_copies_to_and_from(source, databases):
     assert head.endswith(f" s: {described}")
     versions = len(registry_rows(source)["cases"])
     assert checked == (
-        "verified before the commit: schema revision 0007, integrity, foreign keys, hashes "
+        "verified before the commit: schema revision 0009, integrity, foreign keys, hashes "
         f"and every stored expression; the rows of every table and the hashes of the {versions} "
         "case versions equal the source's"
     )
