@@ -37,9 +37,9 @@ DEFAULT_CORRECTIONS_SECONDS = 20.0
 #: Seconds an integral search may take by default (``registry discover --budget``).
 DEFAULT_SEARCH_SECONDS = 300.0
 #: Seconds a Kovalevskaya analysis may take by default (``registry exponents --budget``),
-#: and each case's in the survey.
+#: and the one made beside a search (``discover``, the survey) to combine the two.
 DEFAULT_EXPONENT_SECONDS = 300.0
-SURVEY_EXPONENT_SECONDS = 60.0
+BESIDE_SEARCH_EXPONENT_SECONDS = 30.0
 #: Seconds a command waits for another's lock on the database before it gives up.
 DEFAULT_LOCK_TIMEOUT = 10.0
 

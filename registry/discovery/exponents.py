@@ -16,7 +16,7 @@ the field and the text (``case_field``).
 from __future__ import annotations
 
 import time
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -24,7 +24,7 @@ import sympy as sp
 
 from ..dynamics import Dynamics
 from ..errors import ExponentError, Problem, WeightedFieldError
-from ..execution.executor import Executor, InProcess, in_order
+from ..execution.executor import Executor, InProcess, in_order, timed
 from ..execution.serving import Failure
 from ..execution.time_budget import BudgetExceeded, time_limit
 from ..mathematics.exponent_analysis import BalanceResult, ExponentAnalysis, exponents
@@ -228,6 +228,38 @@ def undecided_document(case: Case, options: ExponentOptions, reason: str) -> dic
         "statement": f"Nothing is established about the Kovalevskaya exponents: {reason}.",
         "seconds": 0.0,
     }
+
+
+def analysed(
+    work: Sequence[tuple[Case, ExponentOptions]],
+    *,
+    budget: float | None,
+    executor: Executor | None = None,
+) -> Iterator[ExponentResult]:
+    """The analysis of each (case, options), in order, by ``executor`` (default: in this
+    process), one call each (the survey's); an analysis the method refuses, or that came
+    back with no result, is recorded as ``refused`` with the reason."""
+    executor = executor or InProcess()
+    calls = executor.map(
+        _analysed_apart,
+        [(item, budget) for item in work],
+        deadline=timed(budget),
+        label=lambda w: w[0][0].id,
+        name="registry-exponents",
+    )
+    for index, outcome in in_order(calls, len(work)):
+        if isinstance(outcome, Failure):
+            case, options = work[index]
+            outcome = refused(case, options, f"no result came back: {outcome.reason}")
+        yield outcome
+
+
+def _analysed_apart(work) -> ExponentResult:
+    (case, options), budget = work
+    try:
+        return analyse_case(case, options, budget=budget)
+    except ExponentError as err:
+        return refused(case, options, str(err))
 
 
 # ------------------------------------------------------------------ one system

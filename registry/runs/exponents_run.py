@@ -11,18 +11,18 @@ values in local processes or on a Dask cluster (``discovery.exponents``).
 from __future__ import annotations
 
 import os
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
-from ..discovery.exponents import analyse_case, exponent_options
-from ..errors import UnknownCaseError
+from ..discovery.exponents import analyse_case, analysed, exponent_options, refused
+from ..errors import ExponentError, UnknownCaseError
 from ..execution.executor import Executor
 from ..language.casefile import load_case
-from ..model import Case, ExponentOptions, ExponentResult, Weights
+from ..model import Case, ExponentOptions, ExponentResult, SearchOptions, Weights
 from ..presentation.exponents_output import exponents_text
-from ..settings import DEFAULT_EXPONENT_SECONDS
+from ..settings import BESIDE_SEARCH_EXPONENT_SECONDS, DEFAULT_EXPONENT_SECONDS
 from ..store.database import Store, StoredCase
 from ..version import code_version
 
@@ -102,6 +102,85 @@ def exponents_run(
         (stored,) = store.case_versions([case.id])
     number = store.record_exponents(stored.pk, result, code_version())
     return replace(ExponentReport(result, number), events=events)
+
+
+def beside_search(
+    store: Store | None,
+    stored: StoredCase | None,
+    case: Case,
+    search: SearchOptions,
+    executor: Executor,
+    record: bool = False,
+) -> ExponentResult | None:
+    """The analysis a search is combined with (``discovery.every_degree``): under the
+    search's weights, with its free parameter where it has one (else every parameter
+    generic); a stored one of this case version and code version where there is one, else
+    made now within ``BESIDE_SEARCH_EXPONENT_SECONDS`` (and recorded with a recorded
+    search). None for a search on a level set or for relations, which it is not combined
+    with; an analysis the method refuses is returned as such, with the reason."""
+    if search.on or search.relations:
+        return None
+    options = _options(case, search)
+    if options is None:
+        return None
+    if store is not None and stored is not None:
+        found = store.stored_exponents(stored.pk, options, code_version())
+        if found is not None:
+            return found[1]
+    try:
+        result = analyse_case(
+            case, options, budget=BESIDE_SEARCH_EXPONENT_SECONDS, executor=executor
+        )
+    except ExponentError as err:
+        result = refused(case, options, str(err))
+    if record and store is not None and stored is not None:
+        store.record_exponents(stored.pk, result, code_version())
+    return result
+
+
+def beside_searches(
+    store: Store,
+    work: Sequence[tuple[StoredCase, Case, SearchOptions]],
+    executor: Executor,
+) -> list[ExponentResult | None]:
+    """``beside_search`` for the survey's searches, in order: each case version analysed
+    once (the stored analysis reused), the new ones by ``executor`` and recorded."""
+    wanted: dict[tuple[int, str], tuple[StoredCase, Case, ExponentOptions]] = {}
+    keys: list[tuple[int, str] | None] = []
+    for stored, case, search in work:
+        options = None if search.on or search.relations else _options(case, search)
+        key = None if options is None else (stored.pk, repr(options.as_dict()))
+        keys.append(key)
+        if key is not None:
+            wanted.setdefault(key, (stored, case, options))  # type: ignore[arg-type]
+    found: dict[tuple[int, str], ExponentResult] = {}
+    todo = []
+    for key, (stored, _, options) in wanted.items():
+        kept = store.stored_exponents(stored.pk, options, code_version())
+        if kept is not None:
+            found[key] = kept[1]
+        else:
+            todo.append(key)
+    work_items = [(wanted[k][1], wanted[k][2]) for k in todo]
+    for key, result in zip(
+        todo,
+        analysed(work_items, budget=BESIDE_SEARCH_EXPONENT_SECONDS, executor=executor),
+        strict=True,
+    ):
+        store.record_exponents(wanted[key][0].pk, result, code_version())
+        found[key] = result
+    return [None if k is None else found[k] for k in keys]
+
+
+def _options(case: Case, search: SearchOptions) -> ExponentOptions | None:
+    """The analysis options beside a search: its weights, and its one free parameter
+    (several are analysed as generic parameters); None where the weights name a vector
+    the case does not have."""
+    free = search.free if len(search.free) == 1 else ()
+    try:
+        return exponent_options(case, search.weights, free)
+    except ExponentError:
+        return None
 
 
 def _target(store: Store, target: str | os.PathLike | Case) -> tuple[Case, StoredCase | None]:

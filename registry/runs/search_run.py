@@ -15,18 +15,20 @@ from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
 
+from ..discovery.every_degree import every_degree, summary
 from ..discovery.search import discover, search_options
 from ..discovery.survey import searched, stated_options
 from ..errors import UnknownCaseError
 from ..execution.executor import Executor
 from ..language.case_writer import derived_case_text
 from ..language.casefile import load_case, parse_case_text
-from ..model import Case, Equation, Search, SearchOptions, Weights
+from ..model import Case, Equation, ExponentResult, Search, SearchOptions, Weights
 from ..presentation.search_output import search_document, search_text, statement
 from ..settings import DEFAULT_SEARCH_SECONDS
 from ..store import conversions
 from ..store.database import Store, StoredCase
 from ..version import code_version
+from .exponents_run import beside_search, beside_searches
 
 
 @dataclass(frozen=True)
@@ -42,10 +44,22 @@ class SearchReport:
     #: What happened on the Dask cluster that ran the search (workers lost, candidate
     #: sets searched again elsewhere), one line each; empty without a scheduler.
     events: tuple[str, ...] = ()
+    #: The Kovalevskaya analysis under the search's weights, combined with it (None for a
+    #: search on a level set or of relations).
+    exponents: ExponentResult | None = None
+
+    @property
+    def every_degree(self) -> str:
+        """What the search and the exponents prove together at every degree
+        (``discovery.every_degree``)."""
+        return every_degree(self.search, self.exponents)
 
     def document(self) -> dict:
         """The JSON document of docs/json-output.md (Search output) for this search."""
         document = search_document(self.search)
+        if self.exponents is not None:
+            document["exponents"] = summary(self.exponents)
+        document["every_degree"] = self.every_degree
         if self.number is not None:
             document["search"] = self.number
             document["reused"] = self.reused
@@ -56,13 +70,18 @@ class SearchReport:
         return document
 
     def text(self) -> str:
-        """The search in plain text, as ``registry discover`` prints it."""
-        return search_text(self.search)
+        """The search in plain text, as ``registry discover`` prints it, with what it and
+        the exponents prove together at every degree."""
+        return f"{search_text(self.search)}\nat every degree: {self.every_degree}"
 
     @property
     def statement(self) -> str:
-        """The result in one sentence."""
-        return statement(self.search)
+        """The result in one sentence; with what it and the exponents prove at every degree
+        where they can be combined."""
+        combined = self.every_degree
+        if combined.startswith("Nothing is stated"):
+            return statement(self.search)
+        return f"{statement(self.search)} {combined}"
 
 
 @dataclass(frozen=True)
@@ -115,15 +134,17 @@ def search_run(
     if store is not None and not request.fresh:
         reused = _reused_search(store, case, stored, options)
     if reused is not None:
-        return reused
+        return replace(reused, exponents=beside_search(store, stored, case, options, executor))
     search = discover(case, options, budget=request.budget, executor=executor, progress=progress)
     events = tuple(executor.events)
     if not request.record or store is None:
-        return SearchReport(search, events=events)
+        found = beside_search(store, stored, case, options, executor)
+        return SearchReport(search, events=events, exponents=found)
     if stored is None:
         store.add_case(case)
         (stored,) = [s for s in store.case_versions([case.id])]
-    return replace(_recorded(store, stored, case, search), events=events)
+    found = beside_search(store, stored, case, options, executor, record=True)
+    return replace(_recorded(store, stored, case, search), events=events, exponents=found)
 
 
 def survey_run(
@@ -156,7 +177,8 @@ def survey_run(
         if progress is not None:
             progress(done + 1, len(todo), search.case)
         reports[i] = _recorded(store, planned[i][0], planned[i][1], search)
-    return [reports[i] for i in range(len(planned))]
+    found = beside_searches(store, planned, executor)
+    return [replace(reports[i], exponents=found[i]) for i in range(len(planned))]
 
 
 def _reused_search(
