@@ -493,8 +493,7 @@ def _family_document(
             document["leading"] = {
                 str(x): sp.sstr(v) for x, v in zip(generic.variables, generic.leading, strict=True)
             }
-        document |= _analysis_part(generic)
-        document["painleve"]["passes"] = False  # generic members: below, per special set
+        document |= _analysis_part(generic)  # the Painlevé test of generic members
     else:
         document |= {"balances": [], "all_integer": None, "all_rational": None, "degrees": []}
         document["painleve"] = {"passes": False, "compatible": None, "conditions": []}

@@ -240,3 +240,23 @@ def test_the_symmetric_top_family_selects_kovalevskaya_and_names_goryachev_chapl
         "is an integer exactly at: n = 1 (ARS test passes); n = 2 (ARS test passes)"
         in (d["statement"])
     )
+
+
+def test_a_family_s_painleve_verdict_is_that_of_its_generic_members(tmp_path):
+    """Lagrange's top A = B = 1, C = 2 with the centre of mass c on the axis, c free:
+    integer exponents for every c and every condition holding over Q(c), so the test
+    passes for generic c, in the document as in its statement."""
+    path = tmp_path / "lagrange-c.toml"
+    path.write_text(
+        'id = "family-lagrange-c"\ntitle = "Lagrange top, centre c on the axis"\n'
+        '[source]\ncitation = "Test family"\n[parameters]\nc = "positive"\n'
+        '[system]\ninertia = ["1", "1", "2"]\npotential = "c*gamma3"\n',
+        encoding="utf-8",
+    )
+    _, result = analysed(path, free=["c"])
+    d = result.document
+    assert [(s["kind"], s["when"]) for s in d["special"]] == [("integer", []), ("rational", [])]
+    assert spectra(d) == [["-1", "0", "1", "2", "3", "4"]] * 2
+    assert d["painleve"]["passes"] is True and d["painleve"]["conditions"] == []
+    assert result.passes
+    assert "passes for generic values" in result.statement
