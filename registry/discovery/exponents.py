@@ -204,6 +204,7 @@ def analyse_case(
         document = undecided_document(
             case, options, f"time budget exceeded ({budget:g} s) before the analysis ended"
         )
+        document["budget"] = budget  # a larger one may decide it (runs.exponents_run)
     seconds = time.perf_counter() - start
     document["seconds"] = round(seconds, 3)
     return ExponentResult(case.id, case.content_hash, options, document, seconds)

@@ -91,7 +91,7 @@ def exponents_run(
     options = request.options(case)
     if store is not None and stored is not None and not request.fresh:
         found = store.stored_exponents(stored.pk, options, code_version())
-        if found is not None:
+        if found is not None and not _outgrown(found[1], request.budget):
             return ExponentReport(found[1], found[0], reused=True)
     result = analyse_case(case, options, budget=request.budget, executor=executor)
     events = tuple(executor.events)
@@ -102,6 +102,14 @@ def exponents_run(
         (stored,) = store.case_versions([case.id])
     number = store.record_exponents(stored.pk, result, code_version())
     return replace(ExponentReport(result, number), events=events)
+
+
+def _outgrown(stored: ExponentResult, budget: float | None) -> bool:
+    """Whether a stored analysis ran out of a smaller time budget than ``budget`` (None:
+    none), so that it is made again rather than reused (a survey's analysis beside a
+    search has ``BESIDE_SEARCH_EXPONENT_SECONDS``)."""
+    spent = stored.document.get("budget")
+    return not stored.decided and spent is not None and (budget is None or budget > spent)
 
 
 def beside_search(

@@ -38,3 +38,17 @@ def test_a_case_file_is_analysed_without_a_registry():
     assert report.text().splitlines()[0] == (
         "test-kovalevskaya-top: Kovalevskaya exponents (weights M=1,gamma=2)"
     )
+
+
+def test_an_analysis_that_ran_out_of_time_is_made_again_with_a_larger_budget(tmp_path):
+    store = Store(tmp_path / "r.sqlite")
+    here = InProcess()
+    short = exponents_run(store, KOVALEVSKAYA, ExponentRequest(budget=1e-6, record=True), here)
+    assert not short.result.decided and short.result.document["budget"] == 1e-6
+    case_id = load_case(KOVALEVSKAYA).id
+    same = exponents_run(store, case_id, ExponentRequest(budget=1e-6), here)
+    assert same.reused and same.number == short.number
+    longer = exponents_run(store, case_id, ExponentRequest(budget=120, record=True), here)
+    assert not longer.reused and longer.result.decided and longer.number == short.number + 1
+    assert exponents_run(store, case_id, ExponentRequest(budget=1e-6), here).reused
+    store.close()
