@@ -81,6 +81,16 @@ def every_degree(search: Search, exponents: ExponentResult | None) -> str:
     return text + (f"; {family}" if family else "") + "."
 
 
+def bounded(search: Search, exponents: ExponentResult | None) -> bool:
+    """Whether the two halves combine and every degree Yoshida's theorem allows lies
+    within the complete search: then the integrals Yoshida's theorem speaks of (module doc:
+    a gradient not zero at some balance) are all among those the search determined."""
+    if _not_combined(search, exponents):
+        return False
+    assert exponents is not None
+    return all(int(k) <= search.options.degree for k in exponents.document["degrees"])
+
+
 def _not_combined(search: Search, exponents: ExponentResult | None) -> str:
     """Why the two halves cannot be combined ("" where they can)."""
     o = search.options

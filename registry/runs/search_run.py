@@ -15,7 +15,7 @@ from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
 
-from ..discovery.every_degree import every_degree, summary
+from ..discovery.every_degree import bounded, every_degree, summary
 from ..discovery.search import discover, search_options
 from ..discovery.survey import searched, stated_options
 from ..errors import UnknownCaseError
@@ -53,6 +53,12 @@ class SearchReport:
         """What the search and the exponents prove together at every degree
         (``discovery.every_degree``)."""
         return every_degree(self.search, self.exponents)
+
+    @property
+    def bounded(self) -> bool:
+        """Whether every degree Yoshida's theorem allows lies within the complete search
+        (``discovery.every_degree.bounded``)."""
+        return bounded(self.search, self.exponents)
 
     def document(self) -> dict:
         """The JSON document of docs/json-output.md (Search output) for this search."""

@@ -3,6 +3,9 @@ same options and code version, unless fresh; a search without a registry."""
 
 from __future__ import annotations
 
+import importlib.util
+from pathlib import Path
+
 from registry.execution.executor import InProcess
 from registry.language.casefile import load_case
 from registry.runs.search_run import SearchRequest, search_run, survey_run
@@ -59,3 +62,27 @@ def test_the_survey_records_each_case_s_exponents_once_and_reuses_them(tmp_path)
     assert len(frames.exponents_frame(store)) == 1  # reused, not recorded twice
     assert again[0].exponents == first[0].exponents
     store.close()
+
+
+def _main_job():
+    """scripts/audit.py, the main job, as a module."""
+    path = Path(__file__).resolve().parents[2] / "scripts" / "audit.py"
+    spec = importlib.util.spec_from_file_location("main_job", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_the_main_job_sums_up_the_analyses_in_one_line():
+    """Lagrange's top: Yoshida allows the degrees 1, 2, 3, 4, so a complete search to
+    degree 2 leaves 3 and 4 open and one to degree 4 covers them all."""
+    here = InProcess()
+    reports = [
+        search_run(None, LAGRANGE, SearchRequest(degree=k, budget=120), here) for k in (2, 4)
+    ]
+    assert [r.search.complete for r in reports] == [True, True]
+    assert [r.bounded for r in reports] == [False, True]
+    assert _main_job().exponents_line(reports) == (
+        "1 Kovalevskaya analyses: 1 decided, 1 passing the ARS test, 1 case(s) with every "
+        "degree Yoshida allows searched; see reg.exponents()"
+    )
