@@ -473,6 +473,7 @@ class Registry:
         of that version, the version history, the searches and discoveries."""
         from .audit.outcome import outcomes
         from .presentation.site import CaseEntry, Catalog
+        from .runs.exponents_run import site_exponents
         from .store import frames
 
         entries = []
@@ -484,7 +485,14 @@ class Registry:
                 CaseEntry(case, stored.version, stored.text, run, next(iter(found), None))
             )
         versions = frames.versions_frame(self.store)
-        return Catalog(self.cases(), tuple(entries), versions, self.searches(), self.discoveries())
+        return Catalog(
+            self.cases(),
+            tuple(entries),
+            versions,
+            self.searches(),
+            self.discoveries(),
+            site_exponents(self.store),
+        )
 
     def site(self, out_dir: str | os.PathLike, base_url: str = "") -> list[Path]:
         """Write the registry as a static web site into ``out_dir`` (``presentation.site``):

@@ -16,6 +16,7 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
+from ..discovery.every_degree import every_degree
 from ..discovery.exponents import analyse_case, analysed, exponent_options, refused
 from ..errors import ExponentError, UnknownCaseError
 from ..execution.executor import Executor
@@ -189,6 +190,22 @@ def _options(case: Case, search: SearchOptions) -> ExponentOptions | None:
         return exponent_options(case, search.weights, free)
     except ExponentError:
         return None
+
+
+def site_exponents(store: Store) -> dict[str, Any]:
+    """The newest Kovalevskaya analysis of every case that has one, with what it proves
+    together with the newest search on the whole phase space of the same case version."""
+    from ..presentation.site import ExponentEntry  # the site's own imports: only for it
+
+    searches = store.newest_searches()
+    found = {}
+    for case_id, (number, version, result) in store.newest_exponents().items():
+        searched = searches.get(case_id)
+        combined = None
+        if searched is not None and searched[1] == version:
+            combined = every_degree(searched[2], result)
+        found[case_id] = ExponentEntry(number, version, result, combined)
+    return found
 
 
 def _target(store: Store, target: str | os.PathLike | Case) -> tuple[Case, StoredCase | None]:

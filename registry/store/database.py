@@ -77,6 +77,9 @@ from .conversions import (
     search_row,
     source_fields,
 )
+from .conversions import (
+    search as search_of,
+)
 from .engine import (
     WRITE_OPTION,
     guarded,
@@ -610,6 +613,34 @@ class Store:
                 case_id: (row.id, version, exponent_result(row, case_id, content_hash))
                 for row, case_id, version, content_hash in rows
             }
+
+    @guarded
+    def newest_searches(self) -> dict[str, tuple[int, int, Search]]:
+        """The newest search on the whole phase space of every case with one, by case id:
+        (number, the version searched, search); what the site combines with the newest
+        exponents."""
+        with self.read() as session:
+            rows = session.execute(
+                select(SearchRow, CaseRow.case_id, CaseRow.version, CaseRow.content_hash)
+                .join(CaseRow, CaseRow.id == SearchRow.case_pk)
+                .order_by(SearchRow.id)
+            ).all()
+            newest = {
+                case_id: (row, version, content_hash)
+                for row, case_id, version, content_hash in rows
+                if not row.options.get("on")
+            }
+            found = {}
+            for case_id, (row, version, content_hash) in newest.items():
+                sets = session.scalars(
+                    select(DiscoveryRow).where(DiscoveryRow.search_id == row.id)
+                ).all()
+                found[case_id] = (
+                    row.id,
+                    version,
+                    search_of(row, case_id, content_hash, sets, on=()),
+                )
+            return found
 
     # ---------------------------------------------------------------------- runs
 
