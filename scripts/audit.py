@@ -50,7 +50,8 @@ def exponents_line(reports: list) -> str:
     within = len({r.search.case for r in reports if r.bounded})
     return (
         f"{len(analyses)} Kovalevskaya analyses: {len(decided)} decided, {passing} passing "
-        f"the ARS test, {within} case(s) with every degree Yoshida allows searched; see reg.exponents()"
+        f"the ARS test, {within} case(s) with every degree Yoshida allows searched; "
+        "see reg.exponents()"
     )
 
 
