@@ -22,8 +22,11 @@ from ..errors import UnknownCaseError
 from ..execution.executor import Executor
 from ..language.case_writer import derived_case_text
 from ..language.casefile import load_case, parse_case_text
+from ..language.parser import Namespace, parse_equation
 from ..model import Case, Equation, ExponentResult, Search, SearchOptions, Weights
 from ..presentation.search_output import search_document, search_text, statement
+from ..presentation.terminal import terminal_width
+from ..presentation.text_table import wrapped
 from ..settings import DEFAULT_SEARCH_SECONDS
 from ..store import conversions
 from ..store.database import Store, StoredCase
@@ -75,10 +78,13 @@ class SearchReport:
             document["events"] = list(self.events)
         return document
 
-    def text(self) -> str:
+    def text(self, width: int | None = None) -> str:
         """The search in plain text, as ``registry discover`` prints it, with what it and
-        the exponents prove together at every degree."""
-        return f"{search_text(self.search)}\nat every degree: {self.every_degree}"
+        the exponents prove together at every degree, wrapped to ``width`` (None: the
+        terminal's, ``presentation.terminal``)."""
+        width = width or terminal_width()
+        every = wrapped(f"at every degree: {self.every_degree}", width, subsequent="  ")
+        return f"{search_text(self.search, width)}\n{every}"
 
     @property
     def statement(self) -> str:
@@ -185,6 +191,23 @@ def survey_run(
         reports[i] = _recorded(store, planned[i][0], planned[i][1], search)
     found = beside_searches(store, planned, executor)
     return [replace(reports[i], exponents=found[i]) for i in range(len(planned))]
+
+
+def recorded_searches(store: Store, case_id: str | None = None) -> list[tuple[int, int, Search]]:
+    """Every recorded search (of ``case_id``, or of every case), oldest first, as (its
+    number, the case version searched, the ``Search``). A level set's equations are
+    parsed in the names of the case version searched; only those versions are parsed."""
+    names: dict[int, Namespace] = {}
+    found = []
+    for stored, row, rows in store.recorded_searches(case_id):
+        texts = list(row.options.get("on") or ())
+        if texts and stored.pk not in names:
+            case = parse_case_text(stored.text, stored.path or stored.case_id)
+            names[stored.pk] = Namespace(case.parameters, case.functions)
+        on = [Equation(e, *parse_equation(e, names[stored.pk])) for e in texts]
+        search = conversions.search(row, stored.case_id, stored.content_hash, rows, on)
+        found.append((row.id, stored.version, search))
+    return found
 
 
 def _reused_search(

@@ -45,7 +45,8 @@ def test_a_search_is_combined_with_the_exponents_under_its_weights():
     assert document["exponents"]["degrees"] == [1, 2, 3, 4]
     assert "integrals of degree 3, 4 with a gradient not zero at some balance are not " \
         "excluded" in document["every_degree"]  # fmt: skip
-    assert report.text().splitlines()[-1].startswith("at every degree: Yoshida")
+    assert "\nat every degree: Yoshida" in report.text(width=80)
+    assert max(len(line) for line in report.text(width=80).splitlines()) <= 80
     on = search_run(None, LAGRANGE, SearchRequest(degree=2, on=("s = 0",), budget=120), InProcess())
     assert on.exponents is None and "on a level set" in on.document()["every_degree"]
 
