@@ -153,9 +153,16 @@ def case_field(case: Case, options: ExponentOptions) -> CaseField:
     for x, v in zip(dynamics.variables, dynamics.field, strict=True):
         expr = sp.expand(dynamics.expanded(v))
         numer, denom = sp.fraction(sp.together(expr))
-        if denom.free_symbols & state or not _polynomial(numer, dynamics.variables):
+        below = sorted(map(str, denom.free_symbols & state))
+        if below or not _polynomial(numer, dynamics.variables):
+            why = f" (divided by a function of {', '.join(below)})" if below else ""
             problems.append(
-                Problem(f"d{x}/dt", "not a polynomial in the state variables", sp.sstr(expr))
+                Problem(
+                    f"d{x}/dt",
+                    f"not a polynomial in the state variables{why}: the analysis seeks "
+                    "balances x = c t^(-w) of a polynomial field",
+                    sp.sstr(expr),
+                )
             )
         field.append(expr)
     free = tuple(case.parameters[f] for f in options.free)

@@ -186,7 +186,10 @@ def test_a_system_that_is_not_polynomial_is_refused_naming_each_component():
         case_field(case, exponent_options(case))
     lines = str(info.value).splitlines()
     assert [line.split(": ")[1] for line in lines] == ["dM1/dt", "dM2/dt"]
-    assert lines[0].startswith(f"{path}: dM1/dt: not a polynomial in the state variables: '")
+    assert lines[0].startswith(
+        f"{path}: dM1/dt: not a polynomial in the state variables (divided by a function of "
+        "gamma1, gamma2): the analysis seeks balances x = c t^(-w) of a polynomial field: '"
+    )
     assert isinstance(info.value, ValueError) and info.value.file == str(path)
 
 
@@ -260,3 +263,34 @@ def test_a_family_s_painleve_verdict_is_that_of_its_generic_members(tmp_path):
     assert d["painleve"]["passes"] is True and d["painleve"]["conditions"] == []
     assert result.passes
     assert "passes for generic values" in result.statement
+
+
+def test_the_catalog_s_new_forms_are_analysed_or_refused_with_the_reason():
+    """Kovalevskaya's top in her own (omega, gamma) equations has the exponents of the
+    (M, gamma) form (above): two families of balances, two isolated ones; the Chaplygin
+    sleigh in (v, omega) is quadratic, with -1 and 2 (the energy's degree) at each
+    balance; a system with an angle among its state, or the Chaplygin ball's field
+    divided by a function of gamma, is refused."""
+    heavy = CASES / "heavy-top" / "kovalevskaya-1889-heavy-top-omega-equations.toml"
+    case, result = analysed(heavy)
+    assert result.decided and result.document["homogeneous"] is True
+    assert spectra(result.document) == (
+        [["-1", "0", "1", "2", "3", "4"]] * 2 + [["-1", "-1", "2", "2", "3", "4"]] * 2
+    )
+    assert [b["dimension"] for b in result.document["balances"]] == [1, 1, 0, 0]
+    assert result.document["degrees"] == [1, 2, 3, 4] and result.passes
+    independently(case, result.document)
+    sleigh = CASES / "nonholonomic" / "tenenbaum-2025-chaplygin-sleigh.toml"
+    case, result = analysed(sleigh)
+    assert spectra(result.document) == [["-1", "2"]] * 2 and 2 in result.document["degrees"]
+    independently(case, result.document)
+    disk = load_case(CASES / "nonholonomic" / "verdier-2016-vertical-rolling-disk-odelab.toml")
+    with pytest.raises(ExponentError) as info:
+        case_field(disk, exponent_options(disk))
+    assert [p.field for p in info.value.problems] == ["dvx/dt", "dvy/dt"]
+    assert "'-R*wphi*wtheta*sin(phi)'" in str(info.value)
+    ball = load_case(CASES / "nonholonomic" / "gaire-2025-chaplygin-ball-code.toml")
+    with pytest.raises(ExponentError) as info:
+        case_field(ball, exponent_options(ball))
+    assert len(info.value.problems) == 6
+    assert "(divided by a function of gamma1, gamma2, gamma3)" in str(info.value)
