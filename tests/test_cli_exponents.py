@@ -95,3 +95,15 @@ def test_user_errors_are_one_line_each_naming_file_field_and_text():
     assert result.stderr.startswith("Error: Invalid value for --weights: 'M=one'")
     result = run("exponents", KOVALEVSKAYA, "--jobs", "2", "--scheduler", "local:1")
     assert result.exit_code == 1 and "not both" in result.stderr
+
+
+def test_the_text_fits_the_terminal():
+    result = CliRunner().invoke(
+        main, ["exponents", KOVALEVSKAYA], env={"COLUMNS": "60"}, catch_exceptions=False
+    )
+    assert result.exit_code == 0, result.output
+    lines = result.stdout.splitlines()
+    assert max(map(len, lines)) <= 60
+    assert "degrees (Yoshida): 1, 2, 3, 4" in lines
+    text = " ".join(line.strip() for line in lines)
+    assert "every compatibility condition holds): necessary for the Painlevé property" in text

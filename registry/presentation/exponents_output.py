@@ -8,17 +8,30 @@ from collections.abc import Mapping, Sequence
 from typing import Any
 
 from ..model import ExponentResult
+from .text_table import wrapped
 
 
-def exponents_text(result: ExponentResult) -> str:
+def exponents_text(result: ExponentResult, width: int | None = None) -> str:
     """The analysis in plain text: the weights, the leading part where the field is not
     homogeneous, each balance with its exponents and Painlevé test, Yoshida's degrees,
-    a family's special sets, the statement and the time."""
+    a family's special sets, the statement and the time; each line wrapped to ``width``
+    (None: no limit) under a hanging indent."""
+    return "\n".join(_hanging(line, width) for line in _lines(result))
+
+
+def _hanging(line: str, width: int | None) -> str:
+    """A line wrapped to ``width``, its next lines indented two more than its first."""
+    text = line.lstrip(" ")
+    indent = " " * (len(line) - len(text))
+    return wrapped(text, width, indent=indent, subsequent=indent + "  ")
+
+
+def _lines(result: ExponentResult) -> list[str]:
     d = result.document
     lines = [_heading(d)]
     if not result.decided:
         lines += [f"not decided: {d.get('reason', '')}", result.statement]
-        return "\n".join(lines)
+        return lines
     if d.get("leading"):
         lines.append("the field is not weighted-homogeneous: its leading part is analysed,")
         lines += [f"    d{x}/dt = {v}" for x, v in d["leading"].items()]
@@ -37,7 +50,7 @@ def exponents_text(result: ExponentResult) -> str:
         lines += _special(d["special"], d["complete"], d["coverage"])
     lines.append(result.statement)
     lines.append(f"{result.seconds:.2f} s")
-    return "\n".join(lines)
+    return lines
 
 
 def _heading(d: Mapping[str, Any]) -> str:

@@ -23,6 +23,7 @@ from ..execution.executor import Executor
 from ..language.casefile import load_case
 from ..model import Case, ExponentOptions, ExponentResult, SearchOptions, Weights
 from ..presentation.exponents_output import exponents_text
+from ..presentation.terminal import terminal_width
 from ..settings import BESIDE_SEARCH_EXPONENT_SECONDS, DEFAULT_EXPONENT_SECONDS
 from ..store.database import Store, StoredCase
 from ..version import code_version
@@ -49,9 +50,10 @@ class ExponentReport:
             document["events"] = list(self.events)
         return document
 
-    def text(self) -> str:
-        """The analysis in plain text, as ``registry exponents`` prints it."""
-        return exponents_text(self.result)
+    def text(self, width: int | None = None) -> str:
+        """The analysis in plain text, as ``registry exponents`` prints it, wrapped to
+        ``width`` (None: the terminal's, ``presentation.terminal``)."""
+        return exponents_text(self.result, width or terminal_width())
 
     @property
     def statement(self) -> str:
