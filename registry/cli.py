@@ -605,7 +605,12 @@ def searches(case_id: str | None, long_: bool, as_json: bool) -> None:
 )
 @click.option("--json", "as_json", is_flag=True, help="Print JSON (docs/json-output.md).")
 @click.option("--record", is_flag=True, help="Store the analysis with the case version.")
-@click.option("--fresh", is_flag=True, help="Analyse again instead of reusing a stored analysis.")
+@click.option(
+    "--fresh",
+    is_flag=True,
+    help="Analyse again instead of reusing a stored analysis (one that ran out of a smaller "
+    "--budget is analysed again anyway).",
+)
 @click.option(
     "--budget",
     "seconds",

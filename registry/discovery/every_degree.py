@@ -56,11 +56,16 @@ def every_degree(search: Search, exponents: ExponentResult | None) -> str:
         )
     elif beyond:
         shown = ", ".join(map(str, beyond))
+        which = (
+            f"integrals of degree {shown} with a gradient not zero at some balance"
+            if d["homogeneous"]
+            else f"integrals whose leading weighted-homogeneous part has degree {shown} and a "
+            "gradient not zero at some balance of the leading part"
+        )
         text = (
             f"{YOSHIDA} allows the degrees {', '.join(map(str, degrees))}{generic}; the "
-            f"complete search reached {K}, so integrals of degree {shown} with a gradient not "
-            f"zero at some balance are not excluded: searching to degree {max(degrees)} "
-            "would decide every degree"
+            f"complete search reached {K}, so {which} are not excluded: a complete search "
+            f"to degree {max(degrees)} would cover every degree Yoshida allows"
         )
     elif d["homogeneous"]:
         text = (

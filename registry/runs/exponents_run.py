@@ -17,7 +17,13 @@ from pathlib import Path
 from typing import Any
 
 from ..discovery.every_degree import every_degree
-from ..discovery.exponents import analyse_case, analysed, exponent_options, refused
+from ..discovery.exponents import (
+    analyse_case,
+    analysed,
+    case_field,
+    exponent_options,
+    refused,
+)
 from ..errors import ExponentError, UnknownCaseError
 from ..execution.executor import Executor
 from ..language.casefile import load_case
@@ -185,13 +191,20 @@ def beside_searches(
 
 def _options(case: Case, search: SearchOptions) -> ExponentOptions | None:
     """The analysis options beside a search: its weights, and its one free parameter
-    (several are analysed as generic parameters); None where the weights name a vector
-    the case does not have."""
+    (several are analysed as generic parameters, and so is the one where the field has
+    other parameters, which a family's analysis would need free or fixed); None where
+    the weights name a vector the case does not have."""
     free = search.free if len(search.free) == 1 else ()
     try:
-        return exponent_options(case, search.weights, free)
+        options = exponent_options(case, search.weights, free)
     except ExponentError:
         return None
+    if free:
+        try:
+            case_field(case, options)
+        except ExponentError:
+            return exponent_options(case, search.weights, ())
+    return options
 
 
 def site_exponents(store: Store) -> dict[str, Any]:

@@ -54,8 +54,13 @@ def test_degrees_within_a_complete_search_bound_every_degree():
 def test_degrees_beyond_the_search_are_named_not_excluded():
     text = every_degree(search(3), analysis((2, 3, 4, 6)))
     assert "the complete search reached 3, so integrals of degree 4, 6 with a gradient not " \
-        "zero at some balance are not excluded: searching to degree 6 would decide every " \
-        "degree" in text  # fmt: skip
+        "zero at some balance are not excluded: a complete search to degree 6 would cover " \
+        "every degree Yoshida allows" in text  # fmt: skip
+    leading = every_degree(search(3), analysis((2, 3, 4, 6), homogeneous=False))
+    assert (
+        "so integrals whose leading weighted-homogeneous part has degree 4, 6 and a gradient "
+        "not zero at some balance of the leading part are not excluded" in leading
+    )
 
 
 def test_a_leading_part_speaks_of_leading_parts():

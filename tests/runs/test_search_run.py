@@ -87,3 +87,19 @@ def test_the_main_job_sums_up_the_analyses_in_one_line():
         "1 Kovalevskaya analyses: 1 decided, 1 passing the ARS test, 1 case(s) with every "
         "degree Yoshida allows searched; see reg.exponents()"
     )
+
+
+def test_a_family_search_among_other_parameters_gets_the_generic_exponents():
+    """Euler's body searched with A free: B and C are neither free nor fixed, so the
+    exponents beside it are those for generic A, B, C (a family's analysis needs every
+    parameter of the field free or fixed), and the statement says so."""
+    euler = CASES / "free-rigid-body" / "euler-1765-free-rigid-body.toml"
+    request = SearchRequest(degree=2, free=("A",), budget=120)
+    report = search_run(None, euler, request, InProcess())
+    assert report.exponents is not None and report.exponents.decided
+    assert report.exponents.options.free == ()
+    assert report.exponents.document["degrees"] == [1, 2, 3]
+    assert "(for generic values of A, B, C)" in report.every_degree
+    assert "a complete search to degree 3 would cover every degree Yoshida allows" in (
+        report.every_degree
+    )
