@@ -32,7 +32,7 @@ from sqlalchemy.orm import DeclarativeBase, Mapped, mapped_column
 from sqlalchemy.types import TypeDecorator
 
 #: Version of the table layout, kept in the ``meta`` table (the Alembic revision, as a number).
-SCHEMA_VERSION = 8
+SCHEMA_VERSION = 9
 
 #: The states of an audit run; every run starts as ``running``.
 RUN_STATUSES = ("running", "complete", "failed", "interrupted")
@@ -312,6 +312,33 @@ class DiscoveryRow(Base):
     # per integral: {"status": "new" | "rediscovered", "equals", "modulo", "relation"}
     status: Mapped[list[dict[str, Any]]] = mapped_column(JSON, default=list, server_default="[]")
     derived_case_pk: Mapped[int | None] = mapped_column(ForeignKey("cases.id"))
+
+
+class ExponentRow(Base):
+    """One Kovalevskaya analysis of one case version (``registry exponents``): its options
+    (and their canonical text, the key of its reuse), the code that ran it, what a query
+    filters on (decided, homogeneous, integer and rational exponents, the Painlevé test,
+    Yoshida's degrees, the number of balances, the statement), and the whole JSON document
+    (docs/json-output.md). A new analysis is a new row: none is ever overwritten."""
+
+    __tablename__ = "exponents"
+
+    id: Mapped[int] = mapped_column(primary_key=True)
+    case_pk: Mapped[int] = mapped_column(ForeignKey("cases.id"), index=True)
+    options: Mapped[dict[str, Any]] = mapped_column(JSON)
+    options_key: Mapped[str] = mapped_column(Text)
+    code_version: Mapped[str] = mapped_column(Text)
+    started_at: Mapped[datetime] = mapped_column(UTCDateTime)
+    seconds: Mapped[float] = mapped_column(Float, default=0.0)
+    decided: Mapped[bool] = mapped_column(Boolean)
+    homogeneous: Mapped[bool] = mapped_column(Boolean)
+    all_integer: Mapped[bool] = mapped_column(Boolean)
+    all_rational: Mapped[bool] = mapped_column(Boolean)
+    passes: Mapped[bool] = mapped_column(Boolean)
+    degrees: Mapped[list[int]] = mapped_column(JSON)
+    balances: Mapped[int]
+    statement: Mapped[str] = mapped_column(Text, default="")
+    document: Mapped[dict[str, Any]] = mapped_column(JSON)
 
 
 # --------------------------------------------------------------------------- views
