@@ -61,6 +61,10 @@ class Field:
             else:
                 self.symbolic[i] = value
         self._cache.clear()
+        # the parameters that are the fraction field's own symbols (not numbers, inverses)
+        self._plain = frozenset(
+            i for i in self.symbolic if i not in (inverses or {}) and domain.is_FractionField
+        )
 
     @property
     def exact(self) -> bool:
@@ -78,15 +82,42 @@ class Field:
         key = tuple(sorted(poly.items()))
         hit = self._cache.get(key)
         if hit is None:
-            hit = self.zero
-            for exps, coeff in poly.items():
-                term = self.number(coeff)
-                for i, e in enumerate(exps):
-                    if e:
-                        term *= (self.point[i] if i in self.point else self.symbolic[i]) ** e
-                hit += term
+            if self.domain.is_FractionField:
+                hit = self._fraction(poly)
+            else:
+                hit = self.zero
+                for exps, coeff in poly.items():
+                    term = self.number(coeff)
+                    for i, e in enumerate(exps):
+                        if e:
+                            term *= self._value(i) ** e
+                    hit += term
             self._cache[key] = hit
         return hit
+
+    def _value(self, i: int) -> Any:
+        return self.point[i] if i in self.point else self.symbolic[i]
+
+    def _fraction(self, poly: Mapping[tuple[int, ...], object]) -> Any:
+        """``evaluate`` in Q(q): the terms in the symbols alone summed as one polynomial
+        of Q[q] (no fraction arithmetic, whose every step takes a gcd), then times the
+        values of the other parameters (numbers, and 1/c(q) for an inverse), grouped."""
+        plain = self._plain
+        groups: dict[tuple[int, ...], dict[tuple[int, ...], Any]] = {}
+        for exps, coeff in poly.items():
+            mine = tuple(e if i in plain else 0 for i, e in enumerate(exps))
+            other = tuple(0 if i in plain else e for i, e in enumerate(exps))
+            terms = groups.setdefault(other, {})
+            terms[mine] = terms.get(mine, QQ.zero) + rational(coeff)
+        field = self.domain.field
+        total = self.zero
+        for other, terms in groups.items():
+            part = field.new(field.ring.from_dict({m: c for m, c in terms.items() if c}))
+            for i, e in enumerate(other):
+                if e:
+                    part *= self._value(i) ** e
+            total += part
+        return total
 
 
 def _matrix(rows: int, cols: int, entries: Iterable[tuple[int, int, object]], field: Field):

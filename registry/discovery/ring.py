@@ -26,6 +26,7 @@ import sympy as sp
 from sympy.core.function import AppliedUndef
 
 from ..errors import DiscoveryError
+from ..mathematics import factoring
 from ..mathematics import mechanics as mech
 
 
@@ -150,7 +151,7 @@ class SystemRing:
                 raise NotInRingError(_outside(node))
         rooted = self._roots_replaced(expr)
         _, denominator = sp.fraction(sp.together(rooted))
-        for factor, _ in sp.factor_list(denominator)[1]:
+        for factor, _ in _factors(denominator):
             if factor.free_symbols & self._state_set and not self._rooted_factor(factor):
                 f = _primitive(factor, self.state)
                 if f not in self.inverses:
@@ -294,3 +295,14 @@ class SystemRing:
             else:
                 out.append(sp.expand(-(a.symbol**2) * along(a.base)))
         return [*out, *lifted]
+
+
+def _factors(denominator: sp.Expr) -> list[tuple[sp.Expr, int]]:
+    """The irreducible factors of a denominator over Q, by FLINT where it is a polynomial
+    in its symbols (sympy's own multivariate factoring can take minutes on a field's
+    denominator with five parameters), else by sympy."""
+    gens = sorted(denominator.free_symbols, key=str)
+    try:
+        return factoring.factor_list(denominator, gens)
+    except (sp.PolynomialError, sp.CoercionFailed):
+        return sp.factor_list(denominator)[1]
