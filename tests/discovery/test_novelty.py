@@ -144,9 +144,15 @@ def test_the_survey_of_the_catalog_adds_no_claim_equal_to_an_existing_one():
                 continue
             assert any(w in reason for w in ("function", "invariant")), reason
             continue
+        case = cases[search.case]
         for text, status in zip(search.generic.integrals, search.generic.status, strict=True):
+            if status.status == "new" and case.system.form in ("equations", "bracket"):
+                # on a state of its own the search knows H but not the Casimirs of the
+                # bracket the equations come from (Bobenko's l.g, Ryabov's |alpha|^2):
+                # proven integrals the source did not claim, recorded as new
+                continue
             if status.status == "new":
-                claims = {c.label for c in cases[search.case].claims}
+                claims = {c.label for c in case.claims}
                 assert claims - set(search.claims), (search.case, text)  # an unproven claim
             else:
                 assert status.equals, (search.case, text)
