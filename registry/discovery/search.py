@@ -13,7 +13,10 @@ free-parameter values where more appear.
    another is left to the search of that one.
 4. Each candidate is searched again as a case of its own with its values substituted
    (a point has no free parameter left, a larger set fewer); it is special when it
-   has more extra integrals than the family has generically.
+   has more extra integrals than the family has generically (than the largest count on
+   the sets it lies in). A set where only the rank drops (the known integrals change
+   form: the torque's Casimir s + phi becomes s of lower degree, nothing new) is a
+   candidate, never a special set.
 5. Every integral reported is proven by the audit's own zero test (the ``integral``
    check; ``casimir`` is recorded for information), and only then reported.
 """
@@ -235,26 +238,56 @@ def _search(
     The candidate sets are searched level by level: those of the family's locus, then
     those within them, and so on, each level's sets by ``executor`` (each call killed
     past ``seconds``). A set reached on two paths is searched once (the searched sets are
-    kept here, for every level), and a set is special when it has more integrals of some
-    degree than the set it was found in."""
-    found, kernel, candidates = _step(state, case, free, (), {})
-    queue = [(c, kernel) for c in _fresh(state, candidates)]
+    kept here, for every level), and a set is special when it has more extra integrals
+    than every set it lies in (``_more``)."""
+    found, level, candidates = _step(state, case, free, (), {})
+    queue = [(c, level) for c in _fresh(state, candidates)]
     special: list[IntegralSet] = []
     while queue:
         state.total += len(queue)
         results = _each(state, [c for c, _ in queue], executor, seconds)
-        following: list[tuple[Any, dict[int, int]]] = []
-        for (_, parent), (g, dimensions, inner, undecided, cofactors, used) in zip(
+        following: list[tuple[Any, _Level]] = []
+        for (_, reference), (g, level, inner, undecided, cofactors, used) in zip(
             queue, results, strict=True
         ):
             state.undecided.extend(u for u in undecided if u not in state.undecided)
             state.cofactors.update(cofactors)
             state.used.update(used)
-            if any(dimensions.get(d, 0) > k for d, k in parent.items()):
+            if _more(state, g, level, reference):
                 special.append(g)
-            following.extend((c, dimensions) for c in _fresh(state, inner))
+            within = _reference(state, level, reference)
+            following.extend((c, within) for c in _fresh(state, inner))
         queue = following
     return found, special
+
+
+@dataclass(frozen=True)
+class _Level:
+    """What one searched set holds at its generic point: the kernel's dimension per
+    weighted degree (integrals of degree <= d, trivial ones included) and the number of
+    extra integrals (exact: counted over Q(p), or 0 modulo a prime, which bounds it)."""
+
+    kernel: dict[int, int]
+    extra: int
+
+
+def _more(state: _State, g: IntegralSet, level: _Level, reference: _Level) -> bool:
+    """Whether a searched set is special: more extra integrals there than on the sets
+    it lies in (``reference``), the proven ones too (an integral not proven is not
+    reported, and the search is then not complete). A kernel that only grows because
+    the known integrals change form (the rank drops, nothing new) is not more. For
+    invariant relations every new Darboux polynomial counts: the kernel grows."""
+    if state.options.relations:
+        return any(level.kernel.get(d, 0) > k for d, k in reference.kernel.items())
+    return level.extra > reference.extra and g.extra > reference.extra
+
+
+def _reference(state: _State, level: _Level, reference: _Level) -> _Level:
+    """What the sets within a searched set are compared with: the most extra
+    integrals on any set they lie in (for relations: the set's own kernel)."""
+    if state.options.relations or level.extra > reference.extra:
+        return level
+    return reference
 
 
 def _symmetry_note(state: _State) -> str:
@@ -294,8 +327,9 @@ def _step(
     when: tuple[str, ...],
     values: dict[sp.Symbol, sp.Expr],
 ):
-    """One set searched: (its integrals for generic values of ``free``, the dimensions
-    of its integrals of each degree, the candidate sets within it). ``values`` are the
+    """One set searched: (its integrals for generic values of ``free``, its ``_Level``:
+    the dimensions of its integrals of each degree and its count of extra ones, the
+    candidate sets within it). ``values`` are the
     family's free parameters' values that give this case."""
     rnd = state.rnd(when)
     m = CaseMechanics(case)
@@ -324,7 +358,7 @@ def _step(
     if not when and found.integrals:  # new, or the case's own claims again
         kept = [e for e in integrals if to_text(e) in found.integrals]
         found, state.claims = named(case, m, system, params, found, kept)
-    kernel = {d: counts[0] for d, counts in generic.counts.items()}
+    kernel = _Level({d: counts[0] for d, counts in generic.counts.items()}, generic.extra)
     if not when:  # the generic values are decided, whatever happens to the locus
         state.known, state.counts, state.generic = tuple(names), generic.counts, found
     divided = _divided(state, case, system, when, values)
@@ -373,7 +407,7 @@ def _when(state: _State, values: dict[sp.Symbol, sp.Expr]) -> tuple[str, ...]:
 
 def _each(state: _State, candidates, executor: Executor, seconds: float | None):
     """Search each candidate set (``_step``), here or by ``executor``: (integrals,
-    dimensions, sets within, undecided, cofactors of the sets within), in the candidates'
+    its ``_Level``, sets within, undecided, cofactors of the sets within), in the candidates'
     order in every case. A single set, or an executor that runs in this process, is
     searched here (with the search's state shared); sets elsewhere each get a copy."""
     if not candidates:
@@ -383,9 +417,9 @@ def _each(state: _State, candidates, executor: Executor, seconds: float | None):
             if state.progress is not None:
                 state.progress(state.done, state.total, ", ".join(when))
             before = list(state.undecided)
-            g, dimensions, inner = _step(state, sub, rest, when, values)
+            g, level, inner = _step(state, sub, rest, when, values)
             state.done += 1
-            yield g, dimensions, inner, [u for u in state.undecided if u not in before], {}, {}
+            yield g, level, inner, [u for u in state.undecided if u not in before], {}, {}
         return
     yield from _each_elsewhere(state, candidates, executor, seconds)
 
@@ -421,9 +455,9 @@ def _step_apart(work):
     """``_step`` in a worker process, with what it could not decide and the cofactors
     of the sets within (the worker's state is a copy)."""
     state, case, free, when, values = work
-    g, dimensions, inner = _step(state, case, free, when, values)
+    g, level, inner = _step(state, case, free, when, values)
     cofactors = {c[2]: state.cofactors[c[2]] for c in inner if c[2] in state.cofactors}
-    return g, dimensions, inner, state.undecided, cofactors, state.used
+    return g, level, inner, state.undecided, cofactors, state.used
 
 
 def _system(

@@ -32,6 +32,7 @@ from registry.language.forms import with_values as substituted
 from registry.language.parser import Namespace, parse_expression
 from registry.mathematics import mechanics as mech
 from registry.model import Verdict
+from registry.presentation.search_output import statement
 from tests.helpers.samples import FAMILIES, family
 
 
@@ -447,3 +448,25 @@ def test_relations_for_weights_that_leave_the_field_inhomogeneous_say_which_weig
     assert any("search with --weights M=1,gamma=1" in c for c in search.coverage)
     search = discover(case, search_options(case, degree=2, weights=(1, 1), relations=True))
     assert search.decided and not any("weight below" in c for c in search.coverage)
+
+
+# --- statements that mean what they say (issue 33) -----------------------------------
+
+
+def test_a_set_where_only_the_rank_drops_is_searched_but_never_called_special():
+    # mu = grad phi with phi = (t1 gamma1^2 + t2 gamma2^2 + t3 gamma3^2)/2: the Casimir
+    # s + phi becomes s (lower weighted degree) where t1 = t2 = t3, so the kernel of degree
+    # 3 grows there; no integral beyond the known ones exists on that line
+    case = family("kovalevskaya-diagonal-torque")
+    searched: list[str] = []
+    found = discover(
+        case,
+        search_options(case, degree=4, free=("t1", "t2", "t3")),
+        budget=120,
+        progress=lambda done, total, what: searched.append(what),
+    )
+    assert "t1 = t3, t2 = t3" in searched  # the rank drops there: a candidate
+    assert found.complete
+    assert [s.when for s in found.special] == [("t1 = 0", "t2 = 0", "t3 = 0")]
+    assert all(s.extra > found.generic.extra for s in found.special)
+    assert "t1 = t3" not in statement(found)
