@@ -423,7 +423,7 @@ def test_a_cofactor_with_no_real_value_is_ruled_out_and_the_search_is_complete()
     whose discriminant -4 A^2 C^2 (A - C)^2 is negative for generic A, C (a product of
     one-signed factors and even powers): no real cofactor, nothing undecided. Asymmetric
     moments have real irrational cofactors (the planes through the separatrices), which
-    stay named as not solvable rationally."""
+    stay named: not decided over their number field."""
     root = Path(__file__).resolve().parents[2] / "data/cases/free-rigid-body"
     symmetric = load_case(root / "euler-1765-free-rigid-body-symmetric.toml")
     search = discover(symmetric, search_options(symmetric, degree=2, relations=True))
@@ -431,7 +431,7 @@ def test_a_cofactor_with_no_real_value_is_ruled_out_and_the_search_is_complete()
     asymmetric = load_case(root / "euler-1765-free-rigid-body.toml")
     search = discover(asymmetric, search_options(asymmetric, degree=2, relations=True))
     assert not search.complete
-    assert any("not solvable rationally" in c for c in search.coverage)
+    assert any("not decided over its number field" in c for c in search.coverage)
 
 
 def test_relations_for_weights_that_leave_the_field_inhomogeneous_say_which_weights_do_not():
@@ -470,3 +470,52 @@ def test_a_set_where_only_the_rank_drops_is_searched_but_never_called_special():
     assert [s.when for s in found.special] == [("t1 = 0", "t2 = 0", "t3 = 0")]
     assert all(s.extra > found.generic.extra for s in found.special)
     assert "t1 = t3" not in statement(found)
+
+
+# --- every component decided (issue 33) -----------------------------------------------
+
+
+def test_an_algebraic_special_point_is_searched_exactly_at_its_value():
+    found = search("heavy-top-u-squared", degree=4, free=("u",))
+    assert found.complete
+    assert set(where(found)) == {("u = 2",), ("u = sqrt(2)",)}
+    (kovalevskaya,) = where(found)[("u = sqrt(2)",)]
+    assert "M1**4" in kovalevskaya
+
+
+FIVE = {
+    ("b = 1", "c = 1"),
+    ("b = 1", "x0 = 0", "y0 = 0"),
+    ("b = c", "y0 = 0", "z0 = 0"),
+    ("c = 1", "x0 = 0", "z0 = 0"),
+    ("x0 = 0", "y0 = 0", "z0 = 0"),
+}
+
+
+@pytest.mark.slow  # about 12 s of computing (half a minute when the machine is busy)
+def test_five_free_parameters_of_the_heavy_top_are_complete_at_degree_four():
+    # components such as 49 x0^2 = 30 z0^2 (lines over Q(sqrt(30))) and sums of squares
+    # are decided at their points; Euler, Lagrange, Kovalevskaya about each axis and the
+    # spherical top, and nothing else (Husson 1906)
+    found = search("heavy-top-five", degree=4, free=("b", "c", "x0", "y0", "z0"), budget=600)
+    assert found.complete, found.coverage
+    kovalevskaya = {
+        ("b = 1", "c = 1/2", "z0 = 0"),
+        ("b = 1/2", "c = 1", "y0 = 0"),
+        ("b = 2", "c = 2", "x0 = 0"),
+    }
+    assert set(where(found)) == FIVE | kovalevskaya
+    all_conserved("heavy-top-five", found)
+
+
+def test_five_free_parameters_of_the_heavy_top_on_s_zero_are_complete_at_degree_three():
+    found = search(
+        "heavy-top-five", degree=3, on=("s = 0",), free=("b", "c", "x0", "y0", "z0"), budget=600
+    )
+    assert found.complete, found.coverage
+    chaplygin = {
+        ("b = 1", "c = 1/4", "z0 = 0"),
+        ("b = 1/4", "c = 1", "y0 = 0"),
+        ("b = 4", "c = 4", "x0 = 0"),
+    }
+    assert set(where(found)) == FIVE | chaplygin
