@@ -55,6 +55,8 @@ from ..model import (
     Equation,
     Expression,
     IntegralSet,
+    IntegralStatus,
+    SameSystem,
     Search,
     SearchOptions,
     Verdict,
@@ -65,8 +67,11 @@ from .algebraic_points import decide
 from .ansatz import PolynomialSystem
 from .components import resolve
 from .darboux import general_cofactor, proven_relations
+from .identification.catalog_index import CatalogIndex
+from .identification.claim_match import carried_claims
+from .identification.identify import identify
 from .integrals import Analysis, Generator, analyse, products
-from .known import known_generators, named
+from .known import catalog_statuses, known_generators, named
 from .linear import GF_PRIME, PRIME, Field
 from .locus import Locus, contains, drop_locus, polynomial, same
 from .simplest_form import simplest
@@ -110,6 +115,8 @@ class _State:
     used: dict[tuple[str, ...], str] = field(default_factory=dict)
     #: components without a rational parametrisation decided at their points
     decided: list[str] = field(default_factory=list)
+    #: the free parameters' values of each special set (by its equations)
+    values_of: dict[tuple[str, ...], dict] = field(default_factory=dict)
 
     def rnd(self, when: tuple[str, ...]) -> random.Random:
         """A generator seeded by the search and the set searched, so that results do not
@@ -126,6 +133,7 @@ def discover(
     seed: int = 0,
     progress: Progress | None = None,
     symmetries: bool = True,
+    catalog: CatalogIndex | None = None,
 ) -> Search:
     """Search ``case`` for first integrals (module docstring).
 
@@ -138,6 +146,11 @@ def discover(
     failed) is named in the coverage, and the search is then not complete.
     ``symmetries`` false searches the whole ansatz without splitting it along the field's
     symmetries (``symmetry``), for comparison: the results are the same.
+
+    With a ``catalog`` (``identification.catalog_index``), each special set, and the
+    family itself where it has extra integrals for generic values, is identified with
+    the catalog's cases (``same_as``), and an integral is new only where it equals no
+    claim of the searched case nor of any case it is the same system as.
     """
     started = time.perf_counter()
     options = options or SearchOptions()
@@ -168,6 +181,10 @@ def discover(
     try:
         with time_limit(budget):
             _, state.found = _search(state, case, free, executor, timed(budget))
+            if catalog is not None and not options.relations:
+                state.found = [_identified(state, case, s, catalog) for s in state.found]
+                if state.generic is not None and state.generic.extra:
+                    state.generic = _identified(state, case, state.generic, catalog)
     except BudgetExceeded:
         state.undecided.append(
             f"time budget exceeded ({budget:g} s) after {state.done} of the "
@@ -269,11 +286,64 @@ def _search(
             state.decided.extend(decided)
             if _more(state, g, level, reference):
                 special.append((g, candidate))
+                state.values_of[g.when] = candidate[3]
             following.extend((c, level) for c in _fresh(state, inner))
         queue = following
     if state.options.relations:
         return found, [g for g, _ in special]
     return found, _beyond_enclosing(state, case, free, special)
+
+
+def _identified(
+    state: _State, case: Case, found: IntegralSet, catalog: CatalogIndex
+) -> IntegralSet:
+    """A set with the catalog cases it is the same system as, and each integral's
+    status decided against their claims too (``identification``)."""
+    values = state.values_of.get(found.when, {})
+    sub = with_values(case, values) if values else case
+    if sub is None:
+        return found
+    result = identify(sub.dynamics, catalog, exclude=(case.id,))
+    if result.skipped:
+        where = ", ".join(found.when) or "the generic values"
+        state.undecided.append(
+            f"identification of {where} stopped after {result.seconds:.0f} s: "
+            f"{len(result.skipped)} catalog cases not compared (an integral there is said "
+            "new only against the others)"
+        )
+    status = list(found.status) or [IntegralStatus("new") for _ in found.integrals]
+    if not result.same or result.form is None:
+        return replace(found, status=tuple(status))
+    carried = carried_claims(result.same, result.form, catalog) if found.integrals else []
+    equal: dict[str, set[str]] = {}
+    if carried and any(st.new for st in status):
+        rest = [p for p in (case.parameters[f] for f in state.options.free) if p not in values]
+        m = CaseMechanics(sub)
+        system, params = _system(state.options, m, rest, None, values, state.symmetries)
+        ns = forms.namespace(case)
+        exprs = [parse_expression(text, ns).xreplace(values) for text in found.integrals]
+        for source in dict.fromkeys(c for c, _, _ in carried):  # case by case
+            named = catalog_statuses(
+                m, system, params, exprs, [c for c in carried if c[0] == source]
+            )
+            for i, rediscovered in enumerate(named):
+                if rediscovered is None:
+                    continue
+                equal.setdefault(source, set()).update(
+                    label.split(":", 1)[1] for label in rediscovered.equals if ":" in label
+                )
+                if status[i].new:
+                    status[i] = rediscovered
+    same = tuple(
+        SameSystem(
+            s.case,
+            tuple(s.values.items()),
+            tuple(s.transformation.items()),
+            tuple(sorted(equal.get(s.case, ()))),
+        )
+        for s in sorted(result.same, key=lambda s: (not equal.get(s.case), not s.identity))
+    )
+    return replace(found, status=tuple(status), same_as=same)
 
 
 def _beyond_enclosing(state: _State, case: Case, free: list[sp.Symbol], special) -> list:

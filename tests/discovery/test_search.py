@@ -22,6 +22,7 @@ from pathlib import Path
 import pytest
 import sympy as sp
 
+from registry.discovery.identification.catalog_index import CatalogIndex
 from registry.discovery.locus import same
 from registry.discovery.search import discover, search_options
 from registry.errors import DiscoveryError
@@ -33,6 +34,7 @@ from registry.language.parser import Namespace, parse_expression
 from registry.mathematics import mechanics as mech
 from registry.model import Verdict
 from registry.presentation.search_output import statement
+from tests.helpers.catalog import catalog_cases, catalog_index
 from tests.helpers.samples import FAMILIES, family
 
 
@@ -519,3 +521,55 @@ def test_five_free_parameters_of_the_heavy_top_on_s_zero_are_complete_at_degree_
         ("b = 4", "c = 4", "x0 = 0"),
     }
     assert set(where(found)) == FIVE | chaplygin
+
+
+# --- identification with the catalog (issue 33) ----------------------------------------
+
+
+def test_the_diagonal_torques_kovalevskaya_point_is_kovalevskayas_case_not_new():
+    case = family("kovalevskaya-diagonal-torque")
+    found = discover(
+        case,
+        search_options(case, degree=4, free=("t1", "t2", "t3")),
+        budget=600,
+        catalog=catalog_index(),
+    )
+    (point,) = found.special
+    assert point.when == ("t1 = 0", "t2 = 0", "t3 = 0")
+    same = {s.case: s for s in point.same_as}
+    kovalevskaya = same["kovalevskaya-1889-heavy-top"]
+    assert dict(kovalevskaya.values) == {"C": "1", "a": "1"}
+    assert kovalevskaya.claims == ("K",)
+    assert point.new == () and point.status[0].status == "rediscovered"
+    said = statement(found)
+    assert "kovalevskaya" in said and "(new" not in said
+    # the rank-drop-only set t1 = t2 = t3 (s + t|gamma|^2/2 changes form) is not special
+    assert "t1 = t3" not in said and "t1 - t3" not in said
+    assert said.endswith("no other values carry more.")
+
+
+def test_a_planted_integrable_member_the_catalog_does_not_hold_is_reported_new():
+    # the same family against a catalog without Kovalevskaya's top: its integral is new
+    case = family("kovalevskaya-diagonal-torque")
+    others = CatalogIndex.of(
+        c
+        for c in catalog_cases()
+        if c.id in ("lagrange-1788-heavy-top", "euler-1765-free-rigid-body")
+    )
+    found = discover(
+        case, search_options(case, degree=4, free=("t1", "t2", "t3")), budget=600, catalog=others
+    )
+    (point,) = found.special
+    assert point.same_as == () and len(point.new) == 1
+    assert "(new)" in statement(found)
+
+
+def test_a_generated_familys_special_set_is_the_catalog_case_it_was_made_from():
+    case = family("kovalevskaya-transformed")
+    found = discover(case, search_options(case, degree=4, free=("c",)), catalog=catalog_index())
+    (point,) = found.special
+    assert point.when == ("c = 1",)
+    same = {s.case: s for s in point.same_as}
+    assert "K" in same["kovalevskaya-1889-heavy-top"].claims
+    moved = dict(same["kovalevskaya-1889-heavy-top"].transformation)
+    assert moved["M1"].lstrip("-") == "M3"  # the axes 1 and 3 exchanged, as generated
