@@ -22,7 +22,7 @@ from . import settings
 from .errors import CaseFormatError, RegistryError
 from .execution.executor import check_options, open_executor
 from .execution.time_budget import TimeBudget, default_budget
-from .settings import DEFAULT_SEARCH_SECONDS as DEFAULT_SEARCH_BUDGET
+from .settings import DEFAULT_SEARCH_SECONDS
 
 # The facade is imported by ``registry --help`` and ``--version``, which must stay quick:
 # sympy, SQLAlchemy and pandas are imported by the methods that use them, not here.
@@ -30,7 +30,7 @@ if TYPE_CHECKING:
     import pandas as pd
     from distributed import Client
 
-    from .model import Case, Equation, Verdict, VerdictChange, Weights
+    from .model import Case, DriftCurve, Equation, MeasureSearch, Verdict, VerdictChange, Weights
     from .presentation.site import Catalog
     from .runs.audit_run import AuditReport
     from .runs.search_run import SearchReport
@@ -38,36 +38,29 @@ if TYPE_CHECKING:
     from .store.database import Store
     from .store.integrity import Verification
 
-#: Names of the facade whose modules are imported on first use (PEP 562).
-_LAZY = {
-    "AuditReport": "runs.audit_run",
-    "SearchReport": "runs.search_run",
-    "Verification": "store.integrity",
-    "CopyReport": "store.copying",
-}
-
 
 def __getattr__(name: str) -> Any:
-    if name in _LAZY:
-        import importlib
+    """``AuditReport`` (``registry.AuditReport``), imported on first use (PEP 562)."""
+    if name == "AuditReport":
+        from .runs.audit_run import AuditReport
 
-        return getattr(importlib.import_module(f".{_LAZY[name]}", __package__), name)
+        return AuditReport
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 __all__ = [
-    "DEFAULT_SEARCH_BUDGET",
     "AddResult",
     "AuditReport",
     "CheckInfo",
     "Registry",
-    "SearchReport",
-    "TimeBudget",
     "check_where",
     "checks",
+    "checks_text",
     "diff_text",
     "discover_file",
     "open_registry",
+    "survey_text",
+    "terminal_width",
     "time_budget",
     "version",
 ]
@@ -91,6 +84,22 @@ def checks() -> list[CheckInfo]:
     return [CheckInfo(c.name, c.per_claim, c.cost, c.statement) for c in CHECKS.values()]
 
 
+def checks_text(width: int | None = None) -> str:
+    """The checks as ``registry list-checks`` prints them, wrapped to ``width`` (None: the
+    terminal's, ``presentation.terminal``)."""
+    from .presentation.listings import checks_listing
+
+    return checks_listing(checks(), terminal_width(width))
+
+
+def terminal_width(width: int | None = None) -> int:
+    """``width``, or where it is None the width of the terminal the command line prints
+    to ($COLUMNS, else the terminal's, else 80): what every ``*_text`` renders to."""
+    from .presentation.terminal import terminal_width as measured
+
+    return measured() if width is None else width
+
+
 def version() -> str:
     """The package's release and the digest of its code, as ``registry --version`` says."""
     from .version import code_version, release
@@ -98,11 +107,22 @@ def version() -> str:
     return f"registry {release()} (code digest {code_version().rpartition('+')[2]})"
 
 
-def diff_text(changes: Sequence[VerdictChange], run_a: int, run_b: int) -> str:
-    """The verdicts that changed between two runs as a table (``Registry.diff``)."""
+def diff_text(
+    changes: Sequence[VerdictChange], run_a: int, run_b: int, width: int | None = None
+) -> str:
+    """The verdicts that changed between two runs as a table (``Registry.diff``), wrapped
+    to ``width`` (None: the terminal's)."""
     from .presentation.verdict_table import diff_table
 
-    return diff_table(changes, run_a, run_b)
+    return diff_table(changes, run_a, run_b, terminal_width(width))
+
+
+def survey_text(reports: Sequence[SearchReport], width: int | None = None) -> str:
+    """What ``registry survey`` prints of its searches: each case (and level set) with
+    the result in one sentence, wrapped to ``width`` (None: the terminal's)."""
+    from .presentation.listings import survey_listing
+
+    return survey_listing([r.search for r in reports], terminal_width(width))
 
 
 def check_where(jobs: int | None, scheduler: str | None) -> None:
@@ -223,7 +243,7 @@ class Registry:
         relations: bool = False,
         record: bool = False,
         fresh: bool = False,
-        budget: float | None = DEFAULT_SEARCH_BUDGET,
+        budget: float | None = DEFAULT_SEARCH_SECONDS,
         jobs: int | None = None,
         progress: Callable[[int, int, str], None] | None = None,
         scheduler: str | Client | None = None,
@@ -255,12 +275,23 @@ class Registry:
         with open_executor(jobs, scheduler) as executor:
             return search_run(self.store, target, request, executor, progress)
 
+    def measures(self, target: str | os.PathLike | Case) -> MeasureSearch:
+        """The invariant densities prod F_i**a_i of a case (a case file, a stored case's id,
+        or a ``Case``), by the method of the Jacobi last multiplier
+        (``registry.discovery.measures``): each density proven by the ``measure`` check,
+        the statement complete for that ansatz."""
+        from .model import Case
+
+        if isinstance(target, Case) or Path(target).is_file():
+            return find_measures(target)
+        return find_measures(self.case(str(target)))
+
     def survey(
         self,
         case_ids: Sequence[str] | None = None,
         *,
         fresh: bool = False,
-        budget: float | None = DEFAULT_SEARCH_BUDGET,
+        budget: float | None = DEFAULT_SEARCH_SECONDS,
         jobs: int | None = None,
         progress: Callable[[int, int, str], None] | None = None,
         scheduler: str | Client | None = None,
@@ -287,6 +318,32 @@ class Registry:
         from .store import frames
 
         return frames.searches_frame(self.store)
+
+    def searches_text(
+        self, case_id: str | None = None, *, long: bool = False, width: int | None = None
+    ) -> str:
+        """The recorded searches (of ``case_id``, or of every case) as ``registry
+        searches`` prints them: one row each with the case, the ansatz, completeness and
+        the result in short; with ``long``, each with its result in one sentence. Wrapped
+        to ``width`` (None: the terminal's). UnknownCaseError for a case not held."""
+        from .presentation.listings import searches_listing, searches_long
+        from .runs.search_run import recorded_searches
+
+        found = [(number, search) for number, _, search in recorded_searches(self.store, case_id)]
+        render = searches_long if long else searches_listing
+        return render(found, terminal_width(width))
+
+    def search_documents(self, case_id: str | None = None) -> list[dict]:
+        """The recorded searches (of ``case_id``, or of every case), oldest first, each as
+        the JSON document of ``registry discover --json`` with its number (``search``)
+        and the case version searched (``version``): ``registry searches --json``."""
+        from .presentation.search_output import recorded_search_document
+        from .runs.search_run import recorded_searches
+
+        return [
+            recorded_search_document(number, version, search)
+            for number, version, search in recorded_searches(self.store, case_id)
+        ]
 
     def discoveries(self) -> pd.DataFrame:
         """One row per set of parameter values a recorded search found integrals on (the
@@ -328,6 +385,26 @@ class Registry:
             verdict=None if verdict is None else str(Verdict(verdict)),
         )
 
+    def cases_text(
+        self,
+        *,
+        source: str | None = None,
+        author: str | None = None,
+        year: int | tuple[int, int] | None = None,
+        topic: str | None = None,
+        family: str | None = None,
+        verdict: str | Verdict | None = None,
+        width: int | None = None,
+    ) -> str:
+        """The cases (filtered as ``cases``) as ``registry cases`` lists them, wrapped to
+        ``width`` (None: the terminal's)."""
+        from .presentation.listings import cases_listing
+
+        frame = self.cases(
+            source=source, author=author, year=year, topic=topic, family=family, verdict=verdict
+        )
+        return cases_listing(frame, terminal_width(width))
+
     def claims(self) -> pd.DataFrame:
         """One row per claim of the latest case versions."""
         from .store import frames
@@ -340,16 +417,31 @@ class Registry:
 
         return frames.verdicts_frame(self.store, run)
 
+    def verdicts_text(self, run: int | None = None, width: int | None = None) -> str:
+        """The verdicts (``verdicts``) as ``registry verdicts`` lists them, under each
+        case, wrapped to ``width`` (None: the terminal's)."""
+        from .presentation.listings import verdicts_listing
+
+        return verdicts_listing(self.verdicts(run), terminal_width(width))
+
     def corrections(self, run: int | None = None) -> pd.DataFrame:
         """Families, re-checked corrections and parameter conditions of a run (default: newest)."""
         from .store import frames
 
         return frames.corrections_frame(self.store, run)
 
+    def corrections_text(self, run: int | None = None, width: int | None = None) -> str:
+        """The corrections of a run (``corrections``) as ``registry corrections`` lists
+        them, one row per branch of a condition, wrapped to ``width`` (None: the
+        terminal's)."""
+        from .presentation.listings import corrections_listing
+
+        return corrections_listing(self.corrections(run), terminal_width(width))
+
     def export_case(self, case_id: str, claim: str | None = None, kind: str = "torque") -> str:
         """A corrected case file (TOML text) from the newest audit of ``case_id``.
 
-        ``kind`` is ``torque`` (the claim becomes a Casimir of a repaired torque) or
+        ``kind`` is ``torque`` (the claim becomes a Casimir of a corrected torque) or
         ``casimir`` (the case's own torque with its derived Casimir as the claim).
         """
         from .runs.audit_run import corrected_case
@@ -382,7 +474,13 @@ class Registry:
 
         row = report_content.run_row(self.runs(), run)
         outcomes = self.run_report(int(row["run"])).outcomes()
-        curves = drift_curves(report_content.plotted(outcomes)) if plots else None
+        curves: dict[tuple[str, str], DriftCurve | str] | None = None
+        if plots:
+            # the curves the audit stored; a run recorded before audits stored them
+            # has its curves integrated here, once
+            curves = {(c.case, c.claim): c for o in outcomes for c in o.curves}
+            wanted = report_content.plotted(outcomes)
+            curves |= drift_curves([(case, c) for case, c in wanted if (case.id, c) not in curves])
         return report_content.build_report(row, outcomes, fmt, out_dir, curves)
 
     def plot(self, case_id: str, claim: str, path: str | os.PathLike, seed: int = 0) -> Path:
@@ -471,6 +569,13 @@ class Registry:
 
         return frames.runs_frame(self.store)
 
+    def runs_text(self, width: int | None = None) -> str:
+        """The audit runs (``runs``) as ``registry runs`` lists them, wrapped to ``width``
+        (None: the terminal's)."""
+        from .presentation.listings import runs_listing
+
+        return runs_listing(self.runs(), terminal_width(width))
+
     def verify_db(self) -> Verification:
         """Verify the database itself (``registry verify-db``): schema, integrity, foreign
         keys, hashes of the stored case texts, and every stored expression re-parsed."""
@@ -553,6 +658,24 @@ def open_registry(target: str | os.PathLike | None = None, *, create: bool = Tru
     return Registry(Store(Path(where) if isinstance(where, os.PathLike) else where, create=create))
 
 
+def find_measures(target: str | os.PathLike | Case) -> MeasureSearch:
+    """The invariant densities prod F_i**a_i of a case file or a ``Case``, without a
+    database (``Registry.measures``)."""
+    from .discovery.measures import measure_search
+    from .language.casefile import load_case
+    from .model import Case
+
+    case = target if isinstance(target, Case) else load_case(target)
+    return measure_search(case)
+
+
+def measure_text(search: MeasureSearch, width: int | None = None) -> str:
+    """A measure search in plain text, as ``registry discover --measure`` prints it."""
+    from .presentation.search_output import measure_text as render
+
+    return render(search, terminal_width(width))
+
+
 def discover_file(
     path: str | os.PathLike,
     *,
@@ -561,7 +684,7 @@ def discover_file(
     on: Sequence[str | Equation] = (),
     free: Sequence[str] = (),
     relations: bool = False,
-    budget: float | None = DEFAULT_SEARCH_BUDGET,
+    budget: float | None = DEFAULT_SEARCH_SECONDS,
     jobs: int | None = None,
     progress: Callable[[int, int, str], None] | None = None,
     scheduler: str | Client | None = None,

@@ -23,8 +23,6 @@ from . import settings
 from .errors import DatabaseMissingError, RegistryError, printable
 
 if TYPE_CHECKING:
-    import pandas as pd
-
     from .api import Registry
 
 #: The overall verdicts of a claim (``model.Verdict``), spelled out here so that
@@ -380,6 +378,12 @@ def _weights(text: str | None) -> dict[str, int] | None:
     is_flag=True,
     help="Search invariant relations F = 0 (Darboux polynomials, dF/dt = K F) instead.",
 )
+@click.option(
+    "--measure",
+    is_flag=True,
+    help="Search invariant measures rho = prod F_i**a_i over the Darboux polynomials among "
+    "the factors of the field (Jacobi's last multiplier) instead.",
+)
 @click.option("--json", "as_json", is_flag=True, help="Print JSON (docs/json-output.md).")
 @click.option(
     "--record",
@@ -404,6 +408,7 @@ def discover(
     on: tuple[str, ...],
     free_text: str,
     relations: bool,
+    measure: bool,
     as_json: bool,
     record: bool,
     fresh: bool,
@@ -428,6 +433,9 @@ def discover(
     weights = _weights(weights_text)
     free = tuple(f.strip() for f in free_text.split(",") if f.strip())
     is_file = Path(target).is_file()
+    if measure:
+        _measures(target, is_file, as_json, relations or record or bool(free) or bool(on))
+        return
     # a file searched without --record needs no database, and creates none
     reg = _registry(create=True) if record or not is_file else _existing_registry()
     options: dict[str, Any] = dict(
@@ -462,6 +470,30 @@ def discover(
         click.echo(f"recorded as search {report.number}")
     for case_id in report.derived:
         click.echo(f"  derived case {case_id}: its integrals are claims for the next audit")
+
+
+def _measures(target: str, is_file: bool, as_json: bool, other_options: bool) -> None:
+    """``discover --measure``: the invariant densities of a case file or a stored case."""
+    from .api import find_measures, measure_text
+    from .errors import UsageError
+
+    if other_options:
+        raise UsageError(
+            "--measure searches densities on its own: it takes none of --relations, --record, "
+            "--free or --on (a density found is added to the case as a claim of kind 'measure')"
+        )
+    if is_file:
+        found = find_measures(target)
+    else:
+        reg = _existing_registry()
+        if reg is None:
+            raise UsageError(f"{target!r} is neither a case file nor a stored case")
+        with reg:
+            found = reg.measures(target)
+    if as_json:
+        click.echo(json.dumps(found.as_dict(), indent=2, ensure_ascii=False))
+    else:
+        click.echo(measure_text(found))
 
 
 @main.command()
@@ -514,9 +546,10 @@ def survey(
             progress=progress,
             scheduler=scheduler,
         )
-    for r in reports:
-        on = f" on {', '.join(e.text for e in r.search.options.on)}" if r.search.options.on else ""
-        click.echo(f"{r.search.case}{on}: {r.statement}")
+    from .api import survey_text
+
+    if reports:
+        click.echo(survey_text(reports))
     fresh_ones = sum(not r.reused for r in reports)
     undecided = sum(not r.search.decided for r in reports)
     click.echo(
@@ -527,20 +560,29 @@ def survey(
 
 @main.command()
 @click.option("--case", "case_id", default=None, metavar="ID", help="Searches of this case only.")
+@click.option(
+    "--long", "long_", is_flag=True, help="Each search's result in one sentence, in full."
+)
+@click.option(
+    "--json",
+    "as_json",
+    is_flag=True,
+    help="Print the searches as a JSON list of search documents (docs/json-output.md).",
+)
 @_user_errors
-def searches(case_id: str | None) -> None:
-    """List the recorded integral searches, newest last, with what each established.
+def searches(case_id: str | None, long_: bool, as_json: bool) -> None:
+    """List the recorded integral searches, oldest first: one line each with the case,
+    the ansatz (degree, weights, level set, free parameters), whether the search is
+    complete, and its result in short.
 
-    Example: registry searches --case kovalevskaya-1889-heavy-top
+    Example: registry searches --case kovalevskaya-1889-heavy-top --long
     """
-    frame = _registry().searches()
-    if case_id is not None:
-        frame = frame[frame["case"] == case_id]
-    frame = frame.assign(
-        on=[", ".join(on) for on in frame["on"]],
-        weights=[f"M={w['M']},gamma={w['gamma']}" for w in frame["weights"]],
-    )
-    _print_frame(frame[["search", "case", "degree", "weights", "on", "complete", "statement"]])
+    reg = _registry()
+    if as_json:
+        documents = reg.search_documents(case_id)
+        click.echo(json.dumps(documents, indent=2, ensure_ascii=False))
+        return
+    click.echo(reg.searches_text(case_id, long=long_))
 
 
 def _progress_bar(**options: Any) -> Any:
@@ -568,22 +610,6 @@ def _counting_bar(unit: str, quiet: bool = False) -> Iterator:
         yield progress
     finally:
         bar.close()
-
-
-def _print_frame(frame: pd.DataFrame) -> None:
-    import pandas as pd  # only the listing commands need pandas
-
-    with pd.option_context(
-        "display.max_rows",
-        None,
-        "display.max_columns",
-        None,
-        "display.width",
-        200,
-        "display.max_colwidth",
-        60,
-    ):
-        click.echo(frame.to_string(index=False) if len(frame) else "(none)")
 
 
 def _years(text: str | None) -> int | tuple[int, int] | None:
@@ -623,7 +649,7 @@ def cases(
 
     Example: registry cases --author Kowalevski --year 1880-1900
     """
-    frame = _registry().cases(
+    text = _registry().cases_text(
         source=source,
         author=author,
         year=_years(year_text),
@@ -631,12 +657,7 @@ def cases(
         family=family,
         verdict=verdict,
     )
-    frame = frame.assign(
-        authors=[", ".join(a) if isinstance(a, list) else "" for a in frame["authors"]],
-        year=["" if y != y or y is None else str(int(y)) for y in frame["year"]],
-    )
-    columns = ["case", "version", "year", "authors", "topic", "family", "n_claims", "title"]
-    _print_frame(frame[columns])
+    click.echo(text)
 
 
 @main.command()
@@ -647,9 +668,7 @@ def verdicts(run: int | None) -> None:
 
     Example: registry verdicts --run 3
     """
-    frame = _registry().verdicts(run)
-    columns = [c for c in ("case", "claim", "check", "verdict", "method", "run") if c in frame]
-    _print_frame(frame[columns])
+    click.echo(_registry().verdicts_text(run))
 
 
 @main.command()
@@ -660,27 +679,7 @@ def corrections(run: int | None) -> None:
 
     Example: registry corrections --run 3
     """
-    frame = _registry().corrections(run)
-    if "payload" in frame:
-        frame = _condition_branches(frame).drop(columns=["payload"])
-    _print_frame(frame)
-
-
-def _condition_branches(frame: pd.DataFrame) -> pd.DataFrame:
-    """The corrections listing with one row per branch of each parameter condition (its
-    equations in the expression column), or the reason where none was found."""
-    import pandas as pd
-
-    rows = []
-    for row in frame.to_dict("records"):
-        payload = row["payload"] or {}
-        if row["kind"] != "conditions":
-            rows.append(row)
-        elif not payload.get("branches"):
-            rows.append({**row, "expression": payload.get("reason", "")})
-        else:
-            rows += [{**row, "expression": ", ".join(b)} for b in payload["branches"]]
-    return pd.DataFrame(rows, columns=frame.columns)
+    click.echo(_registry().corrections_text(run))
 
 
 @main.command()
@@ -721,13 +720,13 @@ def export(fmt: str | None, bibtex: bool, output: str | None) -> None:
 
 @main.command("export-case")
 @click.argument("case_id")
-@click.option("--claim", default=None, metavar="LABEL", help="The claim whose repair to use.")
+@click.option("--claim", default=None, metavar="LABEL", help="The claim whose correction to use.")
 @click.option(
     "--kind",
     type=click.Choice(["torque", "casimir"]),
     default="torque",
     show_default=True,
-    help="torque: repaired torque, claim kept; casimir: same torque, derived Casimir.",
+    help="torque: corrected torque, claim kept; casimir: same torque, derived Casimir.",
 )
 @click.option(
     "-o",
@@ -780,11 +779,9 @@ def list_checks() -> None:
 
     Example: registry list-checks
     """
-    from .api import checks
+    from .api import checks_text
 
-    for spec in checks():
-        scope = "per claim" if spec.per_claim else "per case"
-        click.echo(f"{spec.name:12} {scope:9} {spec.cost:9} {spec.statement}")
+    click.echo(checks_text())
 
 
 @main.command()
@@ -891,7 +888,7 @@ def runs() -> None:
 
     Example: registry runs
     """
-    _print_frame(_registry().runs())
+    click.echo(_registry().runs_text())
 
 
 @main.command("verify-db")

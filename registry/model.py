@@ -155,7 +155,7 @@ class System:
 
     @property
     def torque_exprs(self) -> tuple[sp.Expr, sp.Expr, sp.Expr]:
-        return tuple(e.expr for e in self.torque)  # type: ignore[return-value]
+        return tuple(e.expr for e in self.torque)
 
     @property
     def kappa_expr(self) -> sp.Expr:
@@ -168,7 +168,7 @@ class FrozenDict(dict):
     def _readonly(self, *args: object, **kwargs: object) -> NoReturn:
         raise TypeError("this mapping is read-only")
 
-    __setitem__ = __delitem__ = clear = pop = popitem = setdefault = update = _readonly  # type: ignore[assignment]
+    __setitem__ = __delitem__ = clear = pop = popitem = setdefault = update = _readonly
 
     def __reduce__(self) -> tuple[type[FrozenDict], tuple[dict]]:
         return (FrozenDict, (dict(self),))
@@ -295,12 +295,12 @@ def component_index(number: int) -> int:
 
 @dataclass(frozen=True)
 class Correction:
-    """A repair, re-checked before it is reported (``checks``: check name -> verdict).
+    """A correction, re-checked before it is reported (``checks``: check name -> verdict).
 
     ``kind`` is ``casimir`` (a Casimir of the case's own torque, ``expression``) or
     ``torque`` (a torque ``torque`` under which the claim is a Casimir, differing
     from the case's in the 0-based components ``changed``). ``claim`` is the claim
-    it repairs, or None for a Casimir the case did not claim. Expressions are
+    it corrects, or None for a Casimir the case did not claim. Expressions are
     written in the case-file language.
     """
 
@@ -317,13 +317,13 @@ class Correction:
 
     @property
     def changed_components(self) -> tuple[tuple[int, str], ...]:
-        """(number, repaired expression) of each changed torque component, mu_number'."""
+        """(number, corrected expression) of each changed torque component, mu_number'."""
         torque = self.torque or ()
         return tuple((component_number(k), torque[k]) for k in self.changed)
 
     @property
     def kept_components(self) -> tuple[int, ...]:
-        """The numbers of the torque components the repair keeps as they were."""
+        """The numbers of the torque components the correction keeps as they were."""
         return tuple(component_number(k) for k in range(3) if k not in self.changed)
 
     def as_dict(self) -> dict:
@@ -380,8 +380,9 @@ def none_to_nan(x: float | None) -> float:
 class Evidence:
     """Numerical evidence for a claim: the largest relative drift of I along integrated
     trajectories, that of H (the noise floor), how many runs, and whether the numbers
-    contradict the symbolic verdict they were compared with (``compared_with``: always
-    the ``integral`` check, since a drift speaks of conservation only). ``narrowed``
+    contradict the symbolic verdict they were compared with (``compared_with``: the
+    ``integral`` check for an integral or a Casimir, since a drift speaks of
+    conservation only; ``measure`` or ``relation`` for those kinds). ``narrowed``
     says why the trajectories stand on a smaller set than the claim's, if they do. On a
     level set, ``departure`` is the largest relative residual of its equations where the
     drift was measured, ``projected`` whether the trajectories were projected back onto
@@ -579,6 +580,64 @@ class IntegralSet:
     @property
     def rediscovered(self) -> tuple[str, ...]:
         return tuple(i for i, s in zip(self.integrals, self.status, strict=True) if not s.new)
+
+
+@dataclass(frozen=True)
+class Density:
+    """A density rho = prod F**a (``factors``: (F, a) as text), the audit's ``measure``
+    verdict on it, and the factors where it is singular or undefined (a negative or
+    fractional exponent: rho has no finite positive value where that F vanishes)."""
+
+    expression: str
+    factors: tuple[tuple[str, str], ...]
+    verdict: Verdict
+    singular: tuple[str, ...] = ()
+
+    def as_dict(self) -> dict:
+        return {
+            "density": self.expression,
+            "factors": [{"F": f, "exponent": a} for f, a in self.factors],
+            "measure": str(self.verdict),
+            "singular_where": [f"{f} = 0" for f in self.singular],
+        }
+
+
+@dataclass(frozen=True)
+class MeasureSearch:
+    """What the search for densities prod F_i**a_i of a case found: the Darboux
+    polynomials of the ansatz with their cofactors (of the case's own field), the
+    densities (one per solution; the ansatz's every density is one of them times a
+    function of ``integrals``), the first integrals prod F_i**b_i the homogeneous
+    system gives, what was left undecided, the statement, and the time."""
+
+    case: str
+    darboux: tuple[tuple[str, str], ...]
+    densities: tuple[Density, ...]
+    integrals: tuple[str, ...]
+    candidates: tuple[str, ...]
+    complete: bool
+    statement: str
+    undecided: tuple[str, ...] = ()
+    seconds: float = 0.0
+
+    @property
+    def smooth(self) -> tuple[Density, ...]:
+        """The densities that are polynomials (defined and finite everywhere)."""
+        return tuple(d for d in self.densities if not d.singular)
+
+    def as_dict(self) -> dict:
+        return {
+            "case": self.case,
+            "ansatz": "rho = prod F_i**a_i",
+            "candidates": list(self.candidates),
+            "darboux": [{"F": f, "cofactor": k} for f, k in self.darboux],
+            "densities": [d.as_dict() for d in self.densities],
+            "integrals": list(self.integrals),
+            "complete": self.complete,
+            "undecided": list(self.undecided),
+            "statement": self.statement,
+            "seconds": round(self.seconds, 3),
+        }
 
 
 @dataclass(frozen=True)

@@ -16,7 +16,7 @@ import sys
 from pathlib import Path
 
 import registry
-from registry.presentation.verdict_table import verdict_table
+from registry.presentation.text_table import wrapped
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -53,9 +53,13 @@ def main(argv: list[str] | None = None) -> int:
         if args.json:
             print(json.dumps(report.document(), indent=2))
         else:
-            print(verdict_table(report.outcomes(), report.run))
+            print(report.table())  # wrapped to the terminal, as registry audit prints it
             if surveyed:
-                print(survey_line([r.search for r in surveyed]))
+                print(
+                    wrapped(
+                        survey_line([r.search for r in surveyed]), registry.api.terminal_width()
+                    )
+                )
     return 1 if refused else 0
 
 

@@ -2,12 +2,12 @@
 
 1. The literature catalog (data/cases, sub-folders included, and the Hamiltonian-form
    cases of tests/data/hamiltonian), audited fresh in worker
-   processes (all checks and repairs) and decided by a lean independent verifier (exact
+   processes (all checks and corrections) and decided by a lean independent verifier (exact
    values at random points, expanded numerators, Groebner reduction on level sets; no
-   repairs) in as many processes, both forked from this process before anything warms
+   corrections) in as many processes, both forked from this process before anything warms
    its caches: the wall times side by side, and disagreements.
-2. The seed catalog (data/cases), audited fresh: all checks and repairs, in
-   worker processes; then the same checks (no repairs) against a naive
+2. The seed catalog (data/cases), audited fresh: all checks and corrections, in
+   worker processes; then the same checks (no corrections) against a naive
    baseline that applies plain ``sympy.simplify`` to every residual.
 3. A generated stress catalog (seeded): random polynomial and rational torques
    mu = psi gamma + grad phi with a true claim (C = s + phi) and a false one.
@@ -101,7 +101,7 @@ def our_audit(cases, jobs: int = 0) -> tuple[float, dict]:
     if jobs:
         audits = [a for _, a in audit_cases(cases, LocalPool(jobs), TimeBudget())]
     else:
-        audits = [audit_case(c, checks=CHECKS, repair=False) for c in cases]
+        audits = [audit_case(c, checks=CHECKS, corrections=False) for c in cases]
     elapsed = time.perf_counter() - started
     verdicts = {(a.case, r.check, r.claim): str(r.verdict) for a in audits for r in a.results}
     return elapsed, verdicts
@@ -308,8 +308,8 @@ def main() -> None:
     ours = {(a.case, r.check, r.claim): str(r.verdict) for a in full.values() for r in a.results}
     inconclusive = sum(v == "inconclusive" for v in ours.values())
     print(
-        f"fresh audit, all checks and repairs: {wall:.2f} s wall (target <= 15 s), "
-        f"{inconclusive} inconclusive; lean verifier, same claims, no repairs: {lean_t:.2f} s; "
+        f"fresh audit, all checks and corrections: {wall:.2f} s wall (target <= 15 s), "
+        f"{inconclusive} inconclusive; lean verifier, same claims, no corrections: {lean_t:.2f} s; "
         f"ratio ours/lean {wall / lean_t:.2f} (target <= 1.0)"
     )
     undecided = sum(v == "undecided" for v in lean.values())
@@ -328,7 +328,7 @@ def main() -> None:
     started = time.perf_counter()
     full = dict(audit_cases(seed, LocalPool(args.jobs), TimeBudget()))
     wall = time.perf_counter() - started
-    print(f"fresh audit, all checks and repairs: {wall:.2f} s wall (target < 3 s)")
+    print(f"fresh audit, all checks and corrections: {wall:.2f} s wall (target < 3 s)")
     refuted = sum(r.verdict is Verdict.REFUTED for a in full.values() for r in a.results)
     print(f"  {sum(len(a.results) for a in full.values())} results, {refuted} refuted")
 

@@ -76,7 +76,7 @@ def main() -> None:
     for case in cases:
         bivector, claims = peer_inputs(case)
         started = time.perf_counter()
-        audit = audit_case(case, checks=["jacobi", "casimir"], repair=False)
+        audit = audit_case(case, checks=["jacobi", "casimir"], corrections=False)
         ours = time.perf_counter() - started
         started = time.perf_counter()
         theirs = {"jacobi": capped(lambda b=bivector: peer.is_poisson_bivector(b), cap)}

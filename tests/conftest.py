@@ -46,6 +46,10 @@ os.environ.setdefault("REGISTRY_CORRECTIONS_BUDGET", f"{PATIENT.corrections:g}")
 # Likewise a command waits for another's database lock longer than the 10 s default (a
 # whole catalog added on a loaded machine held it for over 30 s); tests of the wait set it.
 os.environ.setdefault("REGISTRY_LOCK_TIMEOUT", f"{HANG / 2:g}")
+# What the command line prints is wrapped to the terminal's width: the tests read it at
+# 80 columns (what a pipe gets) wherever they run, a terminal of another width included;
+# tests of the width set their own.
+os.environ["COLUMNS"] = "80"
 
 # Property tests draw the same examples on every run (a failure is reproducible, and CI
 # does not fail at random); HYPOTHESIS_PROFILE=explore draws new ones each run. No

@@ -240,10 +240,10 @@ def test_corrections_frame(audited):
     assert isinstance(frame, pd.DataFrame)
     assert set(frame["run"]) == {audited.report.run}
     i2 = frame[(frame["case"] == YEHIA_B) & (frame["claim"] == "I2")]
-    repairs = i2[i2["kind"].isin(["casimir", "torque"])]
-    assert sorted(repairs["kind"]) == ["casimir", "torque"]
-    assert set(repairs["verdict"]) == {"verified"}
-    (casimir,) = repairs[repairs["kind"] == "casimir"]["expression"]
+    corrections = i2[i2["kind"].isin(["casimir", "torque"])]
+    assert sorted(corrections["kind"]) == ["casimir", "torque"]
+    assert set(corrections["verdict"]) == {"verified"}
+    (casimir,) = corrections[corrections["kind"] == "casimir"]["expression"]
     document = audited.report.document()
     (claim,) = [c for e in document["cases"] if e["case"] == YEHIA_B for c in e["claims"]]
     assert casimir in [c.get("expression") for c in claim["corrections"]]
@@ -424,8 +424,11 @@ def test_diff_lists_the_changed_verdicts(two_runs):
     result = CliRunner().invoke(main, ["--db", str(two_runs), "report", "--diff", "1", "2"])
     assert result.exit_code == 0, result.output
     assert "no changes" not in result.output
-    row = next(line for line in result.output.splitlines() if "casimir" in line)
-    assert row.split() == [ZHUKOVSKY, "area", "casimir", "verified", "refuted"]
+    lines = result.output.splitlines()
+    assert lines[:2] == ["case", "  claim  check     run 1     run 2"]
+    assert lines[3] == ZHUKOVSKY  # the case heads its changed verdicts
+    row = next(line for line in lines if "casimir" in line)
+    assert row.split() == ["area", "casimir", "verified", "refuted"]
 
 
 def test_diff_of_an_unknown_run_is_an_error(two_runs):

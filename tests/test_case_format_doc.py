@@ -49,6 +49,9 @@ def test_the_doc_has_its_examples():
     assert marks <= {None, "refused"}, marks
     assert any("hamiltonian = " in toml for _, _, toml, _ in EXAMPLES)
     assert any("kappa = " in toml for _, _, toml, _ in EXAMPLES)
+    assert any("[system.equations]" in toml for _, _, toml, _ in EXAMPLES)
+    assert any("[system.bracket]" in toml for _, _, toml, _ in EXAMPLES)
+    assert any('kind = "measure"' in toml for _, _, toml, _ in EXAMPLES)
 
 
 @pytest.mark.parametrize(("case_id", "mark", "toml", "said"), EXAMPLES, ids=IDS)
@@ -71,7 +74,7 @@ def test_every_example_loads_or_is_refused_as_shown(case_id, mark, toml, said):
 )
 def test_the_claims_of_the_examples_are_verified(case_id, toml):
     case = parse_case_text(toml, f"{case_id}.toml")
-    audit = audit_case(case, repair=False)
+    audit = audit_case(case, corrections=False)
     for claim in case.claims:
         verdicts = {r.check: r.verdict for r in audit.results if r.claim == claim.label}
         verdict = claim_verdict(claim.kind, verdicts)
@@ -84,6 +87,15 @@ def test_the_claims_of_the_examples_are_verified(case_id, toml):
         ("example-gyrostat", "(M3 + k3)*gamma3", "M3*gamma3", "casimir", "area"),
         ("example-kappa-axisymmetric", "kappa*(M1**2", "(M1**2", "casimir", "deformed"),
         ("example-lagrange-hamiltonian", "(M1**2 + M2**2)/(2*A)", "M1**2/A", "integral", "M3"),
+        ("example-sleigh", '"1/omega"', '"omega"', "measure", "density"),
+        ("example-sleigh", '"omega"\n', '"v"\n', "relation", "no-turning"),
+        (
+            "example-two-fields",
+            "alpha2**2 + alpha3**2",
+            "alpha2**2 + beta3**2",
+            "casimir",
+            "alpha-squared",
+        ),
     ],
 )
 def test_a_changed_example_is_not_verified(case_id, old, new, check, label):
@@ -91,7 +103,7 @@ def test_a_changed_example_is_not_verified(case_id, old, new, check, label):
     (toml,) = [t for i, _, t, _ in EXAMPLES if i == case_id]
     mutated = toml.replace(old, new)
     assert mutated != toml
-    audit = audit_case(parse_case_text(mutated, "mutated.toml"), repair=False)
+    audit = audit_case(parse_case_text(mutated, "mutated.toml"), corrections=False)
     assert audit.result(check, label).verdict is Verdict.REFUTED
 
 

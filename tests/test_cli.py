@@ -71,6 +71,20 @@ def invoke(db: Path | str | None, *args: str, **kwargs) -> object:
     return CliRunner().invoke(main, [*prefix, *args], **kwargs)
 
 
+def grouped_rows(text: str) -> list[tuple[str, list[str]]]:
+    """(heading, words of the row) of each row of a grouped listing (``cases``,
+    ``verdicts``, ``corrections``, ``searches``): a row is indented under the heading
+    before it; the header and its rule (the first three lines) are skipped."""
+    rows = []
+    heading = ""
+    for line in text.splitlines()[3:]:
+        if line.startswith("  "):
+            rows.append((heading, line.split()))
+        elif line:
+            heading = line.split()[0]
+    return rows
+
+
 def error_lines(result) -> list[str]:
     return result.stderr.strip().splitlines()
 
@@ -311,7 +325,7 @@ def test_audit_json_verdicts(document):
     assert [zhukovsky[k] for k in ("jacobi", "energy", "c1")] == ["verified"] * 3
 
 
-def test_audit_json_repairs(document):
+def test_audit_json_corrections(document):
     i2 = claim_of(document, YEHIA_B, "I2")
     corrections = i2["corrections"]
     assert sorted(c["kind"] for c in corrections) == ["casimir", "torque"]
@@ -348,16 +362,17 @@ def test_audit_json_expressions_paste_back_into_a_case_file(document):
 
 
 def test_audit_table(audited, document):
+    """Each case heads the rows of its claims, under the header of the claims' columns."""
     assert audited.table.exit_code == 0, audited.table.output
     lines = audited.table.stdout.splitlines()
-    header = lines[0].split()
-    for word in ("case", "claim", "integral", "casimir", "verdict"):
-        assert word in header
+    assert lines[0].split()[0] == "case"
+    assert lines[1].split() == ["claim", "kind", "integral", "casimir", "verdict"]
+    assert max(map(len, lines)) <= 80
     for case_id, entry in by_case(document).items():
-        rows = [line.split() for line in lines[2:] if line.split()[:1] == [case_id]]
-        assert len(rows) == len(entry["claims"])
+        (heading,) = [i for i, line in enumerate(lines) if line.split()[:1] == [case_id]]
+        rows = [line.split() for line in lines[heading + 1 : heading + 1 + len(entry["claims"])]]
         for row, claim in zip(rows, entry["claims"], strict=True):
-            assert claim["label"] in row
+            assert row[0] == claim["label"]
             assert row[-4:] == [
                 claim["kind"],
                 claim["integral"],
@@ -375,24 +390,47 @@ def test_each_audit_is_stored_as_a_run(audited, document):
     lines = audited.runs.stdout.strip().splitlines()
     header = lines[0].split()
     assert header[0] == "run" and "status" in header
-    rows = [line.split() for line in lines[1:]]
+    rows = [line.split() for line in lines[2:] if not line.startswith(" ")]
     assert [int(row[0]) for row in rows] == [1, 2]
     assert all("complete" in row for row in rows)
+    assert max(map(len, lines)) <= 80
 
 
 def test_verdicts_lists_case_claim_check_verdict(audited):
     assert audited.verdicts.exit_code == 0, audited.verdicts.output
     lines = audited.verdicts.stdout.strip().splitlines()
-    assert lines[0].split() == ["case", "claim", "check", "verdict", "method", "run"]
+    assert lines[0] == "case (version)"
+    assert lines[1].split() == ["claim", "check", "verdict", "method", "run"]
+    assert max(map(len, lines)) <= 80
     rows = {}
-    for line in lines[1:]:
-        case, claim, check, verdict, *_method, run = line.split()
+    for case, (claim, check, verdict, *_method, run) in grouped_rows(audited.verdicts.stdout):
         rows[case, claim, check] = (verdict, int(run))
     assert rows[YEHIA_B, "I2", "integral"] == ("refuted", 2)
     assert rows[YEHIA_B, "I2", "casimir"] == ("refuted", 2)
     assert rows[ZHUKOVSKY, "area", "casimir"] == ("verified", 2)
     jacobi = [v for (case, _, check), v in rows.items() if case == AFFINE and check == "jacobi"]
     assert jacobi == [("refuted", 2)]
+
+
+@pytest.mark.parametrize("columns", [80, 100])
+@pytest.mark.parametrize(
+    "args",
+    [
+        ("cases",),
+        ("verdicts",),
+        ("runs",),
+        ("corrections",),
+        ("list-checks",),
+        ("report", "--diff", "1", "2"),
+    ],
+    ids=lambda a: " ".join(a),
+)
+def test_every_listing_fits_the_terminal_in_plain_text(audited, args, columns):
+    done = invoke(audited.db, *args, env={"COLUMNS": str(columns)})
+    assert done.exit_code == 0, done.output
+    lines = done.stdout.splitlines()
+    assert lines and max(map(len, lines)) <= columns
+    assert "\x1b" not in done.stdout
 
 
 def test_audit_unknown_case_is_a_one_line_error(audited, document):
@@ -534,16 +572,25 @@ def test_checks_lists_every_registered_check_with_its_statement():
     result = invoke(None, "list-checks")
     assert result.exit_code == 0
     lines = result.stdout.splitlines()
-    assert [line.split()[0] for line in lines] == list(CHECKS)
-    assert any("Jacobi identity" in line for line in lines)
-    for line, spec in zip(lines, CHECKS.values(), strict=True):
-        found = re.fullmatch(r"(\S+) +(per claim|per case) +(\S+) +(\S.*)", line)
-        assert found, line
-        name, scope, cost, statement = found.groups()
+    assert lines[0].split() == ["check", "runs", "cost", "statement"]
+    assert max(map(len, lines)) <= 80
+    column = lines[0].index("statement")
+    rows: list[list[str]] = []
+    for line in lines[2:]:  # a row, or the next line of its wrapped statement
+        if not line.startswith(" "):
+            rows.append([line[:column], line[column:]])
+        else:
+            rows[-1][1] += " " + line[column:]
+    assert [row[0].split()[0] for row in rows] == list(CHECKS)
+    assert any("Jacobi identity" in statement for _, statement in rows)
+    for (fields, statement), spec in zip(rows, CHECKS.values(), strict=True):
+        found = re.fullmatch(r"(\S+) +(per claim|per case) +(\S+) *", fields)
+        assert found, fields
+        name, scope, cost = found.groups()
         assert name == spec.name
         assert scope == ("per claim" if spec.per_claim else "per case")
         assert cost == spec.cost
-        assert statement == spec.statement != ""
+        assert statement.replace("- ", "-") == spec.statement != ""
 
 
 @pytest.mark.parametrize(
@@ -671,10 +718,11 @@ def test_every_branch_of_a_condition_reaches_the_json_the_table_and_corrections(
         ["k1 = 0", "k2 = 0", "k3 = 0"],
     ]
     table = invoke(db_target, "audit").stdout  # the stored results, reused
-    assert "M-false: holds when A = C, B = C or A = B, k1 = 0, k2 = 0 or " in table
-    listing = invoke(db_target, "corrections").stdout
-    rows = [line.split() for line in listing.splitlines() if " conditions " in line]
-    branches = [" ".join(r[r.index("conditions") + 1 :]) for r in rows if "M-false" in r]
+    words = " ".join(table.split())  # the line is wrapped at 80 columns
+    assert "M-false: holds when A = C, B = C or A = B, k1 = 0, k2 = 0 or " in words
+    listing = invoke(db_target, "corrections", env={"COLUMNS": "200"}).stdout
+    rows = [words for _, words in grouped_rows(listing.split("\n", 1)[1])]
+    branches = [" ".join(r[2:]) for r in rows if r[:2] == ["M-false", "conditions"]]
     assert branches[:2] == ["A = C, B = C verified", "A = B, k1 = 0, k2 = 0 verified"]
     assert len(branches) == 5
 

@@ -180,12 +180,58 @@ def test_registry_survey_and_searches_commands(db_target):
     assert result.exit_code == 0, result.output
     lines = result.stdout.strip().splitlines()
     assert lines[-1] == "3 search(es): 3 recorded, 0 reused; 0 not decided (see their statements)"
-    assert lines[0].startswith("goryachev-1916-heavy-top: No extra integral of weighted degree")
-    assert lines[2].startswith("lagrange-1788-heavy-top: 1 extra integral(s)")
-    listed = runner.invoke(main, ["--db", str(db), "searches", "--case", "lagrange-1788-heavy-top"])
+    assert max(map(len, lines)) <= 80
+    searched = [line for line in lines if not line.startswith(" ")]  # wrapped under 4 spaces
+    assert searched[0].startswith("goryachev-1916-heavy-top: No extra integral of weighted")
+    assert searched[2].startswith("lagrange-1788-heavy-top: 1 extra integral(s)")
+    lagrange = ["--db", str(db), "searches", "--case", "lagrange-1788-heavy-top"]
+    listed = runner.invoke(main, lagrange)
     assert listed.exit_code == 0, listed.output
-    (row,) = listed.stdout.strip().splitlines()[1:]
-    assert row.split()[:5] == ["3", "lagrange-1788-heavy-top", "2", "M=1,gamma=2", "True"]
+    assert listed.stdout.splitlines() == [
+        "case",
+        "  search  ansatz                 complete  result",
+        "  ------  ---------------------  --------  ----------------------",
+        "lagrange-1788-heavy-top",
+        "  3       degree 2; M=1,gamma=2  yes       1 extra (rediscovered)",
+    ]
+    every = runner.invoke(main, ["--db", str(db), "searches"]).stdout.splitlines()
+    assert [line.split() for line in every[3:6]] == [
+        ["goryachev-1916-heavy-top"],  # its two searches under it, newest last
+        ["1", "degree", "3;", "M=1,gamma=2", "yes", "no", "extra", "integral"],
+        [
+            "2",
+            "degree",
+            "3;",
+            "M=1,gamma=2;",
+            "on",
+            "s",
+            "=",
+            "0",
+            "yes",
+            "1",
+            "extra",
+            "(rediscovered)",
+        ],
+    ]
+    long = runner.invoke(main, [*lagrange, "--long"])
+    assert long.exit_code == 0, long.output
+    head, *said = long.stdout.splitlines()
+    assert head == "search 3: lagrange-1788-heavy-top, degree 2; M=1,gamma=2"
+    with registry.open(db) as reg:
+        stored = reg.searches()
+    statement = stored[stored.search == 3].statement.iloc[0]
+    assert " ".join(line.strip() for line in said) == statement
+    assert all(len(line) <= 80 and line.startswith("  ") for line in said)
+    as_json = runner.invoke(main, [*lagrange, "--json"])
+    assert as_json.exit_code == 0, as_json.output
+    (document,) = json.loads(as_json.stdout)
+    assert (document["search"], document["version"]) == (3, 1)
+    assert document["case"] == "lagrange-1788-heavy-top"
+    assert document["statement"] == statement
+    assert document["generic"]["rediscovered"] == 1
+    unknown = runner.invoke(main, ["--db", str(db), "searches", "--case", "lagrange-1788"])
+    assert unknown.exit_code == 1
+    assert unknown.stderr.startswith("Error: no case with id 'lagrange-1788' in the registry")
 
 
 def test_an_invariant_relation_is_recorded_and_its_claim_verified_by_the_audit(db_target):
@@ -252,4 +298,6 @@ def test_the_cli_names_the_catalog_case_in_its_json_and_statement(db_target):
     ]
     assert point["same_as"][0]["transformation"]["t"] == "t"
     text = runner.invoke(main, ["--db", db_target, "discover", str(family), "--free", "t1,t2,t3"])
-    assert "t1 = 0, t2 = 0, t3 = 0 (kovalevskaya-1889-heavy-top)" in text.output
+    said = " ".join(text.output.split())  # the text is wrapped to the terminal
+    assert "t1 = 0, t2 = 0, t3 = 0 (kovalevskaya-1889-heavy-top); no other values" in said
+    assert "same system as kovalevskaya-1889-heavy-top (C = 1, a = 1" in said

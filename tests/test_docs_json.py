@@ -48,7 +48,8 @@ EXAMPLES = examples()
 
 def real_output(command: str, folder: Path) -> dict:
     """The output of ``command`` (``registry ...``) run in ``folder``: the cases named by
-    ``--case`` are added from the catalog first, into a database of the folder's own."""
+    ``--case`` are added from the catalog first, into a database of the folder's own
+    (and surveyed, for ``registry searches``)."""
     env = prepare(folder)
     db = Path(env["REGISTRY_DB"])
     words = shlex.split(command)
@@ -57,6 +58,10 @@ def real_output(command: str, folder: Path) -> dict:
         files = [str(catalog_file(c)) for c in cases]
         added = run(registry_command(db, "add", *files), folder, env)
         assert added.returncode == 0, added.stdout
+    if words[1] == "searches":  # the recorded searches: the survey records them first
+        survey = [a for c in cases for a in ("--case", c)]
+        surveyed = run(registry_command(db, "survey", "--jobs", "1", *survey), folder, env)
+        assert surveyed.returncode == 0, surveyed.stdout
     done = run(registry_command(db, *words[1:]), folder, env, merge=False)
     assert done.returncode == 0, done.stderr
     return json.loads(done.stdout)
@@ -101,6 +106,7 @@ def test_the_page_has_its_examples():
     commands = [c for c, _ in EXAMPLES]
     assert any(c.startswith("registry audit ") for c in commands)
     assert any(c.startswith("registry discover ") for c in commands)
+    assert any(c.startswith("registry searches ") for c in commands)
     assert all(c.endswith(" --json") or " --json " in c for c in commands)
 
 

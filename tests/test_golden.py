@@ -1,8 +1,9 @@
 """Golden outputs: the verdict table and the JSON of a fresh audit of the seed catalog are
 pinned, so that a refactoring (or any change) cannot alter what users see unnoticed.
 
-Timings and run numbers are left out of the comparison. When an output changes on
-purpose, regenerate the files with ``python tests/test_golden.py`` and review the diff.
+Timings and run numbers are left out of the comparison; the table is read at 80
+columns, what a terminal of normal width (and a pipe) gets. When an output changes on
+purpose, regenerate the files with ``python -m tests.test_golden`` and review the diff.
 """
 
 from __future__ import annotations
@@ -21,6 +22,8 @@ from tests.helpers.samples import CASES
 GOLDEN = Path(__file__).parent / "data" / "golden"
 #: The reference paper's seed catalog: the case files at the top of data/cases.
 SEED_FILES = sorted(CASES.glob("*.toml"))
+#: The terminal width the verdict table is pinned at.
+WIDTH = 80
 
 
 def without_timings(value):
@@ -34,7 +37,7 @@ def without_timings(value):
 
 def audit_outputs(db: Path) -> tuple[dict, str]:
     """(JSON document, verdict table) of a fresh audit of the seed catalog."""
-    runner = CliRunner()
+    runner = CliRunner(env={"COLUMNS": str(WIDTH)})
     added = runner.invoke(main, ["--db", str(db), "add", *map(str, SEED_FILES)])
     assert added.exit_code == 0, added.output
     as_json = runner.invoke(main, ["--db", str(db), "audit", "--fresh", "--json", "--jobs", "1"])

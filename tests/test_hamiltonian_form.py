@@ -291,8 +291,8 @@ def test_inertia_form_gives_exactly_the_equations_pi_grad_h(path):
 def test_both_forms_give_the_same_verdicts(path):
     case = load_case(path)
     twin = as_hamiltonian_form(case)
-    first = verdicts(audit_case(case, repair=False))
-    second = verdicts(audit_case(twin, repair=False))
+    first = verdicts(audit_case(case, corrections=False))
+    second = verdicts(audit_case(twin, corrections=False))
     assert first.pop(("hamiltonian", None)) is Verdict.VERIFIED
     assert first == second
 
@@ -340,9 +340,9 @@ def test_a_rotation_of_the_axes_or_a_rescaled_gamma_changes_no_verdict(path):
     Hamiltonian-form case of the catalog, with its axes permuted cyclically or with
     gamma = 2 gamma' and kappa/4, gets the same verdict for every check and claim."""
     case = load_case(path)
-    first = verdicts(audit_case(case, repair=False))
+    first = verdicts(audit_case(case, corrections=False))
     for change in (ROTATED, SCALED):
-        assert verdicts(audit_case(rewritten(case, change), repair=False)) == first
+        assert verdicts(audit_case(rewritten(case, change), corrections=False)) == first
 
 
 # ------------------------------------------------------------------ discovery
@@ -384,8 +384,8 @@ def test_discovery_finds_kovalevskaya_on_so4_in_a_family():
         + f'[[claims]]\nlabel = "F"\nkind = "integral"\nexpression = "{quartic}"\n'
         + f'[[claims]]\nlabel = "K"\nkind = "integral"\nexpression = "{komarov}"\n'
     )
-    assert verdicts(audit_case(twin, repair=False))["integral", "F"] is Verdict.VERIFIED
-    assert verdicts(audit_case(twin, repair=False))["integral", "K"] is Verdict.VERIFIED
+    assert verdicts(audit_case(twin, corrections=False))["integral", "F"] is Verdict.VERIFIED
+    assert verdicts(audit_case(twin, corrections=False))["integral", "K"] is Verdict.VERIFIED
 
 
 def test_discovery_finds_clebschs_condition_from_one_free_coefficient():
@@ -485,7 +485,7 @@ def test_a_database_of_either_backend_stores_the_local_verdicts(db_target):
 
 def test_the_audit_json_carries_h_and_kappa():
     case = parse_case_text(KOVALEVSKAYA_SO4)
-    document = case_document(case_outcome(audit_case(case, repair=False), case))
+    document = case_document(case_outcome(audit_case(case, corrections=False), case))
     assert document["system"] == {
         "hamiltonian": "M1**2 + M2**2 + 2*M3**2 + 2*c*gamma1",
         "kappa": "kappa",
@@ -531,7 +531,7 @@ def test_a_corrected_torque_is_written_back_in_the_hamiltonian_form(tmp_path):
     assert written.system.hamiltonian.expr == case.system.hamiltonian.expr
     assert written.system.inertia == ()
     assert [e.text for e in written.system.torque] == list(torque[0].torque)
-    assert verdicts(audit_case(written, repair=False))["casimir", torque[0].claim] is (
+    assert verdicts(audit_case(written, corrections=False))["casimir", torque[0].claim] is (
         Verdict.VERIFIED
     )
 
@@ -544,7 +544,7 @@ def test_the_inertia_form_on_so4_is_the_same_system():
         'hamiltonian = "M1**2 + M2**2 + 2*M3**2 + 2*c*gamma1"',
         'inertia = ["1/2", "1/2", "1/4"]\npotential = "2*c*gamma1"',
     )
-    first = verdicts(audit_case(parse_case_text(inertia_form), repair=False))
-    second = verdicts(audit_case(parse_case_text(KOVALEVSKAYA_SO4), repair=False))
+    first = verdicts(audit_case(parse_case_text(inertia_form), corrections=False))
+    second = verdicts(audit_case(parse_case_text(KOVALEVSKAYA_SO4), corrections=False))
     assert first.pop(("hamiltonian", None)) is Verdict.VERIFIED
     assert first == second

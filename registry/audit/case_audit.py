@@ -32,7 +32,8 @@ from ..model import (
     Verdict,
 )
 from .checks import CHECKS, CheckSpec, not_applicable
-from .corrections import corrections
+from .corrections import corrections as derive_corrections
+from .numeric_evidence import drift_curve
 from .numeric_evidence import evidence as numeric_evidence
 
 #: The case-level checks whose verdicts appear under ``checks`` in the JSON output.
@@ -43,13 +44,13 @@ def audit_case(
     case: Case,
     checks: Iterable[str] | None = None,
     *,
-    repair: bool | None = None,
+    corrections: bool | None = None,
     budget: TimeBudget | None = DEFAULT_BUDGET,
     numeric: bool = False,
 ) -> CaseAudit:
     """Run the named checks (default: all) on ``case``; a crash becomes an ``error`` result.
 
-    With ``repair`` (the default when every check runs) the torque's family, the
+    With ``corrections`` (the default when every check runs) the torque's family, the
     corrections of refuted claims and the conditions for failed identities are derived.
     Each check runs under ``budget.check`` seconds and the corrections under
     ``budget.corrections``; one that runs out is ``inconclusive: time budget exceeded``.
@@ -77,19 +78,19 @@ def audit_case(
             if spec.applies(claim):
                 results.append(_run(spec, m, claim, seconds=seconds))
     audit = CaseAudit(case.id, case.content_hash, tuple(results))
-    if repair if repair is not None else checks is None:
+    if corrections if corrections is not None else checks is None:
         audit = _with_corrections(audit, m, budget.corrections if budget else None)
+        audit = _with_curves(audit, m, budget.corrections if budget else None)
     if numeric:
         audit = _with_evidence(audit, m, budget.corrections if budget else None)
     return audit
 
 
 def _with_evidence(audit: CaseAudit, m: CaseMechanics, seconds: float | None) -> CaseAudit:
-    integral = {r.claim: r.verdict for r in audit.results if r.check == "integral" and r.claim}
-    invariant = {r.claim: r.verdict for r in audit.results if r.check == "invariant" and r.claim}
+    verdicts = {(r.check, r.claim): r.verdict for r in audit.results if r.claim}
     try:
         with time_limit(seconds):
-            found = numeric_evidence(m, integral, invariant=invariant)
+            found = numeric_evidence(m, verdicts)
     except BudgetExceeded:
         found = tuple(
             Evidence(c.label, math.nan, math.nan, 0, note="time budget exceeded")
@@ -101,6 +102,29 @@ def _with_evidence(audit: CaseAudit, m: CaseMechanics, seconds: float | None) ->
             for c in m.case.claims
         )
     return replace(audit, evidence=found)
+
+
+def _with_curves(audit: CaseAudit, m: CaseMechanics, seconds: float | None) -> CaseAudit:
+    """The drift curve of each refuted claim (one trajectory, what a report draws), so
+    that presenting an audit never integrates; a claim whose trajectory cannot be
+    integrated in the time has none."""
+    refuted = [
+        c.label
+        for c in m.case.claims
+        if claim_verdict(c.kind, {r.check: r.verdict for r in audit.results if r.claim == c.label})
+        is Verdict.REFUTED
+    ]
+    curves = []
+    try:
+        with time_limit(seconds):
+            for label in refuted:
+                try:
+                    curves.append(drift_curve(m, label))
+                except ValueError:
+                    continue  # nothing could be integrated: the report says so
+    except BudgetExceeded:
+        pass  # the curves done so far are kept
+    return replace(audit, curves=tuple(curves))
 
 
 def count_checks(case: Case) -> int:
@@ -116,7 +140,7 @@ def count_checks(case: Case) -> int:
 def _with_corrections(audit: CaseAudit, m: CaseMechanics, seconds: float | None) -> CaseAudit:
     try:
         with time_limit(seconds):
-            family, found, conditions = corrections(m, audit.results)
+            family, found, conditions = derive_corrections(m, audit.results)
     except BudgetExceeded:
         reason = f"corrections: time budget exceeded ({seconds:g} s)"
         family, found, conditions = FamilyRecord("none", reason=reason), (), ()

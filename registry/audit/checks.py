@@ -259,7 +259,7 @@ def measure(m: CaseMechanics, claim: Claim) -> CheckResult:
     """The claimed rho is the density of an invariant measure: div(rho v) = 0 (Liouville's
     equation; on the claim's level set)."""
     started = time.perf_counter()
-    residuals = {"div(rho v)": flow.divergence(m.dynamics, claim.expression.expr)}
+    residuals = m.measure_residual(claim.expression.expr)
     test = _decide(m, "measure", residuals, claim)
     return _result("measure", m, test, residuals, started, claim.label)
 
@@ -270,11 +270,9 @@ def relation(m: CaseMechanics, claim: Claim) -> CheckResult:
     claim's level set); for a polynomial F, the cofactor K of dF/dt = K F is reported."""
     started = time.perf_counter()
     f = claim.expression.expr
-    rate = m.time_derivative(f)
+    rate = m.integral_residual(f)["dI/dt"]  # shared with an integral claim of the same F
     residuals = {"dF/dt": rate}
-    domain = m.claim_domain(claim)
-    domain = domain.restricted([*domain.on, f])
-    test = decide(residuals, domain, seed=m.seed("relation", claim.label))
+    test = decide(residuals, m.relation_domain(claim), seed=m.seed("relation", claim.label))
     found = _result("relation", m, test, residuals, started, claim.label)
     if test.verdict is Verdict.VERIFIED:
         cofactor = _cofactor(m, f, rate)

@@ -1,4 +1,4 @@
-"""Repairs of failed claims, each re-checked by the same checks before it is reported.
+"""Corrections of failed claims, each re-checked by the same checks before it is reported.
 
 * A corrected Casimir for the case's own torque (where Pi_mu is Poisson): the
   Casimir of the torque's family (``mathematics.families``), independent of C1.
@@ -16,7 +16,7 @@ the parameter conditions apply to every case.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import replace
 
 import sympy as sp
@@ -26,6 +26,7 @@ from ..language.printer import to_text
 from ..mathematics import flow
 from ..mathematics import mechanics as mech
 from ..mathematics.case_mechanics import CaseMechanics
+from ..mathematics.domain import Domain
 from ..mathematics.factoring import factor
 from ..mathematics.families import Family, recognise
 from ..mathematics.mechanics import AXIS, MOMENTUM
@@ -108,9 +109,9 @@ def corrected_torque(m: CaseMechanics, claim: Claim) -> Correction | None:
     new = [own[k] if k in kept else _expression(tidy(w[k] + lam * AXIS[k])) for k in range(3)]
     torque = (new[0], new[1], new[2])
     changed = tuple(k for k in range(3) if k not in kept)
-    repaired = CaseMechanics(with_torque(m.case, torque))
-    poisson = jacobi(repaired)
-    holds = casimir(repaired, claim)
+    corrected = CaseMechanics(with_torque(m.case, torque))
+    poisson = jacobi(corrected)
+    holds = casimir(corrected, claim)
     if poisson.verdict is not Verdict.VERIFIED or holds.verdict is not Verdict.VERIFIED:
         return None
     return Correction(
@@ -174,9 +175,12 @@ def _irrational_parts(term: sp.Expr) -> frozenset:
     )
 
 
-def holds_when(residuals, m: CaseMechanics, target: str) -> Conditions:
-    """The parameter conditions under which ``residuals`` vanish, as case-file equations."""
-    found = parameter_conditions(residuals, m.domain, m.dynamics.nonzero)
+def holds_when(
+    residuals, m: CaseMechanics, target: str, domain: Domain | None = None
+) -> Conditions:
+    """The parameter conditions under which ``residuals`` vanish (on ``domain``, default
+    the case's), as case-file equations."""
+    found = parameter_conditions(residuals, domain or m.domain, m.dynamics.nonzero)
     branches = tuple(tuple(equations_text(b, to_text)) for b in found.branches)
     return Conditions(target, branches, found.reason)
 
@@ -240,16 +244,22 @@ def corrections(
         if own is not None:
             corrections.append(replace(own, claim=claim.label))
         if e3 and verdict.get(("casimir", claim.label)) is Verdict.REFUTED:
-            repaired = corrected_torque(m, claim)
-            if repaired is not None:
-                corrections.append(repaired)
-        if claim.on:
-            conditions.append(Conditions(claim.label, reason="not sought on level sets"))
-            continue
-        # the residual its check decided on (memoized by CaseMechanics, not recomputed)
-        if claim.kind is ClaimKind.INTEGRAL:
-            residuals = m.integral_residual(claim.expression.expr)
-        else:
-            residuals = m.casimir_residual(claim.expression.expr)
-        conditions.append(holds_when(residuals, m, claim.label))
+            new_torque = corrected_torque(m, claim)
+            if new_torque is not None:
+                corrections.append(new_torque)
+        residuals, domain = decided_on(m, claim)
+        conditions.append(holds_when(residuals, m, claim.label, domain))
     return family_record(family), tuple(corrections), tuple(conditions)
+
+
+def decided_on(m: CaseMechanics, claim: Claim) -> tuple[Mapping[str, sp.Expr], Domain]:
+    """The residuals the check of a claim's kind decided, and where (memoized by
+    CaseMechanics: read, not recomputed)."""
+    expr = claim.expression.expr
+    if claim.kind is ClaimKind.INTEGRAL:
+        return m.integral_residual(expr), m.claim_domain(claim)
+    if claim.kind is ClaimKind.CASIMIR:
+        return m.casimir_residual(expr), m.claim_domain(claim)
+    if claim.kind is ClaimKind.MEASURE:
+        return m.measure_residual(expr), m.claim_domain(claim)
+    return {"dF/dt": m.integral_residual(expr)["dI/dt"]}, m.relation_domain(claim)

@@ -1,12 +1,22 @@
-"""Numerical evidence: integrate the equations of motion and watch each claimed integral.
+"""Numerical evidence: integrate the equations of motion and watch each claim.
 
 Independent of the symbolic verdicts: for every claim, the case's equations of motion
-(``CaseMechanics.field``: system (2.2), or Pi grad H) are integrated with scipy's DOP853
-at tight tolerances, from seeded random initial conditions on exactly the set where the
-symbolic check decided (the claim's ``on`` equations, nothing added) and for seeded
-random parameter values respecting their assumptions. The largest relative drift of I
-along the runs is compared with that of H, which is conserved for every torque and so
-measures the integrator's own noise floor.
+(``CaseMechanics.field``, whatever form the file gave: system (2.2), Pi grad H, or the
+equations as printed) are integrated with scipy's DOP853 at tight tolerances, from
+seeded random initial conditions on exactly the set where the symbolic check decided
+(the claim's ``on`` equations, nothing added; for a relation, on F = 0) and for seeded
+random parameter values respecting their assumptions. What is watched:
+
+* an integral or a Casimir: I itself;
+* a relation F = 0: F, which stays 0 exactly when the relation is invariant;
+* a density rho: ln|rho| + s with ds/dt = div v integrated beside the state, constant
+  exactly when div(rho v) = 0 along the trajectory (Liouville's equation, the method of
+  the Jacobi last multiplier).
+
+The largest relative drift of the watched quantity along the runs is compared with a
+noise floor: the drift of H, conserved for every torque, where the system has one;
+otherwise the change of the quantity when the trajectory is integrated back to its
+start, what the integrator's own errors do to it.
 
 Drifts are relative to the size of the terms of the expression at the start point (the
 sum of the absolute values of the terms of its expanded form, or |grad I| |x| where that
@@ -28,9 +38,11 @@ stayed).
 
 The rules of the comparison:
 
-* The drift says whether I is *conserved*, so it is compared with the claim's
-  ``integral`` verdict, whatever the claim's kind: a true integral claimed as a
-  Casimir is ``integral: verified, casimir: refuted``, and a flat drift agrees.
+* The drift of I says whether I is *conserved*, so it is compared with the claim's
+  ``integral`` verdict for an integral and a Casimir alike: a true integral claimed as
+  a Casimir is ``integral: verified, casimir: refuted``, and a flat drift agrees. A
+  density's and a relation's are compared with their ``measure`` and ``relation``
+  verdicts (``compared_check``).
 * A drift far above the floor (and above the departure) contradicts ``verified``; a
   drift at the floor contradicts ``refuted``, unless the numbers stand on a smaller set
   than the claim's (one instance of a family's arbitrary functions): a refutation may
@@ -51,9 +63,10 @@ import numpy as np
 import sympy as sp
 
 from ..language.parser import FUNCTIONS
+from ..mathematics import flow
 from ..mathematics.case_mechanics import CaseMechanics
 from ..mathematics.sampling import concrete_functions, sample_point, substitute_functions
-from ..model import Case, Claim, DriftCurve, Evidence, Verdict
+from ..model import Case, Claim, ClaimKind, DriftCurve, Evidence, Verdict
 
 #: Integration time, tolerances and runs per claim.
 T_END = 5.0
@@ -132,12 +145,13 @@ def narrowing(m: CaseMechanics) -> str:
 @dataclass(frozen=True)
 class _Compiled:
     """The vector field, H, I and the set's equations of one start's parameter values, as
-    numpy functions of the state, with the term lists that give their scales."""
+    functions of the state (a list of floats), with the term lists that give their
+    scales; H's are None where the system has no Hamiltonian."""
 
     field: Callable
-    h: Callable
+    h: Callable | None
     i: Callable
-    h_terms: Callable
+    h_terms: Callable | None
     i_terms: Callable
     g: Callable | None
     g_terms: Callable | None
@@ -148,7 +162,7 @@ class _Compiled:
         absolute values of its terms and |grad f| |y| (what a relative change of the state
         changes it by; the scale of a one-term relation such as M2 = 0 at M2 = 0), 1
         where both vanish."""
-        total = float(np.sum(np.abs(np.asarray(terms(y), dtype=float))))
+        total = float(np.sum(np.abs(np.asarray(terms(y.tolist()), dtype=float))))
         size = max(total, _gradient_norm(f, y) * float(np.linalg.norm(y)))
         return size if size > 0 and math.isfinite(size) else 1.0
 
@@ -158,11 +172,12 @@ class _Compiled:
         (|g_j| / |grad g_j| is the distance to its zero set to first order)."""
         if self.g is None or self.g_terms is None or self.jacobian is None:
             return 0.0
-        values = np.abs(np.asarray(self.g(y), dtype=float))
-        rows = np.asarray(self.jacobian(y), dtype=float).reshape(len(values), -1)
+        point = y.tolist()
+        values = np.abs(np.asarray(self.g(point), dtype=float))
+        rows = np.asarray(self.jacobian(point), dtype=float).reshape(len(values), -1)
         norm = float(np.linalg.norm(y))
         worst = 0.0
-        for value, terms, row in zip(values, self.g_terms(y), rows, strict=True):
+        for value, terms, row in zip(values, self.g_terms(point), rows, strict=True):
             if value == 0:
                 continue
             size = max(
@@ -180,8 +195,8 @@ class _Compiled:
         for _ in range(NEWTON_STEPS):
             if self.residual(y) <= PROJECTED:
                 return y
-            g = np.asarray(self.g(y), dtype=float)
-            jac = np.asarray(self.jacobian(y), dtype=float)
+            g = np.asarray(self.g(y.tolist()), dtype=float)
+            jac = np.asarray(self.jacobian(y.tolist()), dtype=float)
             if not (np.all(np.isfinite(g)) and np.all(np.isfinite(jac))):
                 return None
             step = np.linalg.lstsq(jac, g, rcond=None)[0]
@@ -191,33 +206,100 @@ class _Compiled:
 
 @dataclass(frozen=True)
 class _Run:
-    """One trajectory: times, H and I along it, the departure from the set at each time,
-    and whether it was projected."""
+    """One trajectory: times, H and I along it (H empty where the system has none), the
+    departure from the set, whether it was projected, and the integrator's noise floor:
+    H's relative drift, or without H the relative change of I after integrating the
+    trajectory back to its start (what the integrator's errors alone do to I)."""
 
     t: np.ndarray
     h: np.ndarray
     i: np.ndarray
     departure: float
     projected: bool
-    scale_h: float
     scale_i: float
+    floor: float
 
     @property
     def drift(self) -> float:
         return float(np.max(np.abs(self.i - self.i[0]))) / self.scale_i
 
-    @property
-    def floor(self) -> float:
-        return float(np.max(np.abs(self.h - self.h[0]))) / self.scale_h
+
+@dataclass(frozen=True)
+class _Watched:
+    """What the numbers of one claim watch: the state integrated and its vector field
+    (for a density, the system's state and field with the integral s of div v beside
+    them), H (None: the system has none), the watched quantity and the set's equations."""
+
+    state: tuple[sp.Symbol, ...]
+    field: tuple[sp.Expr, ...]
+    h: sp.Expr | None
+    i: sp.Expr
+    on: tuple[sp.Expr, ...]
+
+    def exprs(self) -> list[sp.Expr]:
+        return [*self.field, *([] if self.h is None else [self.h]), self.i, *self.on]
+
+    def at(self, values: Mapping[sp.Symbol, sp.Expr]) -> _Watched:
+        """The same with the parameters replaced by ``values``."""
+
+        def put(e: sp.Expr) -> sp.Expr:
+            return e.xreplace(values)
+
+        return _Watched(
+            self.state,
+            tuple(map(put, self.field)),
+            None if self.h is None else put(self.h),
+            put(self.i),
+            tuple(map(put, self.on)),
+        )
+
+
+#: The variable that integrates div v along a trajectory, for a density's evidence.
+_DIVERGENCE = sp.Symbol("s_div", real=True)
+
+
+def compared_check(claim: Claim) -> str:
+    """The symbolic check a claim's numbers speak to: conservation (``integral``) for an
+    integral or a Casimir, ``measure`` for a density, ``relation`` for a relation."""
+    if claim.kind is ClaimKind.MEASURE:
+        return "measure"
+    if claim.kind is ClaimKind.RELATION:
+        return "relation"
+    return "integral"
 
 
 def _setup(m: CaseMechanics, claim: Claim, rng: random.Random):
-    """Where to start (the set where the symbolic check decided), the concrete functions
-    of a family, and the vector field, H, I and the set's equations ready to evaluate."""
+    """Where to start, the concrete functions of a family, and what to watch.
+
+    Starts lie on the set where the symbolic check decided (the claim's ``on``
+    equations; for a relation, also F = 0). The watched quantity is I itself for an
+    integral or a Casimir, F for a relation (it stays 0 exactly when the relation is
+    invariant), and ln|rho| + s for a density rho, where ds/dt = div v: by Liouville's
+    equation d ln rho/dt = -div v along the flow exactly when div(rho v) = 0.
+    """
     funcs = concrete_functions(m.case.functions, rng)
-    exprs = [*m.field, m.hamiltonian, claim.expression.expr, *(eq.expr for eq in claim.on)]
-    exprs = [m.dynamics.expanded(substitute_functions(e, funcs)) for e in exprs]
-    return m.claim_domain(claim), funcs, exprs
+    dyn = m.dynamics
+
+    def ready(e: sp.Expr) -> sp.Expr:
+        return dyn.expanded(substitute_functions(e, funcs))
+
+    domain = m.claim_domain(claim)
+    state, field = tuple(dyn.variables), tuple(map(ready, m.field))
+    watched = ready(claim.expression.expr)
+    if claim.kind is ClaimKind.RELATION:
+        domain = domain.restricted([*domain.on, claim.expression.expr])
+    if claim.kind is ClaimKind.MEASURE:
+        state += (_DIVERGENCE,)
+        field += (ready(flow.divergence(dyn)),)
+        watched = sp.log(sp.Abs(watched)) + _DIVERGENCE
+    h = None if m.hamiltonian is None else ready(m.hamiltonian)
+    on = tuple(ready(eq.expr) for eq in claim.on)
+    return domain, funcs, _Watched(state, field, h, watched, on)
+
+
+def _start(point: Mapping[sp.Symbol, sp.Expr], state: Sequence[sp.Symbol]) -> list[float]:
+    """The start of a trajectory: the sampled point's state (s = 0 for a density)."""
+    return [float(point.get(v, 0)) for v in state]
 
 
 def _terms(expr: sp.Expr) -> list[sp.Expr]:
@@ -234,27 +316,35 @@ def _gradient_norm(f: Callable, y: np.ndarray) -> float:
     for k in range(len(y)):
         e = np.zeros_like(y)
         e[k] = step
-        grad.append((float(f(y + e)) - float(f(y - e))) / (2 * step))
+        try:
+            grad.append((float(f((y + e).tolist())) - float(f((y - e).tolist()))) / (2 * step))
+        except (ValueError, TypeError, ZeroDivisionError, OverflowError):
+            return 0.0  # a step left the domain (a boundary nearby): no scale from here
     norm = float(np.linalg.norm(grad))
     return norm if math.isfinite(norm) else 0.0
 
 
-def _compile(exprs: list[sp.Expr], state: Sequence[sp.Symbol]) -> _Compiled:
-    """numpy functions of the state for the field, H, I and the set's equations with
-    their Jacobian."""
-    _only_numeric(exprs, state)
-    n = len(state)
-    field, h, i, on = exprs[:n], exprs[n], exprs[n + 1], exprs[n + 2 :]
+def _compile(w: _Watched) -> _Compiled:
+    """Functions of the state (a list of floats) for the field, H, I and the set's
+    equations with their Jacobian. Generated for Python's ``math`` on scalars, with
+    common subexpressions taken out: a field with square roots is evaluated tens of
+    thousands of times per trajectory, and numpy's per-call cost dominates there."""
+    _only_numeric(w.exprs(), w.state)
 
-    def fn(e):
-        return sp.lambdify([list(state)], e, modules="numpy")
+    def fn(e, cse: bool = True):
+        return sp.lambdify([list(w.state)], e, modules="math", cse=cse)
 
     g = g_terms = jacobian = None
-    if on:
-        g = fn(on)
-        g_terms = fn([_terms(e) for e in on])
-        jacobian = fn([[sp.diff(e, v) for v in state] for e in on])
-    return _Compiled(fn(field), fn(h), fn(i), fn(_terms(h)), fn(_terms(i)), g, g_terms, jacobian)
+    if w.on:
+        g = fn(list(w.on))
+        g_terms = fn([_terms(e) for e in w.on], cse=False)
+        jacobian = fn([[sp.diff(e, v) for v in w.state] for e in w.on])
+    h = h_terms = None
+    if w.h is not None:
+        h, h_terms = fn(w.h), fn(_terms(w.h), cse=False)
+    return _Compiled(
+        fn(list(w.field)), h, fn(w.i), h_terms, fn(_terms(w.i), cse=False), g, g_terms, jacobian
+    )
 
 
 def claim_drift(
@@ -270,7 +360,7 @@ def claim_drift(
     the set. Trajectories are projected back onto the set where ``invariant`` is
     ``verified`` (the flow keeps it)."""
     rng = random.Random(seed)
-    domain, funcs, exprs = _setup(m, claim, rng)
+    domain, funcs, watched = _setup(m, claim, rng)
     project = bool(claim.on) and invariant is not None and Verdict(invariant) is Verdict.VERIFIED
     done: list[_Run] = []
     notes: list[str] = []
@@ -287,9 +377,8 @@ def claim_drift(
             if point is None:
                 continue
         params = {p: point[p] for p in m.domain.parameters}
-        state = m.dynamics.variables
-        compiled = _compile([e.xreplace(params) for e in exprs], state)
-        run = _solve(compiled, [float(point[v]) for v in state], T_END, project)
+        compiled = _compile(watched.at(params))
+        run = _solve(compiled, _start(point, watched.state), T_END, project)
         if isinstance(run, str):
             notes.append(run)
             continue
@@ -352,31 +441,34 @@ def trajectory(
     Raises ValueError when no trajectory could be integrated.
     """
     rng = random.Random(seed)
-    domain, funcs, exprs = _setup(m, claim, rng)
+    domain, funcs, watched = _setup(m, claim, rng)
     project = bool(claim.on) and invariant is not None and Verdict(invariant) is Verdict.VERIFIED
     for _ in range(4 * RUNS):
         point = sample_point(domain, rng, funcs)
         if point is None:
             continue
         params = {p: point[p] for p in m.domain.parameters}
-        state = m.dynamics.variables
-        y0 = [float(point[v]) for v in state]
-        run = _solve(_compile([e.xreplace(params) for e in exprs], state), y0, t_end, project)
+        y0 = _start(point, watched.state)
+        run = _solve(_compile(watched.at(params)), y0, t_end, project)
         if isinstance(run, str):
             continue
         start = {str(k): float(v) for k, v in point.items()}
-        return Trajectory(claim.label, run.t, run.i - run.i[0], run.h - run.h[0], start)
+        dh = run.h - run.h[0] if len(run.h) else run.h
+        return Trajectory(claim.label, run.t, run.i - run.i[0], dh, start)
     raise ValueError(f"no trajectory could be integrated for claim {claim.label!r}")
 
 
-def drift_curve(case: Case, label: str, seed: int = 0, points: int = 200) -> DriftCurve:
+def drift_curve(
+    case: Case | CaseMechanics, label: str, seed: int = 0, points: int = 200
+) -> DriftCurve:
     """The first trajectory the numerical evidence of claim ``label`` integrates (same
     seed, same start), at about ``points`` times, as data a plot draws. KeyError for an
     unknown claim, ValueError when nothing could be integrated."""
-    run = trajectory(CaseMechanics(case), case.claim(label), seed)
+    m = case if isinstance(case, CaseMechanics) else CaseMechanics(case)
+    run = trajectory(m, m.case.claim(label), seed)
     step = max(1, len(run.t) // points)
     return DriftCurve(
-        case.id,
+        m.case.id,
         label,
         tuple(float(x) for x in run.t[::step]),
         tuple(float(x) for x in run.di[::step]),
@@ -418,12 +510,13 @@ def _solve(c: _Compiled, y0: list[float], t_end: float, project: bool) -> _Run |
     projected back onto the set before the next (H, I and the departure measured at each
     step); a point where the projection does not converge (a singular point of the set)
     sends the trajectory back to be integrated as it is. Otherwise the values are taken
-    at ``SEGMENTS`` + 1 equally spaced times.
+    at ``SEGMENTS`` + 1 equally spaced times. Without H, the end point is integrated back
+    to t = 0 for the noise floor.
     """
     from scipy.integrate import DOP853, solve_ivp  # only here: the audit starts faster
 
     def fun(t, y):
-        return np.asarray(c.field(y), dtype=float)
+        return np.asarray(c.field(y.tolist()), dtype=float)
 
     with warnings.catch_warnings(), np.errstate(all="ignore"):
         warnings.simplefilter("ignore")
@@ -453,32 +546,41 @@ def _solve(c: _Compiled, y0: list[float], t_end: float, project: bool) -> _Run |
                 if not sol.success or not np.all(np.isfinite(sol.y)):
                     return f"integration failed: {sol.message}"
                 states = list(sol.y.T)
+            back = None
+            if c.h is None:
+                sol = solve_ivp(fun, (t_end, 0.0), states[-1], "DOP853", rtol=RTOL, atol=ATOL)
+                if not sol.success or not np.all(np.isfinite(sol.y)):
+                    return f"integration back to the start failed: {sol.message}"
+                back = sol.y[:, -1]
+            is_ = np.array([c.i(y.tolist()) for y in states], dtype=float)
+            scale_i = c.scale(c.i, c.i_terms, states[0])
+            if c.h is None or c.h_terms is None:
+                assert back is not None
+                hs = np.array([], dtype=float)
+                floor = abs(float(c.i(back.tolist())) - float(is_[0])) / scale_i
+            else:
+                hs = np.array([c.h(y.tolist()) for y in states], dtype=float)
+                floor = float(np.max(np.abs(hs - hs[0]))) / c.scale(c.h, c.h_terms, states[0])
+            departure = float(max(c.residual(y) for y in states))
         except (ValueError, ZeroDivisionError, OverflowError, TypeError) as exc:
             return f"integration failed: {exc}"
-        hs = np.array([c.h(y) for y in states], dtype=float)
-        is_ = np.array([c.i(y) for y in states], dtype=float)
-        departure = float(max(c.residual(y) for y in states))
-        scale_h = c.scale(c.h, c.h_terms, states[0])
-        scale_i = c.scale(c.i, c.i_terms, states[0])
-    if not (np.all(np.isfinite(hs)) and np.all(np.isfinite(is_))):
+    if not (np.all(np.isfinite(hs)) and np.all(np.isfinite(is_)) and math.isfinite(floor)):
         return "the trajectory reached a singular set"
-    return _Run(t, hs, is_, departure, project, scale_h, scale_i)
+    return _Run(t, hs, is_, departure, project, scale_i, floor)
 
 
 def evidence(
-    m: CaseMechanics,
-    integral: Mapping[str, Verdict],
-    seed: int = 0,
-    invariant: Mapping[str, Verdict] | None = None,
+    m: CaseMechanics, verdicts: Mapping[tuple[str, str], Verdict], seed: int = 0
 ) -> tuple[Evidence, ...]:
-    """Evidence for every claim, compared with its ``integral`` verdict (label -> verdict);
-    on a level set whose ``invariant`` verdict is ``verified``, the trajectories are
-    projected back onto it."""
-    invariant = invariant or {}
+    """Evidence for every claim, compared with the verdict of the check its numbers speak
+    to (``compared_check``; ``verdicts`` by (check, claim label)); on a level set whose
+    ``invariant`` verdict is ``verified``, the trajectories are projected back onto it."""
     out = []
     for claim in m.case.claims:
-        d = claim_drift(m, claim, seed=seed, invariant=invariant.get(claim.label))
-        verdict = integral.get(claim.label, Verdict.INCONCLUSIVE)
+        invariant = verdicts.get(("invariant", claim.label))
+        d = claim_drift(m, claim, seed=seed, invariant=invariant)
+        check = compared_check(claim)
+        verdict = verdicts.get((check, claim.label), Verdict.INCONCLUSIVE)
         out.append(
             Evidence(
                 claim.label,
@@ -487,7 +589,7 @@ def evidence(
                 d.runs,
                 bool(d.contradicts(verdict)),
                 d.note,
-                compared_with="integral",
+                compared_with=check,
                 narrowed=d.narrowed,
                 departure=float(d.departure) if math.isfinite(d.departure) else None,
                 projected=d.projected,

@@ -19,6 +19,7 @@ from ..model import (
     Claim,
     Conditions,
     Correction,
+    DriftCurve,
     Evidence,
     FamilyRecord,
     Verdict,
@@ -97,6 +98,8 @@ class CaseOutcome:
     #: Case checks that do not apply to the case (name -> why), e.g. ``hamiltonian``
     #: where the case gives H and its vector field is Pi grad H by definition.
     not_applicable: Mapping[str, str] = field(default_factory=dict)
+    #: The trajectories the audit integrated for refuted claims, for their drift plots.
+    curves: tuple[DriftCurve, ...] = ()
 
     @property
     def poisson(self) -> Verdict | None:
@@ -155,6 +158,7 @@ def case_outcome(audit: CaseAudit, case: Case | None, version: int | None = None
         family=audit.family,
         jacobi_conditions=conditions.get("jacobi"),
         casimirs=tuple(c for c in audit.corrections if c.claim is None),
+        curves=audit.curves,
     )
 
 

@@ -72,7 +72,7 @@ def weighted_monomials(
     def place(i: int, left: int) -> None:
         if i == n:
             if left == 0:
-                found.append(tuple(exps))  # type: ignore[arg-type]
+                found.append(tuple(exps))
             return
         top = (bounds[i] or 0) if weights[i] == 0 else left // weights[i]
         for a in range(top + 1):

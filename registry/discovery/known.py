@@ -127,7 +127,7 @@ def verified_claims(case: Case, system: PolynomialSystem) -> list[novelty.Known]
     audit = audit_case(
         replace(case, claims=tuple(c for c, _ in applicable)),
         checks=["integral"],
-        repair=False,
+        corrections=False,
         budget=None,
     )
     return [

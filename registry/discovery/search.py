@@ -816,7 +816,7 @@ def _proven(state: _State, case: Case, when, integrals: Sequence[sp.Expr]) -> In
         for i, e in enumerate(integrals)
     )
     audit = audit_case(
-        replace(case, claims=claims), checks=["integral", "casimir"], repair=False, budget=None
+        replace(case, claims=claims), checks=["integral", "casimir"], corrections=False, budget=None
     )
     kept, casimirs = [], []
     for claim in claims:

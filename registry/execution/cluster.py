@@ -270,12 +270,24 @@ def _connection_error(
     return SchedulerUnreachableError(given, timeout, detail)
 
 
+def scheduler_address(client: Client) -> str:
+    """The address of the scheduler a connected client talks to (``tcp://HOST:PORT``).
+
+    distributed types ``Client.scheduler`` as optional: it is None until the client
+    connects, and ``cluster_client`` hands out connected clients only."""
+    scheduler = client.scheduler
+    address = scheduler.address if scheduler is not None else None
+    if not address:
+        raise RuntimeError("the Dask client is not connected to a scheduler")
+    return str(address)
+
+
 def describe(client: Client) -> dict[str, Any]:
     """What a run records of the cluster it used: the scheduler's address, the number of
     workers and threads when it started, and the version of Dask distributed."""
     nthreads = client.nthreads()
     return {
-        "address": client.scheduler.address,
+        "address": scheduler_address(client),
         "workers": len(nthreads),
         "threads": sum(nthreads.values()),
         "distributed": _distributed().__version__,
@@ -299,7 +311,7 @@ def check_same_code(client: Client, version_of: Callable[[], str]) -> None:
         worker, theirs = sorted(wrong.items())[0]
         others = f" (and {len(wrong) - 1} other worker(s))" if len(wrong) > 1 else ""
         raise SchedulerError(
-            client.scheduler.address,
+            scheduler_address(client),
             f"Dask worker {worker}{others} runs registry {theirs}, this command {mine}: "
             "start the workers from the same code, or the run would record their "
             "results under the wrong code version",

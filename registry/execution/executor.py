@@ -216,11 +216,11 @@ def open_executor(
         yield InProcess() if count == 1 else LocalPool(count)
         return
     from ..version import code_version
-    from .cluster import check_same_code, cluster_client
+    from .cluster import check_same_code, cluster_client, scheduler_address
 
     with cluster_client(scheduler) as client:
         check_same_code(client, code_version)
-        given = scheduler if isinstance(scheduler, str) else client.scheduler.address
+        given = scheduler if isinstance(scheduler, str) else scheduler_address(client)
         yield DaskCluster(client, given)
 
 

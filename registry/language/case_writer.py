@@ -1,6 +1,6 @@
 """Writing a case back as a case file (docs/case-format.md), with its provenance.
 
-A torque correction gives the same case with the repaired torque and the
+A torque correction gives the same case with the corrected torque and the
 claim unchanged; a Casimir correction gives the same system with the derived
 Casimir as its claim. A special set of an integral search gives the case with
 those parameter values and the integrals found there as claims. Every such file
@@ -23,7 +23,7 @@ from .printer import to_text
 
 
 def corrected_case_text(case: Case, correction: Correction, run: int | None = None) -> str:
-    """The TOML text of ``case`` repaired by ``correction``."""
+    """The TOML text of ``case`` corrected by ``correction``."""
     data = tomllib.loads(case.text)
     label = correction.claim or "C"
     provenance = (

@@ -63,7 +63,10 @@ def _first_of(expr: sp.Expr, symbols: tuple[sp.Symbol, ...]) -> sp.Symbol | None
 def _new_name_problem(name: str, what: str) -> str | None:
     """Why ``name`` cannot name a variable or a definition (``what``), or None."""
     if not (name.isascii() and name.isidentifier()):
-        return "not a valid name (use ASCII letters, digits and '_', not starting with a digit)"
+        return (
+            f"{quoted(name)} is not a valid name "
+            "(use ASCII letters, digits and '_', not starting with a digit)"
+        )
     if keyword.iskeyword(name):
         return f"{quoted(name)} is a reserved name (a Python keyword)"
     if name in FUNCTIONS or name == "diff":
@@ -159,16 +162,29 @@ class SystemReader:
             if bad is not None:
                 self.problem(field, bad, text if isinstance(text, str) else None)
                 ok = False
+                self._stand_in(name)
                 continue
             expr = self.expression(text, field)
             if expr is None:
                 ok = False
+                self._stand_in(name)
                 continue
             found.append((name, expr))
             parts = self._parts(expr.text)
             defined = {**self.ns.definitions, name: (expr.expr, parts)}
             self.ns = replace(self.ns, definitions=defined)
         return tuple(found) if ok else None
+
+    def _stand_in(self, name: str) -> None:
+        """A refused definition's name stays known (as a symbol of its own), so that the
+        expressions that use it are not reported as using an unknown name as well."""
+        if _new_name_problem(name, "definition") is None and name not in (
+            *self.ns.state,
+            *self.ns.parameters,
+            *self.ns.functions,
+        ):
+            defined = {**self.ns.definitions, name: (sp.Dummy(name), 1)}
+            self.ns = replace(self.ns, definitions=defined)
 
     def _parts(self, text: str) -> int:
         """The parts a definition counts for each time it is used: those of its text and of

@@ -22,7 +22,7 @@ from ..model import Case, CheckResult, Claim
 from . import flow
 from .domain import Domain
 
-#: Residuals by component name; read-only, since every check and repair shares them.
+#: Residuals by component name; read-only, since every check and correction shares them.
 Residuals = Mapping[str, sp.Expr]
 
 
@@ -103,6 +103,17 @@ class CaseMechanics:
             return {f"Pi grad[{v}]": values[i] for i, v in enumerate(self.dynamics.variables)}
 
         return self._residual("casimir", expr, compute)
+
+    def measure_residual(self, density: sp.Expr) -> Residuals:
+        """div(rho X), Liouville's equation for the density rho (computed once)."""
+        return self._residual(
+            "measure", density, lambda: {"div(rho v)": flow.divergence(self.dynamics, density)}
+        )
+
+    def relation_domain(self, claim: Claim) -> Domain:
+        """Where a relation F = 0 is decided: the claim's domain on F = 0 as well."""
+        domain = self.claim_domain(claim)
+        return domain.restricted([*domain.on, claim.expression.expr])
 
     def _residual(
         self, kind: str, expr: sp.Expr, compute: Callable[[], dict[str, sp.Expr]]

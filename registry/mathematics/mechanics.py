@@ -99,7 +99,7 @@ def poisson_tensor(mu: Sequence[sp.Expr], kappa: sp.Expr = 0) -> sp.Matrix:
 
 def angular_velocity(inertia: Sequence[sp.Expr]) -> Vector3:
     """omega = I^{-1} M for principal moments (A, B, C)."""
-    return tuple(m / i for m, i in zip(MOMENTUM, inertia, strict=True))  # type: ignore[return-value]
+    return tuple(m / i for m, i in zip(MOMENTUM, inertia, strict=True))
 
 
 def hamiltonian(inertia: Sequence[sp.Expr], potential: sp.Expr) -> sp.Expr:

@@ -1,11 +1,13 @@
 """The normal form in which the zero test proves a residual zero.
 
 Radicals b**(p/q) become new symbols rho with rho**q = b, transcendental terms and
-arbitrary functions become new symbols (``Atoms``); the result is a rational
-function whose numerator, reduced modulo the radical relations (and the level-set
-equations, by a Groebner basis), is zero exactly when the residual is: a proof
-(``prove_zero``). The parameter conditions read their polynomial system off the
-same numerator (``numerator``, ``reduce_radical``).
+arbitrary functions become new symbols (``Atoms``); the result is a rational function
+whose numerator is reduced modulo the relations those symbols satisfy: the radicals'
+rho**q = b, sin(u)**2 + cos(u)**2 = 1 and cosh(u)**2 - sinh(u)**2 = 1 for the atoms of
+one argument (tan and tanh written as quotients), and the level-set equations (by a
+Groebner basis). Every relation is a true identity, so a zero remainder is a proof
+(``prove_zero``); a non-zero one proves nothing. The parameter conditions read their
+polynomial system off the same numerator (``numerator``, ``reduce_radical``).
 """
 
 from __future__ import annotations
@@ -33,6 +35,19 @@ class Atoms:
     def relations(self) -> list[tuple[sp.Symbol, int, sp.Expr]]:
         return [(rho, q, base) for (base, q), rho in self.radicals.items()]
 
+    def pythagorean(self) -> list[tuple[sp.Symbol, int, sp.Expr]]:
+        """The relations between the atoms of one argument, written like a radical's
+        (symbol, 2, square): sin(u)**2 = 1 - cos(u)**2, sinh(u)**2 = cosh(u)**2 - 1
+        (true identities: a remainder of zero modulo them is still a proof)."""
+        out = []
+        for (odd, even), sign in ((_CIRCULAR, -1), (_HYPERBOLIC, 1)):
+            for key, s in self.others.items():
+                if isinstance(key, odd):
+                    c = self.others.get(even(*key.args))
+                    if c is not None:
+                        out.append((s, 2, sign * (c**2 - 1)))
+        return out
+
     def rewrite(self, expr: sp.Expr) -> sp.Expr:
         hit = self._memo.get(expr)
         if hit is None:
@@ -57,6 +72,10 @@ class Atoms:
                 num, den = sp.fraction(sp.together(self._key(base)))
                 return self._radical(sp.expand(num), exp) * self._radical(sp.expand(den), -exp)
             return self._symbol_for(sp.Pow(self._key(base), self._key(exp)))
+        if isinstance(expr, (sp.tan, sp.tanh)):
+            odd, even = _CIRCULAR if isinstance(expr, sp.tan) else _HYPERBOLIC
+            (arg,) = expr.args
+            return self.rewrite(odd(arg)) / self.rewrite(even(arg))
         if isinstance(expr, sp.Function):
             return self._symbol_for(expr.func(*(self._key(a) for a in expr.args)))
         return expr.func(*(self.rewrite(a) for a in expr.args))
@@ -82,8 +101,46 @@ def prove_zero(
     expr: sp.Expr,
     on: Sequence[sp.Expr] = (),
     shorthands: Mapping[sp.Symbol, sp.Expr] = SHORTHANDS,
+    state: Sequence[sp.Symbol] = (),
 ) -> str | None:
     """Prove ``expr`` == 0 (on the level set ``on``); return the method, or None.
+
+    Given the ``state``, the proof is first tried with every sum of parameters alone
+    (I1 + m*R**2) replaced by a new symbol: an identity in independent symbols stays one
+    when they take those values, so a zero there is a proof, found in far smaller
+    polynomials; only where that fails is the residual expanded in the parameters.
+    """
+    if state:
+        general = _ParameterSums({*state, *shorthands})
+        found = _prove_zero(general(expr), [general(e) for e in on], shorthands)
+        if found is not None:
+            return found
+    return _prove_zero(expr, on, shorthands)
+
+
+class _ParameterSums:
+    """Replaces each sum free of the state by a symbol of its own (one per sum)."""
+
+    def __init__(self, state: set[sp.Symbol]):
+        self.state = state
+        self.symbols: dict[sp.Expr, sp.Symbol] = {}
+
+    def __call__(self, expr: sp.Expr) -> sp.Expr:
+        expr = sp.sympify(expr)
+        if expr.is_Atom:
+            return expr
+        if expr.is_Add and not (expr.free_symbols & self.state):
+            found = self.symbols.get(expr)
+            if found is None:
+                found = self.symbols[expr] = sp.Dummy(f"p{len(self.symbols)}")
+            return found
+        return expr.func(*(self(a) for a in expr.args))
+
+
+def _prove_zero(
+    expr: sp.Expr, on: Sequence[sp.Expr], shorthands: Mapping[sp.Symbol, sp.Expr]
+) -> str | None:
+    """``prove_zero`` in the parameters as they are.
 
     The rewritten residual becomes an element of the field Q(x1, ..., xn) of
     rational functions in the state variables, parameters and atom symbols
@@ -91,19 +148,17 @@ def prove_zero(
     trees); its numerator is then reduced modulo rho**q - base for every radical.
     """
     atoms = Atoms(shorthands)
-    numer, ring = _numerator_poly(atoms.rewrite(expr), atoms)
+    numer, ring = numerator_poly(atoms.rewrite(expr), atoms)
     if not numer:
         return "rational normal form"
-    relations = [
-        ring(rho) ** q - ring.from_expr(base.xreplace(_CONSTANTS))
-        for rho, q, base in atoms.relations()
-    ]
+    relations = relation_polys(atoms, ring)
     if not on:
         if relations and not numer.rem(relations):
             return "algebraic normal form"
         return None
-    eqs = [numerator(atoms.rewrite(e), atoms.shorthands).xreplace(_CONSTANTS) for e in on]
-    eqs += [rho**q - base.xreplace(_CONSTANTS) for rho, q, base in atoms.relations()]
+    eqs = [numerator(atoms.rewrite(e), atoms.shorthands).xreplace(CONSTANTS) for e in on]
+    eqs += [rho**q - base.xreplace(CONSTANTS) for rho, q, base in atoms.relations()]
+    eqs += [s**q - square for s, q, square in atoms.pythagorean()]
     numer_expr = numer.as_expr()
     gens = sorted(set().union(*(e.free_symbols for e in [numer_expr, *eqs])), key=str)
     basis = sp.groebner(eqs, *gens, order="grevlex", domain=sp.QQ)
@@ -111,16 +166,37 @@ def prove_zero(
     return "level-set reduction" if remainder == 0 else None
 
 
-def _numerator_poly(rewritten: sp.Expr, atoms: Atoms):
+def relation_polys(atoms: Atoms, ring) -> list:
+    """The relations of the atoms (the radicals' rho**q = base, sin**2 + cos**2 = 1) as
+    polynomials of ``ring`` (``numerator_poly``'s), each led by its atom's power."""
+    return [
+        ring(rho) ** q - ring.from_expr(base.xreplace(CONSTANTS))
+        for rho, q, base in atoms.relations()
+    ] + [
+        ring(s) ** q - ring.from_expr(square)
+        for s, q, square in atoms.pythagorean()
+        if {s, *square.free_symbols} <= set(ring.symbols)
+    ]
+
+
+def numerator_poly(rewritten: sp.Expr, atoms: Atoms):
     """The numerator of the rewritten expression as a sparse polynomial over QQ, with
-    the radical symbols first in a lex order (so rho**q leads its relation)."""
-    expr = rewritten.xreplace({**atoms.shorthands, **_CONSTANTS})
+    the radical symbols first in a lex order (so rho**q leads its relation), and its
+    ring (pi and E as indeterminates of it)."""
+    expr = rewritten.xreplace({**atoms.shorthands, **CONSTANTS})
     radicals = list(reversed(atoms.radicals.values()))  # outer radicals before inner ones
-    bases = set().union(*(b.xreplace(_CONSTANTS).free_symbols for b, _ in atoms.radicals))
+    bases = set().union(*(b.xreplace(CONSTANTS).free_symbols for b, _ in atoms.radicals))
     others = sorted((expr.free_symbols | bases) - set(radicals), key=str)
     ring = sp.polys.rings.PolyRing([*radicals, *others] or [sp.Dummy("x")], sp.QQ, sp.lex)
     numer, _ = _fraction(expr, ring, {})
     return numer, ring
+
+
+def as_fraction(expr: sp.Expr, ring, cache: dict | None = None):
+    """A rational function of the ring's generators as its numerator (a polynomial of
+    ``ring``) and its denominator as {polynomial factor: exponent} (not multiplied out:
+    no gcd is computed). ValueError when ``expr`` is no rational function of them."""
+    return _fraction(expr, ring, {} if cache is None else cache)
 
 
 def _fraction(expr: sp.Expr, ring, cache: dict):
@@ -172,8 +248,12 @@ def _fraction(expr: sp.Expr, ring, cache: dict):
     return value
 
 
+#: The pairs of functions of one argument whose squares are related (``pythagorean``).
+_CIRCULAR = (sp.sin, sp.cos)
+_HYPERBOLIC = (sp.sinh, sp.cosh)
+
 #: pi and E as indeterminates: an identity in them holds for their values too.
-_CONSTANTS = {sp.pi: sp.Dummy("pi"), sp.E: sp.Dummy("E")}
+CONSTANTS = {sp.pi: sp.Dummy("pi"), sp.E: sp.Dummy("E")}
 
 
 def numerator(rewritten: sp.Expr, shorthands: Mapping[sp.Symbol, sp.Expr] = SHORTHANDS) -> sp.Expr:

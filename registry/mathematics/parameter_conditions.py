@@ -1,8 +1,10 @@
 """Parameter conditions under which a failed identity holds.
 
-The residual is brought to the normal form of the zero test (radicals and
-transcendental terms as new symbols, numerator reduced modulo the radical
-relations). It vanishes identically exactly when every coefficient of that
+On a level set, its equations are first solved, one by one, for a state variable
+each is linear in, and substituted (``on_level_set``). The residual is then brought
+to the normal form of the zero test (radicals and transcendental terms as new
+symbols, numerator reduced modulo the radicals' relations and sin**2 + cos**2 = 1).
+It vanishes identically exactly when every coefficient of that
 numerator, as a polynomial in the state variables and those symbols, vanishes:
 a polynomial system in the parameters. Every component of its solution set is
 found (``components``): a product vanishes when any of its factors does, so the
@@ -17,18 +19,22 @@ substituted.
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, replace
 
 import sympy as sp
 
 from ..model import Verdict
 from .domain import Domain
-from .mechanics import STATE, s
-from .normal_form import Atoms, numerator, reduce_radical
+from .factoring import factor
+from .normal_form import CONSTANTS, Atoms, numerator_poly, relation_polys
 from .zero_test import decide
 
 Branch = dict[sp.Symbol, sp.Expr]
+
+#: pi and E, which the normal form keeps as indeterminates, and their values.
+_VALUES = {symbol: value for value, symbol in CONSTANTS.items()}
+_CONSTANT_SYMBOLS = set(_VALUES)
 
 
 @dataclass(frozen=True)
@@ -48,7 +54,12 @@ def parameter_conditions(
     params = sorted(domain.parameters, key=str)
     if not params:
         return ConditionSearch(reason="the case has no parameters")
-    equations = _coefficient_equations(residuals.values(), set(params))
+    on_set = on_level_set(residuals.values(), domain)
+    if on_set is None:
+        return ConditionSearch(
+            reason="not sought on this level set: no equation of it is linear in a variable"
+        )
+    equations = _coefficient_equations(on_set, set(params), domain)
     if equations is None:
         return ConditionSearch(reason="the residual is not polynomial in its normal form")
     if any(eq.is_number for eq in equations):
@@ -248,26 +259,67 @@ def _special_case(branch: Branch, general: Branch) -> bool:
     return all(sp.simplify(sp.sympify(p - v).xreplace(branch)) == 0 for p, v in general.items())
 
 
-def _coefficient_equations(residuals, params: set[sp.Symbol]) -> set[sp.Expr] | None:
-    """The coefficients, in the state and atom symbols, of every normalised numerator."""
+def on_level_set(residuals: Iterable[sp.Expr], domain: Domain) -> list[sp.Expr] | None:
+    """The residuals on the domain's level set, as functions of the variables it leaves
+    free: each equation, in turn, solved for a state variable it is linear in (with a
+    coefficient that does not vanish identically) and substituted into the residuals and
+    the equations after it; None when an equation is linear in none. A branch found on
+    the result is re-checked on the level set itself (``_holds``)."""
+    exprs = [domain.expanded(e) for e in residuals]
+    equations = [domain.expanded(e) for e in domain.on]
+    while equations:
+        eq = sp.expand(sp.numer(sp.together(equations.pop(0))))
+        if eq == 0:
+            continue
+        solved = _solve_linear(eq, domain.state)
+        if solved is None:
+            return None
+        exprs = [e.xreplace(solved) for e in exprs]
+        equations = [e.xreplace(solved) for e in equations]
+    return exprs
+
+
+def _solve_linear(eq: sp.Expr, state: Sequence[sp.Symbol]) -> dict[sp.Symbol, sp.Expr] | None:
+    """{v: value} for the first state variable ``eq`` is linear in, or None."""
+    for v in state:
+        if not eq.has(v):
+            continue
+        coefficient = sp.expand(eq.diff(v))
+        if coefficient == 0 or coefficient.has(v):
+            continue
+        rest = sp.expand(eq - coefficient * v)
+        if rest.has(v):
+            continue
+        return {v: -rest / coefficient}
+    return None
+
+
+def _coefficient_equations(
+    residuals, params: set[sp.Symbol], domain: Domain
+) -> set[sp.Expr] | None:
+    """The coefficients, in the state and atom symbols, of every normalised numerator
+    (radicals and sin, cos pairs reduced by their relations first), read off the sparse
+    polynomial the zero test's normal form builds (no expression is expanded)."""
     equations: set[sp.Expr] = set()
-    state = set(STATE) | {s}
+    state = set(domain.state) | set(domain.shorthands)
     for expr in residuals:
-        atoms = Atoms()
-        numer = numerator(atoms.rewrite(expr))
-        for rho, q, base in atoms.relations():
-            numer = reduce_radical(numer, rho, q, base)
+        atoms = Atoms(domain.shorthands)
+        try:
+            numer, ring = numerator_poly(atoms.rewrite(expr), atoms)
+        except ValueError:
+            return None  # not a rational function of its atoms
+        relations = relation_polys(atoms, ring)
+        if relations and numer:
+            numer = numer.rem(relations)
         constants = _constant_atoms(atoms, state)
-        gens = sorted(numer.free_symbols - params - set(constants), key=str)
-        if not gens:
-            coefficients = [numer]
-        else:
-            try:
-                coefficients = sp.Poly(numer, *gens).coeffs()
-            except sp.PolynomialError:
-                return None
-        for c in coefficients:
-            c = sp.factor(c.xreplace(constants))
+        inside = [g in params or g in constants or g in _CONSTANT_SYMBOLS for g in ring.symbols]
+        groups: dict[tuple, dict] = {}
+        for exps, c in numer.items():
+            key = tuple(e for e, p in zip(exps, inside, strict=True) if not p)
+            mono = tuple(e if p else 0 for e, p in zip(exps, inside, strict=True))
+            groups.setdefault(key, {})[mono] = c
+        for terms in groups.values():
+            c = factor(ring(terms).as_expr().xreplace(_VALUES).xreplace(constants))
             if c != 0:
                 equations.add(_strip_constant_factor(c))
     return equations

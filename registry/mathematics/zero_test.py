@@ -67,7 +67,9 @@ def decide(
         return probe
     methods = set()
     for label, expr in live.items():
-        method = prove_zero(expr, domain.on, domain.shorthands) or _simplified_to_zero(expr, domain)
+        method = prove_zero(
+            expr, domain.on, domain.shorthands, domain.state
+        ) or _simplified_to_zero(expr, domain)
         if method is None:
             more = _probe(live, domain, probes - 1, rng) if probes > 1 else None
             if more is not None:

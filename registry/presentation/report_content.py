@@ -256,7 +256,7 @@ def _evidence(w: Writer, found: Evidence | None) -> None:
 
 
 def _correction(w: Writer, fix: Correction, ns: Namespace) -> None:
-    """A re-checked repair: a corrected Casimir, or a torque with its changed components."""
+    """A re-checked correction: a corrected Casimir, or a torque with its changed components."""
     checks = ", ".join(f"{k} {v}" for k, v in fix.checks.items())
     if fix.kind == "casimir":
         w.para(f"Corrected Casimir ({fix.method}; re-checked: {checks}):")

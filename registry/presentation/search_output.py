@@ -1,9 +1,11 @@
 """Presenting an integral search: the JSON document of docs/json-output.md (section
-Search output), a plain-text summary, and the result in one sentence."""
+Search output), a plain-text summary, the result in one sentence, and in a few words;
+and a measure search in plain text."""
 
 from __future__ import annotations
 
-from ..model import IntegralSet, IntegralStatus, SameSystem, Search
+from ..model import IntegralSet, IntegralStatus, MeasureSearch, SameSystem, Search, SearchOptions
+from .text_table import wrapped
 
 
 def statement(search: Search) -> str:
@@ -82,6 +84,46 @@ def same_text(same: SameSystem) -> str:
     return same.case + (f" ({'; '.join(parts)})" if parts else "")
 
 
+def ansatz_text(options: SearchOptions) -> str:
+    """The ansatz in short: ``degree 4; M=1,gamma=2; on s = 0; free a,b`` (and
+    ``relations`` for a search of invariant relations)."""
+    parts = [f"degree {options.degree}", options.weights_text("=")]
+    if options.on:
+        parts.append("on " + ", ".join(eq.text for eq in options.on))
+    if options.free:
+        parts.append("free " + ",".join(options.free))
+    if options.relations:
+        parts.append("relations")
+    return "; ".join(parts)
+
+
+def short_result(search: Search) -> str:
+    """The result in a few words: ``no extra integral``, ``1 extra (new)``, ``2 extra (1
+    new, 1 rediscovered)``, ``; 2 special sets`` after it, or ``not decided``.
+
+    A search of invariant relations says for how many cofactors relations exist."""
+    if not search.decided:
+        return "not decided"
+    n = len(search.special)
+    if search.options.relations:
+        return f"relations for {n} cofactor{'s' * (n != 1)}" if n else "no invariant relation"
+    generic = search.generic
+    if not generic.extra:
+        text = "no extra integral"
+    elif not generic.status:  # searched before integrals were compared with the claims
+        text = f"{generic.extra} extra"
+    else:
+        new, again = len(generic.new), len(generic.rediscovered)
+        if new and again:
+            detail = f"{new} new, {again} rediscovered"
+        else:
+            detail = "new" if new else "rediscovered"
+        text = f"{generic.extra} extra ({detail})"
+    if n:
+        text += f"; {n} special set{'s' * (n != 1)}"
+    return text
+
+
 def status_text(status: IntegralStatus) -> str:
     """``new``, or ``= K modulo H, |gamma|^2``: what a found integral is."""
     if status.new:
@@ -144,9 +186,16 @@ def search_document(search: Search) -> dict:
     return document
 
 
-def search_text(search: Search) -> str:
+def recorded_search_document(number: int, version: int, search: Search) -> dict:
+    """The document of a recorded search (``registry searches --json``): its number,
+    the version of the case searched, then the search's document (``search_document``)."""
+    return {"search": number, "version": version, **search_document(search)}
+
+
+def search_text(search: Search, width: int | None = None) -> str:
     """A plain-text summary of a search: the ansatz, the known integrals, what exists for
-    generic values and on each special set, whether the search is complete."""
+    generic values and on each special set, whether the search is complete; each line
+    wrapped to ``width`` (None: no limit) under a hanging indent."""
     o = search.options
     lines = [
         f"{search.case}: integrals of weighted degree <= {o.degree} "
@@ -190,4 +239,34 @@ def search_text(search: Search) -> str:
     lines.extend(f"  coverage: {c}" for c in search.coverage if not search.complete)
     lines.append(statement(search))
     lines.append(f"{search.seconds:.2f} s")
-    return "\n".join(lines)
+    return "\n".join(_hanging(line, width) for line in lines)
+
+
+def measure_text(search: MeasureSearch, width: int | None = None) -> str:
+    """A plain-text summary of a measure search: the Darboux polynomials of the ansatz
+    with their cofactors, each density with the factors where it is singular, the first
+    integrals it may be multiplied by, completeness and the statement."""
+    lines = [f"{search.case}: invariant densities rho = prod F_i**a_i"]
+    if search.darboux:
+        lines.append("Darboux polynomials among the factors tried (dF/dt = K F):")
+        lines.extend(f"    F = {f}    (K = {k})" for f, k in search.darboux)
+    else:
+        lines.append(f"Darboux polynomials: none among the {len(search.candidates)} factors tried")
+    for d in search.densities:
+        lines.append(f"density: rho = {d.expression}    (measure {d.verdict})")
+        lines.extend(f"    singular or undefined where {f} = 0" for f in d.singular)
+    if not search.densities:
+        lines.append("density: none of this form")
+    lines.extend(f"first integral: {i}" for i in search.integrals)
+    lines.append(f"complete: {'yes' if search.complete else 'no'}")
+    lines.extend(f"  undecided: {u}" for u in search.undecided)
+    lines.append(search.statement)
+    lines.append(f"{search.seconds:.2f} s")
+    return "\n".join(_hanging(line, width) for line in lines)
+
+
+def _hanging(line: str, width: int | None) -> str:
+    """A line wrapped to ``width``, its next lines indented two more than its first."""
+    text = line.lstrip(" ")
+    indent = " " * (len(line) - len(text))
+    return wrapped(text, width, indent=indent, subsequent=indent + "  ")

@@ -107,7 +107,7 @@ def _formula(lhs: sp.Basic | None, expr: sp.Basic, text: str) -> Formula:
 
 
 def _parsed(lhs: sp.Basic | None, text: str, ns: Namespace, label: str = "") -> Formula:
-    """A formula stored as case-file text (a residual, a repair), parsed again to show it;
+    """A formula stored as case-file text (a residual, a correction), parsed again to show it;
     shown as text only when it no longer parses."""
     shown = f"{label} = {text}" if label else text
     try:
@@ -224,7 +224,7 @@ class _Views:
 
     @cached_property
     def claims(self) -> dict[str, list[dict[str, Any]]]:
-        """The claims of each case with their verdicts and repairs (``_claims``), by id."""
+        """The claims of each case with their verdicts and corrections (``_claims``), by id."""
         out = {}
         for case_id, entry in self.entries.items():
             ns = forms.namespace(entry.case)
@@ -379,7 +379,7 @@ def _family(outcome: CaseOutcome, ns: Namespace) -> list[Formula]:
 
 
 def _correction(fix: Correction, ns: Namespace) -> dict[str, Any]:
-    """A re-checked repair: a Casimir, or a torque with its changed components."""
+    """A re-checked correction: a Casimir, or a torque with its changed components."""
     formulas = []
     if fix.kind == "casimir":
         formulas.append(_parsed(NAMES["casimir"], fix.expression or "", ns, "C"))
@@ -403,7 +403,7 @@ def _branches(found, ns: Namespace) -> list[list[Formula]]:
 
 
 def _claim(claim, outcome: ClaimOutcome | None, ns: Namespace) -> dict[str, Any]:
-    """A claim with its verdicts, evidence, repairs and conditions."""
+    """A claim with its verdicts, evidence, corrections and conditions."""
     view: dict[str, Any] = {
         "claim": claim,
         "formula": _formula(

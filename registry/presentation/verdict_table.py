@@ -2,7 +2,8 @@
 table of the verdicts that changed between two runs (``registry report --diff``).
 
 Built from the audit's outcome objects (``audit.outcome``) and printed with the one
-table printer (``text_table``); verdicts are compared as ``Verdict`` values.
+table printer (``text_table``), grouped by case; verdicts are compared as ``Verdict``
+values.
 """
 
 from __future__ import annotations
@@ -12,7 +13,7 @@ from collections.abc import Sequence
 
 from ..audit.outcome import CaseOutcome
 from ..model import CheckResult, Verdict, VerdictChange
-from .text_table import text_table
+from .text_table import grouped_table, wrapped
 
 #: Verdicts that leave a note under the table.
 _UNDECIDED = (Verdict.INCONCLUSIVE, Verdict.ERROR)
@@ -28,16 +29,21 @@ def _verdict(result: CheckResult | None) -> str:
     return "-" if result is None else str(result.verdict)
 
 
-def verdict_table(outcomes: Sequence[CaseOutcome], run: int | None = None) -> str:
-    """A plain-text table of an audit: one row per claim, then a summary, notes on what
-    was not decided, and the corrections (headed "Repairs", as the golden table has it)."""
-    header = ("case", "family", "Poisson", "claim", "kind", "integral", "casimir", "verdict")
-    rows = []
+def verdict_table(
+    outcomes: Sequence[CaseOutcome], run: int | None = None, width: int | None = None
+) -> str:
+    """A plain-text table of an audit: each case heads its claims (with the torque's
+    family and the Jacobi verdict, ``Poisson``), one row per claim; then a summary, notes
+    on what was not decided, and the corrections. Wrapped to ``width`` (None: no limit).
+    """
+    header = ("claim", "kind", "integral", "casimir", "verdict")
+    groups = []
     notes = []
     corrections = []
     for case in outcomes:
-        poisson = case.poisson or ""
-        family = case.family.name if case.family is not None else ""
+        about = [f"family {case.family.name}"] if case.family is not None else []
+        about += [f"Poisson {case.poisson}"] if case.poisson else []
+        title = case.case_id + (f" ({'; '.join(about)})" if about else "")
         corrections.extend(_correction_lines(case))
         for name, result in case.checks.items():
             if result.verdict is not Verdict.VERIFIED and name != "jacobi":
@@ -45,22 +51,13 @@ def verdict_table(outcomes: Sequence[CaseOutcome], run: int | None = None) -> st
                     f"{case.case_id}: {name} {result.verdict}"
                     + (f" ({result.reason})" if result.reason else "")
                 )
+        rows = []
         if not case.claims:
-            rows.append((case.case_id, family, poisson, "-", "", "", "", ""))
+            rows.append(("-", "", "", "", ""))
         for claim in case.claims:
             label = claim.label + (" (on set)" if claim.on_set else "")
-            rows.append(
-                (
-                    case.case_id,
-                    family,
-                    poisson,
-                    label,
-                    claim.claim.kind,
-                    _verdict(claim.integral),
-                    _verdict(claim.casimir),
-                    claim.verdict,
-                )
-            )
+            verdicts = (_verdict(claim.integral), _verdict(claim.casimir), claim.verdict)
+            rows.append((label, claim.claim.kind, *verdicts))
             found = claim.evidence
             if claim.contradicted and found is not None:
                 compared = found.compared_with
@@ -77,24 +74,32 @@ def verdict_table(outcomes: Sequence[CaseOutcome], run: int | None = None) -> st
                     notes.append(
                         f"{case.case_id}/{claim.label}: {prop} {result.verdict}: {result.reason}"
                     )
-    lines = [text_table(header, rows)]
+        groups.append((title, rows))
+    lines = [grouped_table("case (torque family; Poisson)", header, groups, width=width)]
     counts = Counter(c.verdict for case in outcomes for c in case.claims)
     summary = ", ".join(f"{n} {v}" for v, n in sorted(counts.items()))
     prefix = f"run {run}: " if run is not None else ""
     lines.append("")
     lines.append(
-        f"{prefix}{len(outcomes)} cases, {sum(counts.values())} claims ({summary or 'none'})"
+        wrapped(
+            f"{prefix}{len(outcomes)} cases, {sum(counts.values())} claims ({summary or 'none'})",
+            width,
+        )
     )
     with_numbers = [c for case in outcomes for c in case.claims if c.evidence is not None]
     if with_numbers:
         agree = sum(not c.contradicted for c in with_numbers)
         lines.append(
-            f"numeric evidence: {agree} of {len(with_numbers)} claims agree with their "
-            "integral verdicts"
+            wrapped(
+                f"numeric evidence: {agree} of {len(with_numbers)} claims agree with their "
+                "integral verdicts",
+                width,
+            )
         )
-    lines.extend(f"  note: {n}" for n in notes)
+    lines.extend(wrapped(f"note: {n}", width, indent="  ", subsequent="    ") for n in notes)
     if corrections:
-        lines += ["", "Repairs (each re-checked):", *corrections]
+        lines += ["", "Corrections (each re-checked):"]
+        lines.extend(wrapped(c, width, indent="  ", subsequent="    ") for c in corrections)
     return "\n".join(lines)
 
 
@@ -104,20 +109,20 @@ def _correction_lines(case: CaseOutcome) -> list[str]:
     name = case.case_id
     jacobi = case.jacobi_conditions
     if jacobi is not None and jacobi.branches:
-        lines.append(f"  {name}: Poisson when {branches_text(jacobi.branches)}")
+        lines.append(f"{name}: Poisson when {branches_text(jacobi.branches)}")
     for c in case.casimirs:
-        lines.append(f"  {name}: a Casimir: {c.expression}")
+        lines.append(f"{name}: a Casimir: {c.expression}")
     for claim in case.claims:
         where = f"{name}/{claim.label}"
         found = claim.conditions
         if found is not None and found.branches:
-            lines.append(f"  {where}: holds when {branches_text(found.branches)}")
+            lines.append(f"{where}: holds when {branches_text(found.branches)}")
         for c in claim.corrections:
             if c.kind == "casimir":
-                lines.append(f"  {where}: corrected Casimir: {c.expression}")
+                lines.append(f"{where}: corrected Casimir: {c.expression}")
             else:
                 changed = ", ".join(f"mu{k} = {text}" for k, text in c.changed_components)
-                lines.append(f"  {where}: corrected torque: {changed}")
+                lines.append(f"{where}: corrected torque: {changed}")
     return lines
 
 
@@ -127,10 +132,16 @@ def branches_text(branches: Sequence[Sequence[str]]) -> str:
     return " or ".join(", ".join(branch) for branch in branches)
 
 
-def diff_table(changes: Sequence[VerdictChange], run_a: int, run_b: int) -> str:
-    """The verdicts that changed between two runs as a table ("no changes" when none)."""
+def diff_table(
+    changes: Sequence[VerdictChange], run_a: int, run_b: int, width: int | None = None
+) -> str:
+    """The verdicts that changed between two runs, under each case ("no changes" when
+    none), wrapped to ``width`` (None: no limit)."""
     if not changes:
         return f"no changes between run {run_a} and run {run_b}"
-    header = ("case", "claim", "check", f"run {run_a}", f"run {run_b}")
-    rows = [(c.case, c.claim or "-", c.check, c.before or "-", c.after or "-") for c in changes]
-    return text_table(header, rows)
+    header = ("claim", "check", f"run {run_a}", f"run {run_b}")
+    groups: dict[str, list[tuple[str, ...]]] = {}
+    for c in changes:
+        row = (c.claim or "-", c.check, c.before or "-", c.after or "-")
+        groups.setdefault(c.case, []).append(row)
+    return grouped_table("case", header, groups.items(), width=width)

@@ -25,6 +25,7 @@ from ..execution.time_budget import TimeBudget
 from ..language.case_writer import corrected_case_text
 from ..model import Case, CaseAudit, Verdict, VerdictChange
 from ..presentation.audit_json import audit_document
+from ..presentation.terminal import terminal_width
 from ..presentation.verdict_table import disagreements, verdict_table
 from ..store.database import Store
 from ..version import code_version
@@ -51,9 +52,10 @@ class AuditReport:
         """The JSON document of docs/json-output.md for this run."""
         return audit_document(self.run, self.outcomes())
 
-    def table(self) -> str:
-        """The verdict table ``registry audit`` prints."""
-        return verdict_table(self.outcomes(), self.run)
+    def table(self, width: int | None = None) -> str:
+        """The verdict table ``registry audit`` prints, wrapped to ``width`` (None: the
+        terminal's, ``presentation.terminal``)."""
+        return verdict_table(self.outcomes(), self.run, width or terminal_width())
 
     def contradicted(self) -> list[str]:
         """The claims (case/claim) whose numerical evidence contradicts their verdict."""

@@ -22,8 +22,10 @@ from ..errors import UnknownCaseError
 from ..execution.executor import Executor
 from ..language.case_writer import derived_case_text
 from ..language.casefile import load_case, parse_case_text
+from ..language.parser import Namespace, parse_equation
 from ..model import Case, Equation, Search, SearchOptions, Weights
 from ..presentation.search_output import search_document, search_text, statement
+from ..presentation.terminal import terminal_width
 from ..settings import DEFAULT_SEARCH_SECONDS
 from ..store import conversions
 from ..store.database import Store, StoredCase
@@ -56,9 +58,10 @@ class SearchReport:
             document["events"] = list(self.events)
         return document
 
-    def text(self) -> str:
-        """The search in plain text, as ``registry discover`` prints it."""
-        return search_text(self.search)
+    def text(self, width: int | None = None) -> str:
+        """The search in plain text, as ``registry discover`` prints it, wrapped to
+        ``width`` (None: the terminal's, ``presentation.terminal``)."""
+        return search_text(self.search, width or terminal_width())
 
     @property
     def statement(self) -> str:
@@ -175,6 +178,23 @@ def catalog_index(store: Store) -> CatalogIndex:
     """The identification index of the latest version of every case the registry holds
     (``discovery.identification.catalog_index``; each case's forms are computed once)."""
     return CatalogIndex.of(stored.parse() for stored in store.case_versions())
+
+
+def recorded_searches(store: Store, case_id: str | None = None) -> list[tuple[int, int, Search]]:
+    """Every recorded search (of ``case_id``, or of every case), oldest first, as (its
+    number, the case version searched, the ``Search``). A level set's equations are
+    parsed in the names of the case version searched; only those versions are parsed."""
+    names: dict[int, Namespace] = {}
+    found = []
+    for stored, row, rows in store.recorded_searches(case_id):
+        texts = list(row.options.get("on") or ())
+        if texts and stored.pk not in names:
+            case = parse_case_text(stored.text, stored.path or stored.case_id)
+            names[stored.pk] = Namespace(case.parameters, case.functions)
+        on = [Equation(e, *parse_equation(e, names[stored.pk])) for e in texts]
+        search = conversions.search(row, stored.case_id, stored.content_hash, rows, on)
+        found.append((row.id, stored.version, search))
+    return found
 
 
 def _reused_search(

@@ -555,6 +555,36 @@ class Store:
             session.expunge_all()
             return row.id, row, found
 
+    @guarded
+    def recorded_searches(
+        self, case_id: str | None = None
+    ) -> list[tuple[StoredCase, SearchRow, list[DiscoveryRow]]]:
+        """Every recorded search (of every version of ``case_id``, or of every case),
+        oldest first, as (the searched case version, its row, its discovery rows).
+        UnknownCaseError for a case the registry does not hold."""
+        with self.read() as session:
+            stmt = select(SearchRow, CaseRow).join(CaseRow, CaseRow.id == SearchRow.case_pk)
+            if case_id is not None:
+                known = self._resolved(session, case_id)
+                if session.scalar(select(CaseRow.id).where(CaseRow.case_id == known)) is None:
+                    ids = sorted(session.scalars(select(CaseRow.case_id).distinct()))
+                    raise UnknownCaseError(case_id, known=ids)
+                stmt = stmt.where(CaseRow.case_id == known)
+            found = session.execute(stmt.order_by(SearchRow.id)).all()
+            rows: dict[int, list[DiscoveryRow]] = {row.id: [] for row, _ in found}
+            for d in session.scalars(
+                select(DiscoveryRow).where(DiscoveryRow.search_id.in_(list(rows)))
+            ):
+                rows[d.search_id].append(d)
+            versions: dict[int, StoredCase] = {}
+            listed = []
+            for row, case in found:
+                if case.id not in versions:
+                    versions[case.id] = _stored(session, case)
+                listed.append((versions[case.id], row, rows[row.id]))
+            session.expunge_all()
+            return listed
+
     # ---------------------------------------------------------------------- runs
 
     @guarded
@@ -751,7 +781,7 @@ def _discovered_claim(search_id: int, i: int, text: str, search: Search) -> Clai
     return Claim(
         f"discovered-{search_id}-{i + 1}",
         ClaimKind.INTEGRAL,
-        Expression(text, None),  # type: ignore[arg-type]
+        Expression(text, None),
         tuple(search.options.on),
         notes=f"Found by registry discover, {when}.",
         provenance=Provenance.DISCOVERED,

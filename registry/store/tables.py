@@ -213,7 +213,7 @@ class ResultRow(Base):
 
 class CorrectionRow(Base):
     """A derived fact about one case version in one run: the torque's ``family``, a
-    re-checked repair (``casimir`` or ``torque``), or the parameter ``conditions``
+    re-checked correction (``casimir`` or ``torque``), or the parameter ``conditions``
     under which a failed identity holds. ``payload`` holds the whole record."""
 
     __tablename__ = "corrections"

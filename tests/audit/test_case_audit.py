@@ -1,5 +1,5 @@
 """The audit of one case: every check (or the named ones) run, a crash contained as an
-``error`` result, repairs derived when every check ran, and no database needed."""
+``error`` result, corrections derived when every check ran, and no database needed."""
 
 from __future__ import annotations
 
@@ -21,17 +21,17 @@ from registry.model import ClaimKind
 from tests.helpers.samples import YEHIA_B, ZHUKOVSKY, case_file
 
 
-def test_every_check_runs_once_per_case_or_per_claim_and_repairs_follow():
+def test_every_check_runs_once_per_case_or_per_claim_and_corrections_follow():
     case = load_case(case_file(YEHIA_B))
     audit = audit_case(case)
     assert (audit.case, audit.content_hash) == (case.id, case.content_hash)
     assert len(audit.results) == count_checks(case)
     assert [r.check for r in audit.results[: len(CASE_CHECKS)]] == list(CASE_CHECKS)
-    assert audit.family is not None and audit.corrections  # repairs of the refuted claim
+    assert audit.family is not None and audit.corrections  # corrections of the refuted claim
     assert audit.evidence == ()  # numeric evidence only when asked for
 
 
-def test_only_the_named_checks_run_and_then_no_repairs():
+def test_only_the_named_checks_run_and_then_no_corrections():
     case = load_case(case_file(YEHIA_B))
     audit = audit_case(case, checks=["casimir"])
     assert {r.check for r in audit.results} == {"casimir"}

@@ -1,4 +1,4 @@
-"""Repairs against the paper's printed formulas, each re-checked here independently:
+"""Corrections against the paper's printed formulas, each re-checked here independently:
 by 50-digit evaluation at random points, not by the registry's own zero test."""
 
 from dataclasses import replace
@@ -93,7 +93,7 @@ TRUE_CASES = [
 
 
 @pytest.mark.parametrize("case_id", TRUE_CASES)
-def test_mutated_claims_get_valid_repairs_or_none(case_id):
+def test_mutated_claims_get_valid_corrections_or_none(case_id):
     case = load(case_id)
     claim = case.claims[0]
     expr = claim.expression.expr
@@ -119,7 +119,7 @@ def test_mutated_claims_get_valid_repairs_or_none(case_id):
     assert any(f.kind == "casimir" for f in audit.corrections)
 
 
-def test_a_claim_no_torque_can_repair_gets_only_the_cases_own_casimir():
+def test_a_claim_no_torque_can_correct_gets_only_the_cases_own_casimir():
     case = load("zhukovsky-gyrostat")
     claim = case.claims[0]
     from registry.model import Expression
@@ -129,7 +129,7 @@ def test_a_claim_no_torque_can_repair_gets_only_the_cases_own_casimir():
         replace(case, claims=(replace(claim, expression=Expression("M1**2", expr)),))
     )
     assert audit.result("casimir", claim.label).verdict is Verdict.REFUTED
-    # the repair step ran: the torque's family is recorded, and the claim is offered the
+    # the correction step ran: the torque's family is recorded, and the claim is offered the
     # case's own Casimir (a valid one, independent of C1) ...
     assert audit.family is not None
     assert audit.family.name == "constant"

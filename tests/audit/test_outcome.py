@@ -1,5 +1,5 @@
 """The outcome of an audit, built once from (CaseAudit, Case): which result stands for
-each check, each claim's verdict, evidence, repairs and conditions."""
+each check, each claim's verdict, evidence, corrections and conditions."""
 
 from __future__ import annotations
 
@@ -32,7 +32,7 @@ def test_a_claim_s_verdict_is_that_of_the_property_its_kind_names(yehia_b):
     assert list(claim.checks) == ["integral", "casimir"] and claim.invariant is None
 
 
-def test_a_claim_carries_its_repairs_and_conditions_and_the_case_its_casimirs(yehia_b):
+def test_a_claim_carries_its_corrections_and_conditions_and_the_case_its_casimirs(yehia_b):
     case, audit = yehia_b
     (claim,) = [c for c in case_outcome(audit, case).claims if c.label == "I2"]
     assert {c.kind for c in claim.corrections} == {"casimir", "torque"}

@@ -22,3 +22,24 @@ def test_an_entry_is_computed_once_per_case_version(tmp_path, monkeypatch):
     first = entry(case)
     assert entry(case) is first
     assert first.form is not None and first.size == len(case.parameters)
+
+
+def test_every_catalog_case_is_indexed_or_named_with_the_reason_it_is_not():
+    from tests.helpers.catalog import catalog_cases, catalog_index
+
+    index = catalog_index()
+    assert len(index.entries) == len(catalog_cases())
+    unindexed = index.unindexed()
+    assert all(reason for reason in unindexed.values())
+    # systems in their own variables (a nonholonomic sleigh, the (omega, gamma) form)
+    assert (
+        "its state (v, omega) is not (M, gamma)"
+        in unindexed["bloch-2015-chaplygin-sleigh-as-quoted"]
+    )
+    assert (
+        "(p, q, r, gamma1, gamma2, gamma3)"
+        in unindexed["kovalevskaya-1889-heavy-top-omega-equations"]
+    )
+    # a field with s over a denominator has no polynomial normal form
+    assert "not polynomial" in unindexed["goryachev-1916-heavy-top"]
+    assert "kovalevskaya-1889-heavy-top" not in unindexed

@@ -64,7 +64,7 @@ def test_an_expression_crafted_to_take_forever_ends_inconclusive_within_its_budg
         assert result.seconds < HANG
 
 
-def test_a_workers_deadline_covers_every_check_the_repairs_and_a_margin():
+def test_a_workers_deadline_covers_every_check_the_corrections_and_a_margin():
     budget = TimeBudget(check=2.0, corrections=5.0, margin=1.0)
     assert budget.case_deadline(10) == 2.0 * 10 + 5.0 + 1.0
     assert TimeBudget() == TimeBudget(check=5.0, corrections=20.0, margin=10.0)
@@ -87,7 +87,9 @@ def test_the_default_budgets_may_come_from_the_environment(monkeypatch):
     # an audit given no budget takes the environment's; one given a budget keeps it
     case = load_case(CASES / "yehia-2003-kovalevskaya-b.toml")
     monkeypatch.setenv("REGISTRY_CORRECTIONS_BUDGET", "1e-9")
-    cut = audit_case(case, checks=["integral"], repair=True)
+    cut = audit_case(case, checks=["integral"], corrections=True)
     assert cut.family.reason == "corrections: time budget exceeded (1e-09 s)"
-    kept = audit_case(case, checks=["integral"], repair=True, budget=TimeBudget(corrections=600))
+    kept = audit_case(
+        case, checks=["integral"], corrections=True, budget=TimeBudget(corrections=600)
+    )
     assert kept.family.name == "psi-gamma-grad-phi"  # found, with time to do it

@@ -1,5 +1,5 @@
 """Checks of the registry's results that do not use the registry's own zero test:
-evaluation at random points with 50 digits, for the tests of repairs and families."""
+evaluation at random points with 50 digits, for the tests of corrections and families."""
 
 import random
 

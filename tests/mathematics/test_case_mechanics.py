@@ -1,5 +1,5 @@
 """The symbolic objects of one case: built once, and the residuals of a claim computed
-once per case, so that the repairs of a refuted claim reuse what its check computed."""
+once per case, so that the corrections of a refuted claim reuse what its check computed."""
 
 from dataclasses import replace
 
@@ -67,17 +67,17 @@ def asked_of(calls, kind: str, expr: sp.Expr) -> list[bool]:
     return [computed for m, k, e, computed in calls if m is first and (k, e) == (kind, expr)]
 
 
-def test_the_repairs_of_a_refuted_casimir_reuse_its_residual(asked):
+def test_the_corrections_of_a_refuted_casimir_reuse_its_residual(asked):
     case = load_case(case_file(YEHIA_B))
     expr = case.claim("I2").expression.expr
     audit = audit_case(case)
     assert audit.result("casimir", "I2").verdict is Verdict.REFUTED
     assert [c for c in audit.conditions if c.target == "I2"]  # its conditions were sought
-    # asked by the check, then by the repairs: computed the first time only
+    # asked by the check, then by the corrections: computed the first time only
     assert asked_of(asked, "casimir", expr) == [True, False]
 
 
-def test_the_repairs_of_a_refuted_integral_reuse_its_residual(asked):
+def test_the_corrections_of_a_refuted_integral_reuse_its_residual(asked):
     case = load_case(case_file(ZHUKOVSKY))
     expr = mechanics.M1 * mechanics.gamma2  # not conserved
     claim = replace(

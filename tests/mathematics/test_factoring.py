@@ -1,4 +1,4 @@
-"""Factoring through FLINT gives exactly sympy.factor's form (so residuals and repairs
+"""Factoring through FLINT gives exactly sympy.factor's form (so residuals and corrections
 read the same), and leaves what is not a rational function over Q to sympy."""
 
 from __future__ import annotations

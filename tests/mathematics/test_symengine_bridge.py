@@ -79,7 +79,7 @@ def test_families_of_arbitrary_functions_stay_with_sympy(backend):
 )
 def test_verdicts_do_not_depend_on_the_backend(backend, case_id):
     case = load_case(CASES / f"{case_id}.toml")
-    audit = audit_case(case, repair=False)
+    audit = audit_case(case, corrections=False)
     expected = {
         "yehia-2003-kovalevskaya-b": Verdict.REFUTED,
         "affine-nonsymmetric": Verdict.REFUTED,

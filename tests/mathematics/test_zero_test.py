@@ -5,7 +5,7 @@ import sympy as sp
 from registry.mathematics import zero_test
 from registry.mathematics.certified_evaluation import evaluate
 from registry.mathematics.domain import Domain
-from registry.mathematics.mechanics import AXIS, S_VALUE, gamma1, gamma2, gamma3, s
+from registry.mathematics.mechanics import AXIS, M1, M2, S_VALUE, gamma1, gamma2, gamma3, s
 from registry.mathematics.zero_test import decide
 from registry.model import Verdict
 
@@ -78,15 +78,36 @@ def test_transcendental_identities_with_branch_cuts_are_decided_correctly():
     assert result.verdict is Verdict.REFUTED and result.method == "interval probe"
 
 
-def test_identities_outside_the_normal_forms_fall_back_to_simplify():
+def test_sine_and_cosine_of_one_argument_are_related_in_the_normal_form():
     r = sp.sin(gamma1) ** 2 + sp.cos(gamma1) ** 2 - 1
+    assert decide({"r": r}, DOMAIN).method == "algebraic normal form"
+    r = sp.tan(gamma1) * sp.cos(gamma1) ** 3 + sp.sin(gamma1) ** 3 - sp.sin(gamma1)
+    assert decide({"r": r}, DOMAIN).verdict is Verdict.VERIFIED
+    r = sp.cosh(gamma1) ** 2 - sp.sinh(gamma1) ** 2 - 1
+    assert decide({"r": r}, DOMAIN).verdict is Verdict.VERIFIED
+    r = sp.cosh(gamma1) ** 2 + sp.sinh(gamma1) ** 2 - 1  # not an identity
+    assert decide({"r": r}, DOMAIN).verdict is Verdict.REFUTED
+
+
+def test_a_trigonometric_level_set_is_reduced_with_its_relation():
+    # on sin(g1) M1 = cos(g1) M2, M1 sin(g1)**2 - M2 sin(g1) cos(g1) vanishes; the proof needs
+    # the level set, and the level set needs sin**2 + cos**2 = 1 for the second residual
+    on = DOMAIN.restricted([sp.sin(gamma1) * M1 - sp.cos(gamma1) * M2])
+    r = M1 * sp.sin(gamma1) ** 2 - M2 * sp.sin(gamma1) * sp.cos(gamma1)
+    assert decide({"r": r}, on).verdict is Verdict.VERIFIED
+    r2 = M1 - M1 * sp.cos(gamma1) ** 2 - M2 * sp.sin(gamma1) * sp.cos(gamma1)
+    assert decide({"r": r2}, on).method == "level-set reduction"
+
+
+def test_identities_outside_the_normal_forms_fall_back_to_simplify():
+    r = sp.sin(2 * gamma1) - 2 * sp.sin(gamma1) * sp.cos(gamma1)  # two arguments
     result = decide({"r": r}, DOMAIN)
     assert result.verdict is Verdict.VERIFIED and result.method == "simplify"
 
 
 def test_a_residual_that_only_probes_say_is_zero_is_inconclusive(monkeypatch):
     monkeypatch.setattr(zero_test, "SIMPLIFY_LIMIT", 0)  # no last resort
-    r = sp.sin(gamma1) ** 2 + sp.cos(gamma1) ** 2 - 1
+    r = sp.sin(2 * gamma1) - 2 * sp.sin(gamma1) * sp.cos(gamma1)
     result = decide({"r": r}, DOMAIN)
     assert result.verdict is Verdict.INCONCLUSIVE
     assert result.reason == "vanishes at 4 random points; no symbolic proof"

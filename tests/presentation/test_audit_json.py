@@ -49,7 +49,7 @@ def test_a_case_entry_has_its_checks_family_and_claims(yehia_b):
     json.dumps(doc)  # plain JSON throughout
 
 
-def test_a_refuted_claim_lists_its_repairs_and_conditions(yehia_b):
+def test_a_refuted_claim_lists_its_corrections_and_conditions(yehia_b):
     (claim,) = [c for c in yehia_b.claims if c.label == "I2"]
     entry = claim_document(claim)
     assert (entry["kind"], entry["casimir"], entry["verdict"]) == ("casimir", "refuted", "refuted")

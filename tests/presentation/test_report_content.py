@@ -1,5 +1,5 @@
 """The content of a run's report: every case, claim and verdict, the torque in math, the
-repairs of a refuted claim, drift plots, and ``registry report`` choosing the run.
+corrections of a refuted claim, drift plots, and ``registry report`` choosing the run.
 
 One database with three seed cases is audited once (with numeric evidence) and
 shared by the module.
@@ -152,7 +152,7 @@ def test_markdown_shows_the_torque_in_math(reg, markdown):
     assert f"$$\n\\mu_{{3}} = {sp.latex(mu3)}\n$$" in text
 
 
-def test_markdown_shows_the_repairs_of_yehia_b(reg, markdown):
+def test_markdown_shows_the_corrections_of_yehia_b(reg, markdown):
     text, _ = markdown
     case = reg.case(YEHIA_B)
     fix = _correction(reg, YEHIA_B, "torque")

@@ -245,7 +245,7 @@ def test_downloads_reload_parse_and_evaluate(built, tmp_path):
     assert "claims = <|" in math and "pC" in math  # C is a Mathematica built-in: renamed
 
 
-def test_case_page_shows_verdicts_witness_repairs_history_and_citations(built):
+def test_case_page_shows_verdicts_witness_corrections_history_and_citations(built):
     page = (built.site / "cases" / f"{YEHIA_B}.html").read_text(encoding="utf-8")
     for text in (
         "witness point",

@@ -1,5 +1,6 @@
 """The verdict table, from the audit's outcome objects (the seed catalog's whole table is
-pinned by tests/test_golden.py), and the table of the verdicts two runs disagree on."""
+pinned by tests/test_golden.py), wrapped to a width, and the table of the verdicts two
+runs disagree on."""
 
 from __future__ import annotations
 
@@ -14,7 +15,7 @@ from registry.model import Evidence, Verdict, VerdictChange
 from registry.presentation.verdict_table import diff_table, disagreements, verdict_table
 from tests.helpers.samples import YEHIA_B, ZHUKOVSKY, case_file
 
-HEADER = ["case", "family", "Poisson", "claim", "kind", "integral", "casimir", "verdict"]
+HEADER = ["claim", "kind", "integral", "casimir", "verdict"]
 
 
 @pytest.fixture(scope="module")
@@ -23,23 +24,35 @@ def audited():
     return [audit_case(c) for c in cases], {c.id: c for c in cases}
 
 
-def test_one_row_per_claim_then_the_summary_and_the_repairs(audited):
+def test_each_case_heads_its_claims_then_the_summary_and_the_corrections(audited):
     audits, cases = audited
     table = verdict_table(outcomes(audits, cases), run=4).splitlines()
-    assert table[0].split() == HEADER
-    rows = [line.split() for line in table[2:] if line.startswith((YEHIA_B, ZHUKOVSKY))]
-    assert len(rows) == sum(len(c.claims) for c in cases.values())
-    assert [YEHIA_B, "psi-gamma-grad-phi", "verified", "I2", "casimir"] == rows[-2][:5]
+    assert table[0] == "case (torque family; Poisson)"
+    assert table[1].split() == HEADER
+    heading = table.index(f"{YEHIA_B} (family psi-gamma-grad-phi; Poisson verified)")
+    assert table[heading + 1].split() == ["I2", "casimir", "refuted", "refuted", "refuted"]
+    assert table[heading + 1].startswith("  I2 ")
     assert any(line.startswith("run 4: 2 cases, ") for line in table)
-    repairs = table[table.index("Repairs (each re-checked):") + 1 :]
-    assert f"  {YEHIA_B}/I2: holds when N = 0" in repairs
-    assert any(line.startswith(f"  {YEHIA_B}/I2: corrected torque: mu3 = ") for line in repairs)
+    corrections = table[table.index("Corrections (each re-checked):") + 1 :]
+    assert f"  {YEHIA_B}/I2: holds when N = 0" in corrections
+    assert any(line.startswith(f"  {YEHIA_B}/I2: corrected torque: mu3 = ") for line in corrections)
 
 
-def test_a_case_that_could_not_be_loaded_is_a_row_and_a_note():
+@pytest.mark.parametrize("width", [60, 80, 100])
+def test_the_table_fits_the_width_and_wraps_under_a_hanging_indent(audited, width):
+    audits, cases = audited
+    table = verdict_table(outcomes(audits, cases), run=4, width=width).splitlines()
+    assert max(map(len, table)) <= width
+    corrections = table[table.index("Corrections (each re-checked):") + 1 :]
+    assert all(line.startswith(("  " + YEHIA_B, "    ")) for line in corrections)
+    unwrapped = verdict_table(outcomes(audits, cases), run=4)
+    assert max(map(len, unwrapped.splitlines())) > 100  # the Casimir, on one line
+
+
+def test_a_case_that_could_not_be_loaded_is_a_heading_and_a_note():
     table = verdict_table(outcomes([failed_case("broken", "h", ValueError("no"))], {}))
     lines = table.splitlines()
-    assert lines[2].split() == ["broken", "error", "-"]
+    assert lines[3:5] == ["broken (Poisson error)", "  -"]
     assert "1 cases, 0 claims (none)" in lines
     assert "  note: broken: energy error (ValueError: no)" in lines
 
@@ -65,11 +78,16 @@ def test_the_verdicts_two_runs_disagree_on():
     changes = [
         VerdictChange("c", None, "jacobi", Verdict.VERIFIED, Verdict.REFUTED),
         VerdictChange("c", "I", "casimir", None, Verdict.VERIFIED),
+        VerdictChange("d", "K", "integral", Verdict.REFUTED, Verdict.VERIFIED),
     ]
     assert diff_table(changes, 1, 2).splitlines() == [
-        "case  claim  check    run 1     run 2",
-        "----  -----  -------  --------  --------",
-        "c     -      jacobi   verified  refuted",
-        "c     I      casimir  -         verified",
+        "case",
+        "  claim  check     run 1     run 2",
+        "  -----  --------  --------  --------",
+        "c",
+        "  -      jacobi    verified  refuted",
+        "  I      casimir   -         verified",
+        "d",
+        "  K      integral  refuted   verified",
     ]
     assert diff_table([], 1, 2) == "no changes between run 1 and run 2"

@@ -18,7 +18,7 @@ ZHUKOVSKY = CASES / "zhukovsky-gyrostat.toml"
 
 def test_only_a_complete_audit_of_every_claim_is_reused():
     case = load_case(ZHUKOVSKY)
-    audit = audit_case(case, repair=False)
+    audit = audit_case(case, corrections=False)
     assert _reusable((1, audit), case) is audit
     assert _reusable(None, case) is None
     crashed = crashed_audit(case, "worker died (-9)")

@@ -45,7 +45,7 @@ def test_evidence_round_trips_and_nan_is_null():
     assert math.isnan(back.drift) and math.isnan(back.floor) and back.runs == 0
 
 
-def test_family_repairs_and_conditions_round_trip_through_correction_rows():
+def test_family_corrections_and_conditions_round_trip_through_correction_rows():
     from registry.model import CaseAudit
 
     family = FamilyRecord("constant", phi="gamma3", casimir="s + gamma3", method="mu0 . gamma")

@@ -43,7 +43,7 @@ PICK = [ZHUKOVSKY, YEHIA_B, "affine-nonsymmetric"]
 
 @pytest.fixture(scope="module")
 def audited_db(module_databases) -> str:
-    """A database with three seed cases, audited once with repairs (so it holds derived
+    """A database with three seed cases, audited once with corrections (so it holds derived
     Casimirs, torques and parameter conditions)."""
     target = module_databases.new("audited")
     reg = registry.open(target)

@@ -1,4 +1,4 @@
-"""The first released schema (registry 0.1.0): cases, claims, runs, results, repairs.
+"""The first released schema (registry 0.1.0): cases, claims, runs, results, corrections.
 
 Frozen here as it was released; later revisions change it. Databases created
 before migrations existed carry ``schema_version = 1`` in ``meta`` and are
