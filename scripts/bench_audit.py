@@ -35,6 +35,7 @@ from registry.execution.executor import LocalPool
 from registry.execution.local import default_jobs
 from registry.execution.time_budget import TimeBudget
 from registry.language.printer import to_text
+from registry.mathematics import flow
 from registry.mathematics import mechanics as mech
 from registry.mathematics.case_mechanics import CaseMechanics
 from registry.model import Verdict
@@ -47,26 +48,29 @@ CHECKS = ["jacobi", "energy", "c1", "hamiltonian", "integral", "casimir"]
 
 
 def naive_residuals(case) -> dict[tuple[str, str | None], list[sp.Expr]]:
+    """The residuals of the checks the audit runs on ``case`` (those that apply to its
+    system, claims on a level set left out), with every shorthand (``s``) written out."""
     m = CaseMechanics(case)
-    out = {
-        ("jacobi", None): list(m.jacobiator.values()),
-        ("energy", None): [mech.time_derivative(m.hamiltonian, m.field)],
-        ("c1", None): list(m.casimir_residual(m.c1).values()),
-    }
-    if not m.hamiltonian_form:  # a case that gives H has Pi grad H as its field
-        out[("hamiltonian", None)] = [
-            x - y
-            for x, y in zip(
-                m.field, mech.hamiltonian_vector_field(m.pi, m.hamiltonian), strict=True
-            )
-        ]
+    d = m.dynamics
+    out: dict[tuple[str, str | None], list[sp.Expr]] = {}
+    if d.bracket is not None:
+        out[("jacobi", None)] = list(m.jacobiator.values())
+    if d.hamiltonian is not None:
+        out[("energy", None)] = [m.time_derivative(d.hamiltonian)]
+    if d.c1 is not None:
+        out[("c1", None)] = list(m.casimir_residual(d.c1).values())
+    if d.bracket is not None and d.hamiltonian is not None and not d.from_bracket:
+        # a case that gives H has Pi grad H as its field: nothing to compare
+        generated = flow.hamiltonian_field(d.bracket, d.hamiltonian, d.variables, d.shorthands)
+        out[("hamiltonian", None)] = [x - y for x, y in zip(m.field, generated, strict=True)]
     for claim in case.claims:
         if claim.on:
             continue
         i = claim.expression.expr
-        out[("integral", claim.label)] = [mech.time_derivative(i, m.field)]
-        out[("casimir", claim.label)] = list(m.casimir_residual(i).values())
-    return out
+        out[("integral", claim.label)] = list(m.integral_residual(i).values())
+        if d.bracket is not None:
+            out[("casimir", claim.label)] = list(m.casimir_residual(i).values())
+    return {key: [d.expanded(r) for r in residuals] for key, residuals in out.items()}
 
 
 def naive_verdict(residuals: list[sp.Expr], rng: random.Random) -> str:

@@ -1,5 +1,6 @@
-"""The test suite on a busy machine: the README's test command, run while busy processes
-(pure-Python loops) keep the machine's load at three times its cores by default.
+"""The test suite on a busy machine: the README's test command (``python -m pytest``: the
+default selection, in one worker per core, pyproject.toml's addopts), run while busy
+processes (pure-Python loops) keep the machine's load at three times its cores by default.
 
 A test that holds only on a quiet machine (a tight wall-clock bound, a file read before
 it is complete) fails here. The load is held, not guessed: every two seconds the script
@@ -11,6 +12,8 @@ watchdog then stops what the tests started).
 Usage: python scripts/loaded_suite.py [--load L] [-- PYTEST ARGUMENTS]
   e.g. python scripts/loaded_suite.py
        python scripts/loaded_suite.py --load 4 -- tests/distributed -x
+       python scripts/loaded_suite.py -- -m "slow and not serial"  # CI's slow step
+       python scripts/loaded_suite.py -- -n 0 -m serial  # and its serial one
 Prints the load held (the 1-minute load average, sampled each minute), pass/fail and
 counts, and the duration; exits with pytest's status.
 Nothing here is a test: run it by hand, before a release or after touching timings.

@@ -6,12 +6,23 @@ The PostgreSQL variants run against a real server that the session starts itself
 (``postgres_server``, see ``tests/helpers/postgres_server.py``) the first time a test needs
 it, and stops at the end. Where no server can be started they are skipped with the
 reason, except in CI (``REGISTRY_CI`` set), where that is a failure.
+
+Under pytest-xdist (``-n auto``, the README's test command) every worker is a test
+session of its own: it sets the environment below, starts its own PostgreSQL server
+(a socket in a folder of its own, no TCP port), its own Dask clusters (on free ports)
+with a Dask scratch folder of its own, its own temporary folders and its own watchdog.
+Nothing a test writes is shared between workers; tests that share an expensive fixture
+run in one worker (``pytest_collection_modifyitems`` below), and the tests that need the
+machine to themselves are marked ``serial`` and run apart, without -n.
 """
 
 from __future__ import annotations
 
 import hashlib
 import os
+import shutil
+import sys
+import tempfile
 from collections.abc import Callable, Iterator
 from pathlib import Path
 
@@ -46,6 +57,10 @@ os.environ.setdefault("REGISTRY_CORRECTIONS_BUDGET", f"{PATIENT.corrections:g}")
 # Likewise a command waits for another's database lock longer than the 10 s default (a
 # whole catalog added on a loaded machine held it for over 30 s); tests of the wait set it.
 os.environ.setdefault("REGISTRY_LOCK_TIMEOUT", f"{HANG / 2:g}")
+# The catalog's normal forms for identification are kept between runs in a folder of the
+# system's temporary folder, never in the user's ~/.cache (entries are named by content
+# hash and written aside then renamed, so workers and runs may share it).
+os.environ.setdefault("REGISTRY_CACHE", str(Path(tempfile.gettempdir()) / "registry-test-cache"))
 # What the command line prints is wrapped to the terminal's width: the tests read it at
 # 80 columns (what a pipe gets) wherever they run, a terminal of another width included;
 # tests of the width set their own.
@@ -60,10 +75,81 @@ settings.register_profile("explore", derandomize=False, max_examples=1000, deadl
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "repeatable"))
 
 
+#: This process's Dask scratch folder and its registration with the watchdog.
+_dask_scratch: list[tuple[str, Path | None]] = []
+
+
 def pytest_configure(config):
     """Mark the processes this run starts, and watch it: what a killed run leaves
-    behind (servers, Dask processes, commands and their workers) is stopped."""
+    behind (servers, Dask processes, commands and their workers) is stopped. Each
+    process of the run (each xdist worker) has its own watchdog and Dask scratch folder."""
     watchdog.start()
+    _own_dask_scratch(worker_name(config))
+
+
+def worker_name(config) -> str:
+    """The xdist worker this process is (``gw0``, ``gw1``, ...), or ``main`` without -n."""
+    return getattr(config, "workerinput", {}).get("workerid", "main")
+
+
+def _own_dask_scratch(worker: str) -> None:
+    """Give Dask a scratch folder of this process's own (its workers' spill and lock
+    files), instead of the ``dask-scratch-space`` in the system's temporary folder that
+    every run and every xdist worker would share. Set in the environment, so that the
+    ``dask scheduler`` and ``dask worker`` processes the tests start use it too (an xdist
+    worker inherits its controller's: it replaces it). Removed at the end of the run, or
+    by the watchdog after a killed run."""
+    folder = tempfile.mkdtemp(prefix=f"registry-dask-{worker}-")
+    _dask_scratch.append((folder, watchdog.register("dask", root=folder)))
+    os.environ["DASK_TEMPORARY_DIRECTORY"] = folder
+    if "dask" in sys.modules:  # read its environment at import: read it again
+        import dask.config
+
+        dask.config.refresh()
+
+
+def pytest_unconfigure(config):
+    """Remove this process's Dask scratch folder (its clusters are closed by now)."""
+    while _dask_scratch:
+        folder, registration = _dask_scratch.pop()
+        shutil.rmtree(folder, ignore_errors=True)
+        watchdog.unregister(registration)
+
+
+#: Module-scoped fixtures too cheap to keep a module's tests in one xdist worker.
+CHEAP_MODULE_FIXTURES = {"backend"}
+
+#: Session fixtures that take long to build (``full_registry_file``: about 15 s): the
+#: tests that use one run in one worker, which builds it once.
+BUILT_ONCE = ("full_registry_file",)
+
+
+@pytest.hookimpl(tryfirst=True)  # before xdist reads the groups (--dist loadgroup)
+def pytest_collection_modifyitems(config, items):
+    """Under ``-n`` with ``--dist loadgroup`` (pyproject.toml), the tests of a module that
+    share a module-scoped fixture (a registry audited once, a site built once, a Dask
+    cluster) run in one worker, which builds it once; so do the tests that share one of
+    ``BUILT_ONCE``. The others are spread test by test. Without -n this changes nothing."""
+    for item in items:
+        if item.get_closest_marker("xdist_group") is None:
+            group = _shared_fixture_group(item)
+            if group:
+                item.add_marker(pytest.mark.xdist_group(group))
+
+
+def _shared_fixture_group(item) -> str | None:
+    info = getattr(item, "_fixtureinfo", None)  # doctests have none
+    if info is None:
+        return None
+    names = set(item.fixturenames)
+    for name in BUILT_ONCE:
+        if name in names:
+            return name
+    for name in sorted(names - CHEAP_MODULE_FIXTURES):
+        definitions = info.name2fixturedefs.get(name)
+        if definitions and definitions[-1].scope == "module":
+            return item.nodeid.split("::", 1)[0]  # the module's file
+    return None
 
 
 C = sp.Symbol("C", positive=True)
@@ -153,10 +239,11 @@ def full_registry_file(tmp_path_factory) -> Path:
 
 
 @pytest.fixture(scope="session")
-def postgres_server() -> Iterator[PostgresServer]:
-    """A PostgreSQL server of this test session (started on first use, stopped at the end)."""
+def postgres_server(request) -> Iterator[PostgresServer]:
+    """A PostgreSQL server of this test session (started on first use, stopped at the end):
+    under xdist each worker is a session, and starts a server of its own."""
     try:
-        server = PostgresServer.start()
+        server = PostgresServer.start(label=worker_name(request.config))
     except ServerUnavailable as why:
         if os.environ.get("REGISTRY_CI"):
             pytest.fail(f"REGISTRY_CI is set, but no PostgreSQL server could be started: {why}")

@@ -145,6 +145,7 @@ def assert_sound(db: str) -> None:
 # ---------------------------------------------------------------------- tests
 
 
+@pytest.mark.slow  # four registry commands at once on the catalog: over a minute per backend loaded
 def test_two_audits_and_two_adds_at_once_all_finish_while_pandas_reads(tmp_path, db_target, capsys):
     db = db_target
     with registry.open(db) as reg:

@@ -325,6 +325,7 @@ def test_audits_killed_at_random_moments_leave_a_sound_database(db, audited, cap
 # ------------------------------------------------------------------------ SIGTERM
 
 
+@pytest.mark.slow  # audits stopped by SIGTERM, then re-run: about a minute when loaded
 @pytest.mark.parametrize("cases", [0, 3], ids=["run-recorded", "3-cases-committed"])
 def test_sigterm_records_the_run_as_interrupted_and_stops_the_workers(db, audited, cases):
     _, n_cases = audited

@@ -304,9 +304,17 @@ def check_same_code(client: Client, version_of: Callable[[], str]) -> None:
     """SchedulerError unless every worker of the cluster gives the answer this process
     gives to ``version_of()`` (a picklable function): a run records results under this
     process's code version, so its workers must run the same code. Workers that join
-    later are not asked."""
+    later are not asked, nor one that dies while it is asked (its connection lost: the
+    scheduler gives it no task, and the run goes on as when a worker dies later)."""
+    from distributed.comm import CommClosedError
+
     mine = version_of()
-    wrong = {w: v for w, v in client.run(version_of).items() if v != mine}
+    answers = client.run(version_of, on_error="return")
+    gone = {w for w, v in answers.items() if isinstance(v, CommClosedError)}
+    for worker, answer in answers.items():
+        if isinstance(answer, BaseException) and worker not in gone:
+            raise answer  # the function failed there, as before
+    wrong = {w: v for w, v in answers.items() if w not in gone and v != mine}
     if wrong:
         worker, theirs = sorted(wrong.items())[0]
         others = f" (and {len(wrong) - 1} other worker(s))" if len(wrong) > 1 else ""

@@ -217,6 +217,7 @@ def test_numbers_on_one_instance_of_a_family_cannot_contradict_a_refutation():
     assert not d.contradicts(Verdict.VERIFIED)
 
 
+@pytest.mark.slow  # integrates trajectories for every claim of the catalog: over a minute loaded
 def test_strict_audit_of_the_classical_catalog_passes_with_every_claim_decided(tmp_path):
     db = tmp_path / "r.sqlite"
     with registry.open(db) as reg:

@@ -106,6 +106,7 @@ def test_a_call_without_result_becomes_the_local_pools_record():
 # ------------------------------------------------------ the seed catalog on local:2
 
 
+@pytest.mark.slow  # the 16 seed cases on a local:2 cluster and in the local pool: 5 min when loaded
 def test_local_2_audits_the_seed_catalog_exactly_as_the_local_pool(tmp_path):
     local = registry.open(tmp_path / "local.sqlite")
     local.add(SEED)
@@ -173,6 +174,7 @@ def test_a_check_that_would_run_for_minutes_is_stopped_by_its_budget_on_the_work
         assert (mine.verdict, mine.reason) == (theirs.verdict, theirs.reason)
 
 
+@pytest.mark.slow  # waits out a case deadline on the cluster: over a minute when loaded
 def test_a_check_stuck_where_the_alarm_cannot_reach_is_killed_at_the_case_deadline(
     process_cluster,
 ):

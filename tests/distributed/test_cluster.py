@@ -71,14 +71,17 @@ def test_a_scheduler_file_gives_the_address_written_in_it(tmp_path):
          "its address 'tcp://10.1.2.3': it needs a host and a port"),
     ],
 )  # fmt: skip
-def test_a_bad_scheduler_file_is_one_line(tmp_path, content, reason):
-    file = tmp_path / "scheduler.json"
+def test_a_bad_scheduler_file_is_one_line(tmp_path, monkeypatch, content, reason):
+    # a name short enough to be quoted whole (a longer one is cut: an xdist worker's
+    # temporary folder is longer than a plain run's)
+    monkeypatch.chdir(tmp_path)
+    file = "scheduler.json"
     if content is not None:
-        file.write_text(content)
+        (tmp_path / file).write_text(content)
     with pytest.raises(SchedulerAddressError) as caught:
-        parse_scheduler(str(file))
+        parse_scheduler(file)
     assert caught.value.reason == reason
-    assert str(caught.value).startswith(f"bad Dask scheduler address {str(file)!r}: {reason} ")
+    assert str(caught.value).startswith(f"bad Dask scheduler address {file!r}: {reason} ")
 
 
 def test_local_alone_means_one_worker_per_core():
@@ -242,3 +245,19 @@ def test_workers_running_other_code_are_refused():
         (worker,) = client.nthreads()
         assert str(caught.value).startswith(f"Dask worker {worker} runs registry ")
         assert "start the workers from the same code" in str(caught.value)
+
+
+def _same_unless_worker_1_dies(dask_worker=None) -> str:
+    """The same answer everywhere, except on the worker named worker-1, which dies while
+    it is asked (as a worker killed at that moment does)."""
+    if dask_worker is not None and dask_worker.name == "worker-1":
+        os.kill(os.getpid(), signal.SIGKILL)
+    return "same"
+
+
+def test_a_worker_that_dies_while_its_code_is_checked_is_not_asked(separate_processes):
+    from distributed import Client
+
+    with Client(separate_processes.address, timeout=30) as client:
+        check_same_code(client, _same_unless_worker_1_dies)
+    assert separate_processes.workers[1].wait(timeout=HANG) == -signal.SIGKILL

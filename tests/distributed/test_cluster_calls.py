@@ -128,6 +128,7 @@ def test_a_worker_that_dies_takes_no_results_with_it(process_cluster, tmp_path):
     )
 
 
+@pytest.mark.slow  # every worker killed and restarted, twice: over a minute when loaded
 def test_an_item_that_kills_every_worker_is_given_up_alone(process_cluster, tmp_path):
     items = [("always", ""), ("fine", "a"), ("fine", "b")]
     events = []
@@ -162,6 +163,7 @@ def test_an_item_that_kills_every_worker_is_given_up_alone(process_cluster, tmp_
     assert str(given_up).startswith("always-: given up (KilledWorker: ")
 
 
+@pytest.mark.slow  # waits out the run's no-worker timeout: a minute when loaded
 def test_a_run_ends_when_the_cluster_has_no_worker_left(tmp_path):
     """Workers without a nanny stay dead: once the batch has killed both, Dask keeps it
     waiting for a worker for ever; the run gives its items up after ``no_worker``."""

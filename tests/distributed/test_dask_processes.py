@@ -26,7 +26,12 @@ ROOT = Path(__file__).resolve().parents[2]
 SEED = ROOT / "data" / "cases"
 FAMILY = ROOT / "tests" / "data" / "families" / "heavy-top-lam-z0.toml"
 
-pytestmark = pytest.mark.skipif(not sys.platform.startswith("linux"), reason="POSIX processes")
+pytestmark = [
+    pytest.mark.skipif(not sys.platform.startswith("linux"), reason="POSIX processes"),
+    # whole audits and searches through a scheduler and workers of their own, each run
+    # locally too for comparison: 1.5 to 8 min each on a loaded 2-core machine
+    pytest.mark.slow,
+]
 
 
 def catalog(db: Path, *paths: Path) -> Path:

@@ -33,7 +33,7 @@ ROOT = Path(__file__).resolve().parents[2]
 #: Real tests of the PostgreSQL server and of the Dask clusters, run before the hold.
 SELECTION = [
     "tests/store/test_database.py::test_reopening_a_database_keeps_its_content[postgres]",
-    "tests/distributed/test_tasks.py::test_every_index_comes_once_with_its_result",
+    "tests/distributed/test_cluster_calls.py::test_every_index_comes_once_with_its_result",
 ]
 
 #: Seconds within which nothing of the killed run may be left.
@@ -74,6 +74,7 @@ def test_services_held_until_the_run_is_killed(
 
 
 @pytest.mark.slow
+@pytest.mark.serial  # kills a whole test run: not beside the workers of another
 @pytest.mark.skipif(not sys.platform.startswith("linux"), reason="reads /proc")
 @pytest.mark.skipif(HOLD in os.environ, reason="the killed run itself")
 @pytest.mark.parametrize("how", [signal.SIGKILL, signal.SIGTERM], ids=["SIGKILL", "SIGTERM"])
@@ -83,7 +84,8 @@ def test_a_killed_run_leaves_nothing_behind(tmp_path, how):
     held_test = f"{Path(__file__).relative_to(ROOT)}::test_services_held_until_the_run_is_killed"
     with open(log, "wb") as out:
         run = subprocess.Popen(
-            [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "-x"]
+            # -n 0: the held services are this pytest's own, marked with its pid
+            [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "-x", "-n", "0"]
             + [*SELECTION, held_test],
             cwd=ROOT,
             env={**os.environ, HOLD: str(ready)},

@@ -5,6 +5,8 @@ from __future__ import annotations
 
 from dataclasses import replace
 
+import pytest
+
 import registry
 from registry.discovery.search import discover, search_options
 from registry.execution.executor import DaskCluster
@@ -29,6 +31,7 @@ kappa = "1"
 """
 
 
+@pytest.mark.slow  # a new local:2 cluster and the local pool on the new forms: a minute loaded
 def test_new_form_cases_audit_on_the_cluster_as_in_the_local_pool(tmp_path):
     local = registry.open(tmp_path / "local.sqlite")
     local.add(HAMILTONIAN)

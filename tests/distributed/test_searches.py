@@ -8,6 +8,8 @@ import time
 from dataclasses import replace
 from pathlib import Path
 
+import pytest
+
 import registry
 from registry.discovery.search import _label, discover, search_options
 from registry.execution.executor import DaskCluster, LocalPool
@@ -25,6 +27,7 @@ def nap(seconds: float) -> float:
     return seconds
 
 
+@pytest.mark.slow  # three-parameter search on the cluster and locally: a minute when loaded
 def test_the_candidate_sets_searched_on_the_cluster_give_the_local_search(process_cluster):
     case = family("heavy-top-lam-z0")
     options = search_options(case, degree=4, free=("lam", "z0"))

@@ -50,6 +50,7 @@ def added(db: Path) -> Path:
     return db
 
 
+@pytest.mark.slow  # the seed catalog audited over TLS and in the local pool: a minute loaded
 def test_an_audit_over_tls_gives_the_local_pools_verdicts(tmp_path, tls_cluster, certificates):
     local, remote = added(tmp_path / "local.sqlite"), added(tmp_path / "tls.sqlite")
     expected = registry_run(local, "audit", "--jobs", "2", *PATIENT_OPTIONS)

@@ -14,6 +14,11 @@ watchdog (``watchdog.py``), with which the server is registered from its start.
 
 Each test gets a database of its own (``create_database``), named by a URL of the form
 docs/operations.md gives: ``postgresql+psycopg://registry@/NAME?host=/socket/dir``.
+
+Servers started side by side (one per xdist worker, or another checkout's test run on
+the same machine) share nothing: each has its own folder, data directory and socket
+(``.s.PGSQL.5432`` in that folder); with no TCP port there is no port to collide on, and
+PostgreSQL picks a free System V shared-memory key for each.
 """
 
 from __future__ import annotations
@@ -119,8 +124,9 @@ class PostgresServer:
     # ------------------------------------------------------------------ lifecycle
 
     @classmethod
-    def start(cls) -> PostgresServer:
-        """Create and start a cluster; ServerUnavailable says why when that fails."""
+    def start(cls, label: str = "") -> PostgresServer:
+        """Create and start a cluster (in a new folder, named with ``label``: the xdist
+        worker that started it); ServerUnavailable says why when that fails."""
         try:
             import psycopg  # noqa: F401  (the driver the registry uses)
         except ImportError as err:
@@ -134,7 +140,7 @@ class PostgresServer:
                 "/usr/lib/postgresql/*/bin); install the Debian package 'postgresql'"
             )
         owner = _owner()
-        root = Path(tempfile.mkdtemp(prefix="registry-pg-"))
+        root = Path(tempfile.mkdtemp(prefix=f"registry-pg-{label}-" if label else "registry-pg-"))
         server = cls(bindir, root, owner)
         atexit.register(server.stop)
         server._watched = watchdog.register("postgres", data=str(server.data), root=str(root))

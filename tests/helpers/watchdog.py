@@ -68,7 +68,8 @@ def start(pid: int | None = None) -> bool:
 
 def register(kind: str, **info: str) -> Path | None:
     """Tell the watchdog of a service to stop when the run ends: ``postgres`` with
-    ``data`` (its data directory) and ``root`` (a directory to remove); the returned
+    ``data`` (its data directory) and ``root`` (a directory to remove), or any other kind
+    with a ``root`` alone (a folder to remove: a Dask scratch folder); the returned
     file is removed by ``unregister`` once the service is stopped (None without a
     watchdog). Written aside, then renamed: the watchdog never reads half a file."""
     folder = os.environ.get(FOLDER)
