@@ -311,6 +311,13 @@ def _identified(
             f"{len(result.skipped)} catalog cases not compared (an integral there is said "
             "new only against the others)"
         )
+    if result.failed:
+        where = ", ".join(found.when) or "the generic values"
+        names = ", ".join(f"{case_id} ({error})" for case_id, error in result.failed)
+        state.undecided.append(
+            f"identification of {where} could not compare {len(result.failed)} catalog "
+            f"cases: {names} (an integral there is said new only against the others)"
+        )
     status = list(found.status) or [IntegralStatus("new") for _ in found.integrals]
     if not result.same or result.form is None:
         return replace(found, status=tuple(status))

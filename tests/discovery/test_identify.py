@@ -66,3 +66,23 @@ def test_a_system_that_is_no_catalog_case_matches_nothing_it_should_not():
     case = family("asymmetric-heavy-top")
     found = identify(case.dynamics, catalog_index())
     assert not any(s.case.startswith("kovalevskaya") for s in found.same)
+
+
+def test_a_comparison_that_fails_is_named_and_the_others_still_made(monkeypatch):
+    from registry.discovery.identification import identify as module
+
+    real = module.match
+
+    def failing(mine, theirs, **options):
+        if theirs is broken.form:
+            raise ArithmeticError("planted")
+        return real(mine, theirs, **options)
+
+    broken = next(e for e in catalog_index().entries if e.id == "kovalevskaya-1889-heavy-top")
+    monkeypatch.setattr(module, "match", failing)
+    case_id = "kovalevskaya-1889-heavy-top-normalised"
+    found = identify(catalog_case(case_id).dynamics, catalog_index(), exclude=(case_id,))
+    assert found.failed == (("kovalevskaya-1889-heavy-top", "ArithmeticError: planted"),)
+    same = {s.case for s in found.same}
+    assert "kovalevskaya-1889-heavy-top" not in same
+    assert "kovalevskaya-1889-heavy-top-equatorial" in same

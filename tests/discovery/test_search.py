@@ -573,3 +573,26 @@ def test_a_generated_familys_special_set_is_the_catalog_case_it_was_made_from():
     assert "K" in same["kovalevskaya-1889-heavy-top"].claims
     moved = dict(same["kovalevskaya-1889-heavy-top"].transformation)
     assert moved["M1"].lstrip("-") == "M3"  # the axes 1 and 3 exchanged, as generated
+
+
+def test_a_failed_identification_is_in_the_coverage_and_the_search_is_not_complete(
+    monkeypatch,
+):
+    from registry.discovery.identification import identify as module
+
+    def failing(*args, **options):
+        raise ArithmeticError("planted")
+
+    monkeypatch.setattr(module, "match", failing)
+    case = family("kovalevskaya-diagonal-torque")
+    only = CatalogIndex.of(c for c in catalog_cases() if c.id == "kovalevskaya-1889-heavy-top")
+    found = discover(
+        case, search_options(case, degree=4, free=("t1", "t2", "t3")), budget=600, catalog=only
+    )
+    (point,) = found.special
+    assert point.same_as == ()
+    assert not found.complete
+    assert any(
+        "could not compare 1 catalog cases: kovalevskaya-1889-heavy-top" in line
+        for line in found.coverage
+    )

@@ -101,6 +101,8 @@ class Identification:
     form: FieldForm | None = None
     #: the cases not compared because the time ran out (none: the catalog was covered)
     skipped: tuple[str, ...] = ()
+    #: the cases whose comparison failed, each with the error (never said to differ)
+    failed: tuple[tuple[str, str], ...] = ()
 
 
 #: Seconds one identification may take (a system with free parameters costs more).
@@ -116,7 +118,8 @@ def identify(
 ) -> Identification:
     """The catalog cases that are the system (module docstring); ``exclude`` names cases
     not to compare with (the system's own). Past ``budget`` seconds the cases left are
-    named in ``skipped``, never said to be other systems."""
+    named in ``skipped``, never said to be other systems; a case whose comparison raises
+    is named in ``failed`` with the error, and the others are still compared."""
     started = time.perf_counter()
     mine = field_form(dynamics)
     if mine is None:
@@ -125,6 +128,7 @@ def identify(
     found: list[SameAs] = []
     compared: list[str] = []
     skipped: list[str] = []
+    failed: list[tuple[str, str]] = []
     for entry in sorted(index.entries, key=lambda e: (e.size, e.id)):
         if entry.id in exclude or entry.form is None:
             continue
@@ -133,19 +137,25 @@ def identify(
             continue
         if entry.form.shifted != mine.shifted or not compatible(key, entry.ratios):
             continue
-        orders, rotated = _orders(mine, entry)
-        if not orders and not rotated:
+        try:
+            orders, rotated = _orders(mine, entry)
+            if not orders and not rotated:
+                continue
+            compared.append(entry.id)
+            result = match(
+                mine, entry.form, assumptions=entry.assumptions, orders=orders, rotated=rotated
+            )
+            if result is None:
+                continue
+            values = {str(p): to_text(sp.sympify(v)) for p, v in result.values.items()}
+            transformation = result.transformation.description(mine, entry.form, result.values)
+        except Exception as error:  # noqa: BLE001 - one case never stops identification
+            failed.append((entry.id, f"{type(error).__name__}: {error}"[:200]))
             continue
-        compared.append(entry.id)
-        result = match(
-            mine, entry.form, assumptions=entry.assumptions, orders=orders, rotated=rotated
-        )
-        if result is None:
-            continue
-        values = {str(p): to_text(sp.sympify(v)) for p, v in result.values.items()}
-        transformation = result.transformation.description(mine, entry.form, result.values)
         found.append(
             SameAs(entry.id, values, transformation, result.transformation.is_identity(), result)
         )
     seconds = time.perf_counter() - started
-    return Identification(tuple(found), tuple(compared), seconds, mine, tuple(skipped))
+    return Identification(
+        tuple(found), tuple(compared), seconds, mine, tuple(skipped), tuple(failed)
+    )
