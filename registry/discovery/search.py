@@ -178,16 +178,23 @@ def discover(
         dynamics.field, options.weights, dynamics.vectors, dynamics.shorthands, dynamics.variables
     )
     executor = executor or InProcess()
+    identifying = False
     try:
         with time_limit(budget):
             _, state.found = _search(state, case, free, executor, timed(budget))
             if catalog is not None and not options.relations:
-                state.found = [_identified(state, case, s, catalog) for s in state.found]
+                identifying = True
+                for i, found in enumerate(state.found):  # each kept as soon as identified
+                    state.found[i] = _identified(state, case, found, catalog)
                 if state.generic is not None and state.generic.extra:
                     state.generic = _identified(state, case, state.generic, catalog)
     except BudgetExceeded:
         state.undecided.append(
-            f"time budget exceeded ({budget:g} s) after {state.done} of the "
+            f"time budget exceeded ({budget:g} s) while identifying the sets found with "
+            "the catalog: a set not identified has no same_as, and its integrals are "
+            "compared only with the searched case's claims"
+            if identifying
+            else f"time budget exceeded ({budget:g} s) after {state.done} of the "
             f"{state.total} candidate sets found so far"
         )
     generic = state.generic or IntegralSet((), 0)

@@ -596,3 +596,23 @@ def test_a_failed_identification_is_in_the_coverage_and_the_search_is_not_comple
         "could not compare 1 catalog cases: kovalevskaya-1889-heavy-top" in line
         for line in found.coverage
     )
+
+
+def test_a_budget_spent_identifying_keeps_the_sets_found_and_says_where_it_ran_out(monkeypatch):
+    import time
+
+    from registry.discovery.identification import identify as module
+
+    def slow(*args, **options):
+        time.sleep(120)
+
+    monkeypatch.setattr(module, "match", slow)
+    case = family("kovalevskaya-diagonal-torque")
+    only = CatalogIndex.of(c for c in catalog_cases() if c.id == "kovalevskaya-1889-heavy-top")
+    found = discover(
+        case, search_options(case, degree=4, free=("t1", "t2", "t3")), budget=20, catalog=only
+    )
+    (point,) = found.special
+    assert point.when == ("t1 = 0", "t2 = 0", "t3 = 0") and point.same_as == ()
+    assert not found.complete
+    assert "while identifying the sets found with the catalog" in found.coverage[0]
