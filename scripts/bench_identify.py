@@ -39,7 +39,12 @@ def main() -> None:
     parser = argparse.ArgumentParser()
     parser.add_argument("--repeat", type=int, default=3)
     args = parser.parse_args()
-    os.environ["REGISTRY_CACHE"] = tempfile.mkdtemp(prefix="bench-identify-")
+    with tempfile.TemporaryDirectory(prefix="bench-identify-") as cache:
+        os.environ["REGISTRY_CACHE"] = cache  # cold: an empty cache folder, removed after
+        run(args.repeat)
+
+
+def run(repeat: int) -> None:
 
     from registry.discovery.identification import catalog_index  # noqa: PLC0415
     from registry.discovery.identification.identify import identify  # noqa: PLC0415
@@ -70,14 +75,14 @@ def main() -> None:
         ("asymmetric heavy top (no catalog case)", asymmetric.dynamics, ()),
     ):
         best = None
-        for _ in range(args.repeat):
+        for _ in range(repeat):
             found, wall, cpu = timed(lambda d=dynamics, e=exclude: identify(d, index, exclude=e))
             best = (wall, cpu) if best is None or cpu < best[1] else best
         assert best is not None
         print(
             f"{name}: {len(found.same)} cases ({', '.join(s.case for s in found.same[:4])}"
             f"{', ...' if len(found.same) > 4 else ''}), {len(found.compared)} compared, "
-            f"best of {args.repeat}: {best[0]:.2f} s wall, {best[1]:.2f} s CPU"
+            f"best of {repeat}: {best[0]:.2f} s wall, {best[1]:.2f} s CPU"
         )
 
 
