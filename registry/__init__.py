@@ -21,6 +21,7 @@ _PUBLIC = {
     "Registry": "api",
     "open_registry": "api",
     "open": "api",
+    "analyse_exponents": "api",
     "audit_case": "audit.case_audit",
     "load_case": "language.casefile",
     "parse_case_text": "language.casefile",
@@ -48,7 +49,7 @@ _ERRORS = (
 )
 
 if TYPE_CHECKING:
-    from .api import AddResult, AuditReport, Registry, open_registry
+    from .api import AddResult, AuditReport, Registry, analyse_exponents, open_registry
     from .api import open_registry as open  # noqa: A004 - registry.open reads like sqlite3.connect
     from .audit.case_audit import audit_case
     from .errors import (
@@ -125,6 +126,7 @@ __all__ = [
     "UnknownRunError",
     "Verdict",
     "Witness",
+    "analyse_exponents",
     "audit_case",
     "load_case",
     "open",

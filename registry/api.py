@@ -22,7 +22,7 @@ from . import settings
 from .errors import CaseFormatError, RegistryError
 from .execution.executor import check_options, open_executor
 from .execution.time_budget import TimeBudget, default_budget
-from .settings import DEFAULT_SEARCH_SECONDS
+from .settings import DEFAULT_EXPONENT_SECONDS, DEFAULT_SEARCH_SECONDS, DEFAULT_SURVEY_SECONDS
 
 # The facade is imported by ``registry --help`` and ``--version``, which must stay quick:
 # sympy, SQLAlchemy and pandas are imported by the methods that use them, not here.
@@ -33,6 +33,7 @@ if TYPE_CHECKING:
     from .model import Case, DriftCurve, Equation, MeasureSearch, Verdict, VerdictChange, Weights
     from .presentation.site import Catalog
     from .runs.audit_run import AuditReport
+    from .runs.exponents_run import ExponentReport
     from .runs.search_run import SearchReport
     from .store.copying import CopyReport
     from .store.database import Store
@@ -53,6 +54,7 @@ __all__ = [
     "AuditReport",
     "CheckInfo",
     "Registry",
+    "analyse_exponents",
     "check_where",
     "checks",
     "checks_text",
@@ -291,7 +293,7 @@ class Registry:
         case_ids: Sequence[str] | None = None,
         *,
         fresh: bool = False,
-        budget: float | None = DEFAULT_SEARCH_SECONDS,
+        budget: float | None = DEFAULT_SURVEY_SECONDS,
         jobs: int | None = None,
         progress: Callable[[int, int, str], None] | None = None,
         scheduler: str | Client | None = None,
@@ -353,6 +355,46 @@ class Registry:
         from .store import frames
 
         return frames.discoveries_frame(self.store)
+
+    # --- Kovalevskaya exponents ---------------------------------------------
+
+    def analyse_exponents(
+        self,
+        target: str | os.PathLike | Case,
+        *,
+        weights: Weights | Mapping[str, int] | tuple[int, int] | None = None,
+        free: Sequence[str] = (),
+        record: bool = False,
+        fresh: bool = False,
+        budget: float | None = DEFAULT_EXPONENT_SECONDS,
+        jobs: int | None = None,
+        scheduler: str | Client | None = None,
+    ) -> ExponentReport:
+        """The Kovalevskaya exponents of a case (a case file, a stored case's id, or a
+        ``Case``): every balance of its field's leading part under ``weights`` (by vector,
+        default the case's own), its exponents, Yoshida's degrees and the Painlevé test
+        (``registry.discovery.exponents``); with ``free``, the values of those parameters
+        where every exponent is an integer, half an integer or rational, the candidates
+        analysed in ``jobs`` worker processes or on the Dask cluster of ``scheduler``.
+        A stored analysis of the same case version and options by this code version is
+        reused unless ``fresh``; ``record`` stores this one with the case version (the
+        file added first if need be), keeping the earlier ones. ``reg.exponents()`` lists
+        the recorded analyses."""
+        from .runs.exponents_run import ExponentRequest, exponents_run
+
+        request = ExponentRequest(weights, tuple(free), budget, record, fresh)
+        with open_executor(jobs, scheduler) as executor:
+            return exponents_run(self.store, target, request, executor)
+
+    def exponents(self) -> pd.DataFrame:
+        """One row per recorded Kovalevskaya analysis, oldest first: the case version, the
+        weights, the free parameters, whether it was decided, whether the field is
+        weighted-homogeneous, the balances, whether every exponent is an integer
+        (rational), Yoshida's degrees, the Painlevé test, a family's special sets, the
+        statement, code version and time."""
+        from .store import frames
+
+        return frames.exponents_frame(self.store)
 
     # --- queries ----------------------------------------------------------
 
@@ -527,6 +569,7 @@ class Registry:
         of that version, the version history, the searches and discoveries."""
         from .audit.outcome import outcomes
         from .presentation.site import CaseEntry, Catalog
+        from .runs.exponents_run import site_exponents
         from .store import frames
 
         entries = []
@@ -538,7 +581,14 @@ class Registry:
                 CaseEntry(case, stored.version, stored.text, run, next(iter(found), None))
             )
         versions = frames.versions_frame(self.store)
-        return Catalog(self.cases(), tuple(entries), versions, self.searches(), self.discoveries())
+        return Catalog(
+            self.cases(),
+            tuple(entries),
+            versions,
+            self.searches(),
+            self.discoveries(),
+            site_exponents(self.store),
+        )
 
     def site(self, out_dir: str | os.PathLike, base_url: str = "") -> list[Path]:
         """Write the registry as a static web site into ``out_dir`` (``presentation.site``):
@@ -696,3 +746,27 @@ def discover_file(
     request = SearchRequest(degree, weights, tuple(on), tuple(free), relations, budget)
     with open_executor(jobs, scheduler) as executor:
         return search_run(None, path, request, executor, progress)
+
+
+def analyse_exponents(
+    target: str | os.PathLike | Case,
+    *,
+    weights: Weights | Mapping[str, int] | tuple[int, int] | None = None,
+    free: Sequence[str] = (),
+    budget: float | None = DEFAULT_EXPONENT_SECONDS,
+    jobs: int | None = None,
+    scheduler: str | Client | None = None,
+) -> ExponentReport:
+    """The Kovalevskaya exponents of a case file or a ``Case`` without a database (in a
+    notebook): nothing is reused or recorded (``Registry.analyse_exponents`` has the
+    options).
+
+    >>> report = analyse_exponents("data/cases/heavy-top/kovalevskaya-1889-heavy-top.toml")
+    >>> report.result.all_integer, report.result.degrees
+    (True, (1, 2, 3, 4))
+    """
+    from .runs.exponents_run import ExponentRequest, exponents_run
+
+    request = ExponentRequest(weights, tuple(free), budget)
+    with open_executor(jobs, scheduler) as executor:
+        return exponents_run(None, target, request, executor)

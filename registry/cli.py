@@ -503,7 +503,7 @@ def _measures(target: str, is_file: bool, as_json: bool, other_options: bool) ->
     "--budget",
     "seconds",
     type=click.FloatRange(min=0, min_open=True),
-    default=settings.DEFAULT_SEARCH_SECONDS,
+    default=settings.DEFAULT_SURVEY_SECONDS,
     show_default=True,
     help="Seconds each search may take; then what is proven is recorded.",
 )
@@ -583,6 +583,94 @@ def searches(case_id: str | None, long_: bool, as_json: bool) -> None:
         click.echo(json.dumps(documents, indent=2, ensure_ascii=False))
         return
     click.echo(reg.searches_text(case_id, long=long_))
+
+
+@main.command()
+@click.argument("target", metavar="FILE|ID")
+@click.option(
+    "--weights",
+    "weights_text",
+    default=None,
+    metavar="VECTOR=W,...",
+    help="Weights of the state's vectors (default: the grading that makes the field "
+    "homogeneous, else their own: M=1,gamma=2 for the reference paper's state).",
+)
+@click.option(
+    "--free",
+    "free_text",
+    default="",
+    metavar="P,Q",
+    help="Parameters whose special values are sought (every other parameter of the field "
+    "must be free too).",
+)
+@click.option("--json", "as_json", is_flag=True, help="Print JSON (docs/json-output.md).")
+@click.option("--record", is_flag=True, help="Store the analysis with the case version.")
+@click.option(
+    "--fresh",
+    is_flag=True,
+    help="Analyse again instead of reusing a stored analysis (one that ran out of a smaller "
+    "--budget is analysed again anyway).",
+)
+@click.option(
+    "--budget",
+    "seconds",
+    type=click.FloatRange(min=0, min_open=True),
+    default=settings.DEFAULT_EXPONENT_SECONDS,
+    show_default=True,
+    help="Seconds the whole analysis may take; past them nothing is established.",
+)
+@_where("Analyse the candidate parameter values")
+@_user_errors
+def exponents(
+    target: str,
+    weights_text: str | None,
+    free_text: str,
+    as_json: bool,
+    record: bool,
+    fresh: bool,
+    seconds: float,
+    jobs: int | None,
+    scheduler: str | None,
+) -> None:
+    """Kovalevskaya exponents of a case (a case file or a stored case's id).
+
+    Splits the field into weighted-homogeneous parts (the leading part is used, and
+    said so, where the field is not homogeneous), finds every balance x = c t^(-w)
+    (complex ones too, algebraic numbers exact), its exponents, the weighted degrees
+    Yoshida's theorem leaves for first integrals, and the Painlevé (ARS) test. With
+    --free, the parameter values where every exponent is an integer, half an integer
+    or rational, each with its own analysis. The statement says only what the cited
+    theorems prove. A file analysed without --record needs no database.
+
+    Example: registry exponents data/cases/heavy-top/kovalevskaya-1889-heavy-top.toml
+    """
+    from .api import check_where
+
+    check_where(jobs, scheduler)
+    weights = _weights(weights_text)
+    free = tuple(f.strip() for f in free_text.split(",") if f.strip())
+    is_file = Path(target).is_file()
+    reg = _registry(create=True) if record or not is_file else _existing_registry()
+    options: dict[str, Any] = dict(
+        weights=weights, free=free, budget=seconds, jobs=jobs, scheduler=scheduler
+    )
+    if reg is None:
+        from .api import analyse_exponents
+
+        report = analyse_exponents(target, **options)
+    else:
+        with reg.interruptible():
+            report = reg.analyse_exponents(target, record=record, fresh=fresh, **options)
+    for event in report.events:
+        click.echo(f"note: {event}", err=True)
+    if as_json:
+        click.echo(json.dumps(report.document(), indent=2, ensure_ascii=False))
+        return
+    click.echo(report.text())
+    if report.reused:
+        click.echo(f"(reused stored analysis {report.number}; --fresh analyses again)")
+    elif report.number is not None:
+        click.echo(f"recorded as analysis {report.number}")
 
 
 def _progress_bar(**options: Any) -> Any:

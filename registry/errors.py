@@ -87,6 +87,24 @@ class WeightedFieldError(RegistryError, ValueError):
         return "\n".join(str(p) for p in self.problems)
 
 
+class ExponentError(RegistryError, ValueError):
+    """A Kovalevskaya analysis that cannot be made as asked (``registry exponents``): a
+    system that is not polynomial in its state or declares arbitrary functions, terms
+    that dominate dx/dt under the weights, a weight for a vector the state does not have,
+    a free name that is not a parameter, parameters left neither free nor fixed in a
+    family. Each problem is a ``Problem`` naming the field and the text, reported with
+    the case's ``file`` (its path, or its id when it is stored)."""
+
+    def __init__(self, file: str, problems: list[Problem]):
+        self.file = file
+        self.problems = list(problems)
+        super().__init__(str(self))
+
+    def __str__(self) -> str:
+        file = printable(self.file)
+        return "\n".join(f"{file}: {p}" for p in self.problems)
+
+
 class UnknownCaseError(RegistryError, LookupError):
     """A case id that the registry does not hold."""
 

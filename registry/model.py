@@ -11,7 +11,7 @@ from __future__ import annotations
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from enum import StrEnum
-from typing import TYPE_CHECKING, NoReturn
+from typing import TYPE_CHECKING, Any, NoReturn
 
 import sympy as sp
 
@@ -148,6 +148,14 @@ class System:
     def hamiltonian_form(self) -> bool:
         """Whether the case gives H itself (``system.hamiltonian``) rather than A, B, C, U."""
         return self.hamiltonian is not None
+
+    @property
+    def form(self) -> str:
+        """Which of the four forms the file uses: "inertia" or "hamiltonian" (the
+        reference paper's state M, gamma), "equations" or "bracket" (a state of its own)."""
+        if self.variables:
+            return "bracket" if self.bracket or not self.equations else "equations"
+        return "hamiltonian" if self.hamiltonian_form else "inertia"
 
     @property
     def inertia_exprs(self) -> tuple[sp.Expr, ...]:
@@ -678,3 +686,78 @@ class Search:
         ones: the search is complete, has claims, and every generic integral it found is
         one of them rediscovered (a family: and no special set carries more)."""
         return self.complete and bool(self.claims) and not self.special and not self.generic.new
+
+
+@dataclass(frozen=True)
+class ExponentOptions:
+    """What a Kovalevskaya analysis is asked: the weights of the state's vectors (every
+    vector named, ``("M", 1), ("gamma", 2)``) and the parameters whose special values are
+    sought (``free``; the others stay symbolic and generic)."""
+
+    weights: Weights
+    free: tuple[str, ...] = ()
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "weights", as_weights(self.weights))
+        object.__setattr__(self, "free", tuple(self.free))
+
+    def weights_text(self, sep: str = ": ") -> str:
+        """``M: 1, gamma: 2`` (or with another separator, ``M=1,gamma=2``)."""
+        glue = ", " if sep.endswith(" ") else ","
+        return glue.join(f"{name}{sep}{w}" for name, w in self.weights)
+
+    def as_dict(self) -> dict:
+        """The options as plain data (stored with an analysis; the key of its reuse)."""
+        return {"weights": dict(self.weights), "free": list(self.free)}
+
+
+@dataclass(frozen=True)
+class ExponentResult:
+    """A Kovalevskaya analysis of a case: its options and its JSON ``document`` (the
+    format of docs/json-output.md, "Kovalevskaya exponents": every balance, its exponents,
+    Yoshida's degrees, the Painlevé test and the statement, every expression as text),
+    which is what the registry stores. ``decided`` is false for an analysis the method
+    refused or did not finish (``document["reason"]`` says why): it establishes nothing."""
+
+    case: str
+    content_hash: str
+    options: ExponentOptions
+    document: Mapping[str, Any]
+    seconds: float = 0.0
+
+    @property
+    def decided(self) -> bool:
+        return bool(self.document.get("decided", True))
+
+    @property
+    def homogeneous(self) -> bool:
+        return bool(self.document.get("homogeneous", False))
+
+    @property
+    def all_integer(self) -> bool:
+        return bool(self.document.get("all_integer", False))
+
+    @property
+    def all_rational(self) -> bool:
+        return bool(self.document.get("all_rational", False))
+
+    @property
+    def degrees(self) -> tuple[int, ...]:
+        """Yoshida's degrees: the weighted degrees an integral with a gradient not zero at
+        some balance can have (meaningful only where ``decided``)."""
+        return tuple(int(d) for d in self.document.get("degrees", ()))
+
+    @property
+    def balances(self) -> int:
+        """How many balances (a family of balances counted once)."""
+        return len(self.document.get("balances", ()))
+
+    @property
+    def passes(self) -> bool:
+        """The Painlevé (ARS) test passes: integer exponents, every condition holding."""
+        painleve = self.document.get("painleve") or {}
+        return bool(painleve.get("passes", False))
+
+    @property
+    def statement(self) -> str:
+        return str(self.document.get("statement", ""))

@@ -38,6 +38,16 @@ DEFAULT_CHECK_SECONDS = 5.0
 DEFAULT_CORRECTIONS_SECONDS = 20.0
 #: Seconds an integral search may take by default (``registry discover --budget``).
 DEFAULT_SEARCH_SECONDS = 300.0
+#: Seconds each of a survey's searches may take by default (``registry survey
+#: --budget``): a sweep of the catalog does not wait minutes on one system it cannot
+#: finish (its record says where it stopped; ``registry discover`` takes longer).
+DEFAULT_SURVEY_SECONDS = 60.0
+#: Seconds a Kovalevskaya analysis may take by default (``registry exponents --budget``),
+#: and the one made beside a search (``discover``, the survey) to combine the two: short,
+#: as the main job makes one per case at every code version; one that runs out is
+#: recorded as not decided, and ``registry exponents`` makes it again with its own budget.
+DEFAULT_EXPONENT_SECONDS = 300.0
+BESIDE_SEARCH_EXPONENT_SECONDS = 10.0
 #: Seconds a command waits for another's lock on the database before it gives up.
 DEFAULT_LOCK_TIMEOUT = 10.0
 

@@ -1,9 +1,9 @@
 """The main job: load the catalog into the default database, audit it, print the verdicts.
 
 Before the audit every case gets its recorded search (``Registry.survey``: which
-polynomial integrals it has up to the degree its claims reach); what a search finds that
-is not one of the case's claims again is a claim that this audit decides. Stored audits
-and searches are reused.
+polynomial integrals it has up to the degree its claims reach) and its Kovalevskaya
+analysis under the same weights; what a search finds that is not one of the case's claims
+again is a claim that this audit decides. Stored audits, searches and analyses are reused.
 
 Usage: python scripts/audit.py [--db PATH|URL] [--json] [--no-survey]
 """
@@ -36,6 +36,25 @@ def survey_line(searches: list) -> str:
     )
 
 
+def exponents_line(reports: list) -> str:
+    """The Kovalevskaya analyses made beside the survey's searches in one line: how many
+    were decided, passed the Painlevé (ARS) test, and had every degree Yoshida's theorem
+    allows within their case's complete search (``discovery.every_degree``)."""
+    analyses = {
+        (r.search.case, repr(r.exponents.options.as_dict())): r.exponents
+        for r in reports
+        if r.exponents is not None
+    }
+    decided = [a for a in analyses.values() if a.decided]
+    passing = sum(a.passes for a in decided)
+    within = len({r.search.case for r in reports if r.bounded})
+    return (
+        f"{len(analyses)} Kovalevskaya analyses: {len(decided)} decided, {passing} passing "
+        f"the ARS test, {within} case(s) with every degree Yoshida allows searched; "
+        "see reg.exponents()"
+    )
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--db", default=str(ROOT / "data" / "registry.sqlite"))
@@ -55,11 +74,9 @@ def main(argv: list[str] | None = None) -> int:
         else:
             print(report.table())  # wrapped to the terminal, as registry audit prints it
             if surveyed:
-                print(
-                    wrapped(
-                        survey_line([r.search for r in surveyed]), registry.api.terminal_width()
-                    )
-                )
+                width = registry.api.terminal_width()
+                print(wrapped(survey_line([r.search for r in surveyed]), width))
+                print(wrapped(exponents_line(surveyed), width))
     return 1 if refused else 0
 
 

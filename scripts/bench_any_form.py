@@ -2,14 +2,15 @@
 a plain sympy check of the same claims in the same run (issue 31, part 5).
 
 Ours: ``audit_case`` of a case (every check, corrections and drift curves included), in
-this process, after one warm-up (imports), sympy's cache cleared before every run. The baseline: what a careful user of plain sympy does
-for each claim: the residual (dI/dt, div(rho v), or each Pi grad F) with the field's
-definitions written out, then ``sympy.simplify``, decided zero or not; no Jacobi check
-(the audit proves it besides). Cases: the Kowalevski top in two fields (nine variables,
-a given bracket), and Chaplygin's ball in (M, gamma) with its density (a square root)
-and its energy (omega rational in M and gamma). Times are CPU seconds of this process
-(the cores are shared); the baseline's limit is wall clock, and a baseline that does
-not finish in it is printed as "> limit".
+this process, after one warm-up (imports), sympy's cache cleared before every run. The
+baseline: what a careful user of plain sympy does for each claim: the residual (dI/dt,
+div(rho v), or each Pi grad F) with the field's definitions written out, then
+``sympy.simplify``, decided zero or not; no Jacobi check (the audit proves it besides).
+Cases: the Kowalevski top in two fields (nine variables, a given bracket), and
+Chaplygin's ball in (M, gamma) with its density (a square root) and its energy (omega
+rational in M and gamma). Times are CPU seconds of this process (the cores are shared);
+the baseline's limit is wall clock, and a baseline that does not finish in it is printed
+as "> limit".
 
 Usage: python scripts/bench_any_form.py [--repeat 3] [--timeout 120]
 Nothing here is asserted by the tests: machines are shared and noisy.

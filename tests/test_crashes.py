@@ -43,7 +43,7 @@ WAIT = 120.0
 TYPICAL = 4.5
 
 #: Tables whose rows belong to one run (column ``run_id``).
-RUN_TABLES = ("check_results", "corrections", "evidence")
+RUN_TABLES = ("check_results", "corrections", "evidence", "drift_curves")
 
 
 # ------------------------------------------------------------------- processes

@@ -27,8 +27,9 @@ PAGE = DOCS / "json-output.md"
 MARK = re.compile(r"output of: (?P<command>registry .*)")
 
 #: Objects whose keys are data, not part of the shape: a witness point's coordinates
-#: and parameters, the concrete functions of a family's refutation.
-DATA_KEYED = {"point", "functions"}
+#: and parameters, the concrete functions of a family's refutation, the weights of a
+#: state's vectors and the leading part's components (named as the case names them).
+DATA_KEYED = {"point", "functions", "weights", "leading"}
 
 
 def examples() -> list[tuple[str, str]]:

@@ -270,7 +270,7 @@ def as_hamiltonian_form(case: Case) -> Case:
 
 
 CATALOG = sorted(CASES.rglob("*.toml")) + sorted(CLASSICAL.glob("*.toml"))
-INERTIA_FORM = [p for p in CATALOG if not load_case(p).system.hamiltonian_form]
+INERTIA_FORM = [p for p in CATALOG if load_case(p).system.form == "inertia"]
 
 
 @pytest.mark.parametrize("path", INERTIA_FORM, ids=lambda p: p.stem)
@@ -297,7 +297,7 @@ def test_both_forms_give_the_same_verdicts(path):
     assert first == second
 
 
-HAMILTONIAN_FORM = [p for p in CATALOG if load_case(p).system.hamiltonian_form]
+HAMILTONIAN_FORM = [p for p in CATALOG if load_case(p).system.form == "hamiltonian"]
 
 
 @dataclass(frozen=True)

@@ -16,6 +16,7 @@ weighted degrees, so the system splits by degree without being told.
 
 from __future__ import annotations
 
+import heapq
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -363,8 +364,9 @@ class PolynomialSystem:
         return {self.params.index(i): c for i, c in self.divisors.items()}
 
     def reduce(self, poly: PolyElement) -> PolyElement:
-        """The normal form of ``poly`` modulo the level set's ideal."""
-        return poly.rem(self.ideal) if self.ideal else poly
+        """The normal form of ``poly`` modulo the level set's ideal (``normal_form``: what
+        ``poly.rem(self.ideal)`` gives, without re-sorting ``poly`` at every step)."""
+        return normal_form(poly, self.ideal, self.n, bool(self.divisors)) if self.ideal else poly
 
     def weight(self, poly: PolyElement) -> int:
         """The largest weighted degree of the state monomials of ``poly``."""
@@ -500,3 +502,55 @@ def _cost(blocks: Sequence[Block]) -> int:
     """The work of eliminating the blocks (unknowns times equations times the smaller),
     to choose between ways of splitting the system."""
     return sum(b.size * b.rows * min(b.size, b.rows) for b in blocks)
+
+
+def normal_form(
+    poly: PolyElement, basis: Sequence[PolyElement], n: int, product: bool
+) -> PolyElement:
+    """The remainder of ``poly`` on division by the monic ``basis`` in the ring's order
+    (grevlex; with ``product``, grevlex on the first ``n`` variables, then on the rest):
+    the same terms as ``poly.rem(basis)``, the divisor tried first where several divide,
+    but with each monomial's place in the order computed once (a heap), where ``rem``
+    looks for the leading term of the whole rest at every step."""
+
+    def place(m: tuple[int, ...]) -> tuple[int, ...]:
+        # negated grevlex keys: the largest monomial comes first out of a min-heap
+        if product:
+            head, tail = m[:n], m[n:]
+            return (-sum(head), *reversed(head), -sum(tail), *reversed(tail))
+        return (-sum(m), *reversed(m))
+
+    ring = poly.ring
+    divisors = []
+    for g in basis:
+        if g.LC != 1:
+            return poly.rem(list(basis))  # only monic bases are divided here
+        lead = g.LM
+        divisors.append((lead, [(m, c) for m, c in g.items() if m != lead]))
+    terms = dict(poly)
+    heap = [(place(m), m) for m in terms]
+    heapq.heapify(heap)
+    rest: dict[tuple[int, ...], Any] = {}
+    while heap:
+        _, m = heapq.heappop(heap)
+        c = terms.pop(m, None)
+        if c is None:
+            continue  # cancelled, or met before
+        for lead, tail in divisors:
+            q = tuple(a - b for a, b in zip(m, lead, strict=True))
+            if min(q) < 0:
+                continue
+            for mg, cg in tail:  # m - c q g: the leading term cancels
+                m1 = tuple(a + b for a, b in zip(mg, q, strict=True))
+                value = terms.get(m1)
+                if value is None:
+                    terms[m1] = -c * cg
+                    heapq.heappush(heap, (place(m1), m1))
+                elif value == c * cg:
+                    del terms[m1]
+                else:
+                    terms[m1] = value - c * cg
+            break
+        else:
+            rest[m] = c
+    return ring.from_dict(rest) if rest else ring.zero

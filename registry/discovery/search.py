@@ -843,7 +843,10 @@ def _proven(state: _State, case: Case, when, integrals: Sequence[sp.Expr]) -> In
             )
             continue
         kept.append(claim.expression.text)
-        casimirs.append(audit.result("casimir", claim.label).verdict)
+        casimirs.extend(
+            r.verdict for r in audit.results if (r.check, r.claim) == ("casimir", claim.label)
+        )
+    # a system given by its equations has no bracket, hence no Casimir verdicts
     return IntegralSet(when, len(kept), tuple(kept), tuple(casimirs))
 
 

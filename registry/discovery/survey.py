@@ -12,7 +12,7 @@ from ..errors import DiscoveryError
 from ..execution.executor import Executor, InProcess, in_order, timed
 from ..execution.serving import Failure
 from ..mathematics.grading import ring_degree, weights_by_symbol
-from ..model import Case, Claim, IntegralSet, Provenance, Search, SearchOptions, Weights
+from ..model import Case, Claim, ClaimKind, IntegralSet, Provenance, Search, SearchOptions, Weights
 from .search import discover
 
 #: The smallest degree searched: below it no integral beyond H and |gamma|^2 can show.
@@ -26,10 +26,12 @@ def stated_options(case: Case) -> list[SearchOptions]:
     form M: 1, gamma: 1 where the potential has terms of degree >= 2 in gamma, which make
     H homogeneous there, else M: 1, gamma: 2; for the other forms the weights that make
     the vector field homogeneous, where some do). The degree is the largest weighted
-    degree of its polynomial claims (the literature's, where it has any), at least 2.
+    degree of its polynomial integral claims (the literature's, where it has any; a density or
+    an invariant relation is no integral), at least 2.
     """
     weights = case.dynamics.grading
-    claims = [c for c in case.claims if c.provenance is Provenance.LITERATURE] or list(case.claims)
+    integrals = [c for c in case.claims if c.kind in (ClaimKind.INTEGRAL, ClaimKind.CASIMIR)]
+    claims = [c for c in integrals if c.provenance is Provenance.LITERATURE] or integrals
     degree = max(
         [
             LEAST_DEGREE,

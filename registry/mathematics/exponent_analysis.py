@@ -264,7 +264,7 @@ def _balance_notes(balance: Balance, e: Exponents) -> tuple[str, ...]:
                 else "its exponents are the same at every point"
             )
         )
-    negative = [v for v in e.values if v.is_real and v < 0]
+    negative = [v for v in e.values if v.is_negative]
     if len(negative) > 1:
         shown = ", ".join(sp.sstr(v) for v in negative)
         notes.append(

@@ -1,5 +1,6 @@
 """Special parameter values of a family of fields: where every Kovalevskaya exponent of
-every balance is an integer (or rational), each value with its own exact analysis.
+every balance is an integer, half an integer, or rational, each value with its own exact
+analysis.
 
 *Generic part.* Over Q(p) the balances come in irreducible components; the exponents
 of all the balances of one component are the roots of its *exponent polynomial*
@@ -18,20 +19,30 @@ Kovalevskaya's family of balances at A = B = 2C). Values where a denominator of 
 field vanishes are not admissible. Every rational exceptional value is analysed on its
 own; an irrational one is listed, unexamined, and the result is then not complete.
 
+*Half-integers.* Every exponent lies in (1/2)Z exactly when every root of
+N(mu/2; p) is an integer (mu = 2 lambda): the same search on the doubled polynomials
+finds the values where the solutions branch at most like square roots (Goryachev and
+Chaplygin's top, -1/2 and 3/2), reported apart from the integer ones.
+
 *What is guaranteed.* For one free parameter, ``complete`` says that no admissible
-value outside the lists has all exponents integer (resp. rational, among rational
-values): the candidates come from necessary conditions bounded as in ``integrality``,
-and each value reported is confirmed by an exact analysis at that value. With several
-free parameters the conditions are reported and small rational values are searched;
-nothing is claimed complete.
+value outside the lists has all exponents integer (resp. half-integer; rational, among
+rational values): the candidates come from necessary conditions bounded as in
+``integrality``, and each value reported is confirmed by an exact analysis at that
+value. With several free parameters the conditions are reported and small rational
+values are searched; nothing is claimed complete.
+
+*Where the work runs.* The exact analyses at the candidate values are independent of
+each other: ``mapper`` (``mapper(fn, items)``, the results in order) runs them where
+the caller chooses (the command line's worker processes or Dask cluster).
 """
 
 from __future__ import annotations
 
 import itertools
 import time
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
+from typing import Any
 
 import sympy as sp
 
@@ -48,14 +59,30 @@ from .weighted import WeightedField, split_field
 MEMBERS = 2
 #: The small rational values tried for each parameter when there are several.
 GRID = tuple(sorted({*map(sp.Integer, range(-3, 4)), *(sp.Rational(a, 2) for a in (-3, -1, 1, 3))}))
+#: The kinds of special sets, strongest first.
+KINDS = ("integer", "half-integer", "rational")
+
+#: Runs ``fn`` on every item and returns the results in order (a worker pool's map).
+Mapper = Callable[[Callable[[Any], Any], Sequence[Any]], list[Any]]
+
+
+def kind_of(analysis: ExponentAnalysis) -> str | None:
+    """The strongest kind every exponent of every balance has: "integer",
+    "half-integer" (all in (1/2)Z, some not integers), "rational", or None."""
+    if analysis.all_integer:
+        return "integer"
+    if not analysis.all_rational:
+        return None
+    values = [v for b in analysis.balances for v in b.exponents.values]
+    return "half-integer" if all((2 * v).is_integer for v in values) else "rational"
 
 
 @dataclass(frozen=True)
 class SpecialSet:
-    """Parameter values where every exponent is an integer (``kind`` "integer") or
-    rational: one point (``values``, with its exact ``analysis``), or an infinite family
-    given in terms of an ``index`` (an integer n or a rational t, ``ranges`` says which)
-    with the analyses of a few members."""
+    """Parameter values where every exponent is an integer (``kind`` "integer"), half an
+    integer ("half-integer") or rational: one point (``values``, with its exact
+    ``analysis``), or an infinite family given in terms of an ``index`` (an integer n or a
+    rational t, ``ranges`` says which) with the analyses of a few members."""
 
     kind: str
     values: Mapping[sp.Symbol, sp.Expr]
@@ -84,11 +111,12 @@ class SpecialSet:
 
 @dataclass(frozen=True)
 class ExponentFamily:
-    """The generic analysis of a family over Q(free), its exponent polynomial's factors,
-    the exceptional parameter values, and the special sets found."""
+    """The generic analysis of a family over Q(free) (None where it was not made), its
+    exponent polynomial's factors, the exceptional parameter values, and the special
+    sets found."""
 
     free: tuple[sp.Symbol, ...]
-    generic: ExponentAnalysis
+    generic: ExponentAnalysis | None
     factors: tuple[tuple[sp.Expr, int], ...]
     exceptional: tuple[sp.Expr, ...]
     unexamined: tuple[sp.Expr, ...]
@@ -98,18 +126,26 @@ class ExponentFamily:
     complete_rational: bool
     coverage: tuple[str, ...] = ()
     seconds: float = field(default=0.0, compare=False)
+    half_integer: tuple[SpecialSet, ...] = ()
+    complete_half_integer: bool = False
+
+    @property
+    def special(self) -> tuple[SpecialSet, ...]:
+        """Every special set, integer ones first, then half-integer, then rational."""
+        return (*self.integer, *self.half_integer, *self.rational)
 
     def as_dict(self) -> dict:
         """The generic analysis's document with ``free`` and the ``special`` list."""
-        document = self.generic.as_dict()
+        document = self.generic.as_dict() if self.generic is not None else {}
         document["free"] = [str(p) for p in self.free]
         document["exponent_polynomial"] = [
             {"factor": sp.sstr(f), "multiplicity": m} for f, m in self.factors
         ]
         document["exceptional"] = [f"{sp.sstr(q)} = 0" for q in self.exceptional]
-        document["special"] = [s.as_dict() for s in (*self.integer, *self.rational)]
+        document["special"] = [s.as_dict() for s in self.special]
         document["complete"] = {
             "integer": self.complete_integer,
+            "half_integer": self.complete_half_integer,
             "rational": self.complete_rational,
         }
         document["coverage"] = list(self.coverage)
@@ -124,65 +160,152 @@ def exponent_family(
     free: Sequence[sp.Symbol],
     *,
     seed: int = 0,
+    mapper: Mapper | None = None,
+    grid: Mapping[sp.Symbol, Sequence[sp.Expr]] | None = None,
+    generic: bool = True,
 ) -> ExponentFamily:
     """The special values of the ``free`` parameters (every symbol of the field other
-    than the variables) where all exponents are integers, or rational (module doc)."""
+    than the variables) where all exponents are integers, half-integers, or rational
+    (module doc). ``mapper`` runs the exact analyses at candidate values (default: here,
+    one after the other); ``grid`` gives, for several free parameters, the values tried
+    for each (default ``GRID``); ``generic`` False skips, for several free parameters, the
+    analysis over Q(free) (costly for many parameters): every grid point is then
+    analysed."""
     start = time.perf_counter()
     free = tuple(free)
     split = split_field(variables, field, weights, parameters=free)
-    generic = analyse(split, painleve=False, seed=seed)
-    matrix = kovalevskaya_matrix(split)
-    factors, varying, poles = _exponent_polynomial(generic, matrix)
+    analyses = _Analyses(split, mapper)
     invalid = _field_denominators(split)
+    if len(free) > 1:
+        return _several_parameters(split, analyses, invalid, grid or {}, start, seed, generic)
+    whole = analyse(split, painleve=False, seed=seed)
+    matrix = kovalevskaya_matrix(split)
+    factors, varying, poles = _exponent_polynomial(whole, matrix)
     special = _special_components(split, invalid, seed)
     exceptional = tuple(dict.fromkeys([*poles, *special]))
-    if len(free) == 1:
-        return _one_parameter(split, generic, factors, exceptional, invalid, varying, start)
-    integer_sets, rational_sets = _grid_search(split, factors, invalid)
+    return _one_parameter(
+        split, whole, factors, exceptional, invalid, varying, start, analyses, seed
+    )
+
+
+def _several_parameters(split, analyses, invalid, grid, start, seed, make_generic):
+    """Several free parameters: the generic analysis over Q(free) (unless not
+    ``make_generic``), and the small rational values of ``GRID`` (or ``grid``) analysed
+    exactly; nothing claimed complete."""
+    generic, factors = None, ()
+    if make_generic:
+        generic = analyse(split, painleve=False, seed=seed)
+        factors, _, _ = _exponent_polynomial(generic, kovalevskaya_matrix(split))
+    integer_sets, half_sets, rational_sets = _grid_search(split, factors, invalid, grid, analyses)
+    sizes = sorted({len(grid.get(p, GRID)) for p in split.parameters})
     coverage = [
         "several free parameters: small rational values searched "
-        f"({len(GRID)} per parameter); not complete"
+        f"({' or '.join(map(str, sizes))} per parameter); not complete"
     ]
+    if generic is None:
+        coverage.append("the generic analysis over Q(free) was not made")
     return ExponentFamily(
-        free,
+        split.parameters,
         generic,
         factors,
-        exceptional,
-        exceptional,
+        (),
+        (),
         integer_sets,
         rational_sets,
         False,
         False,
         tuple(coverage),
         time.perf_counter() - start,
+        half_sets,
+        False,
     )
 
 
-def _one_parameter(split, generic, factors, exceptional, invalid, varying, start):
+class _Analyses:
+    """The exact analyses at parameter values, each computed once: ``prefetch`` runs a
+    batch through the mapper (in parallel where it is a pool's), ``at`` reads one (and
+    computes it here when it was not fetched)."""
+
+    def __init__(self, split: WeightedField, mapper: Mapper | None):
+        self.split, self.mapper = split, mapper
+        self.done: dict[tuple, ExponentAnalysis | None] = {}
+
+    def _key(self, values: Mapping[sp.Symbol, sp.Expr]) -> tuple:
+        return tuple(sorted((str(k), sp.srepr(v)) for k, v in values.items()))
+
+    def prefetch(self, points: Sequence[Mapping[sp.Symbol, sp.Expr]]) -> None:
+        todo = list({self._key(v): v for v in points if self._key(v) not in self.done}.values())
+        if not todo:
+            return
+        s = self.split
+        items = [(s.field, s.variables, s.weights, dict(v)) for v in todo]
+        results = (self.mapper or _in_order)(analysis_at, items)
+        for values, result in zip(todo, results, strict=True):
+            self.done[self._key(values)] = result
+
+    def at(self, values: Mapping[sp.Symbol, sp.Expr]) -> ExponentAnalysis | None:
+        key = self._key(values)
+        if key not in self.done:
+            self.prefetch([values])
+        return self.done[key]
+
+
+def _in_order(fn, items):
+    return [fn(item) for item in items]
+
+
+def analysis_at(item) -> ExponentAnalysis | None:
+    """The exact analysis of (field, variables, weights, values): one call of a mapper
+    (None where the field is undefined, or where the call could not be made)."""
+    field, variables, weights, values = item
+    return _analysis_at(field, variables, weights, values)
+
+
+def _one_parameter(split, generic, factors, exceptional, invalid, varying, start, analyses, seed):
     """The special sets of one free parameter p: the generic candidates (``integrality``)
-    confirmed one by one, and every rational exceptional value analysed on its own."""
+    confirmed one by one, and every rational exceptional value analysed on its own.
+    Where every exponent is an integer for every value, the Painlevé test is run over
+    Q(p) and the values where its conditions hold are listed (``_painleve_locus``)."""
     (p,) = split.parameters
     polys = [f for f, _ in factors]
     roots = _roots(exceptional, p, invalid)
     unexamined = tuple(v for v in roots if not v.is_rational)
     integer_candidates_ = integer_candidates(polys, p, LAMBDA)
+    half_candidates = integer_candidates([_doubled(f) for f in polys], p, LAMBDA)
     rational_candidates_ = rational_candidates(polys, p, LAMBDA)
-    integer, int_complete = _integer_sets(integer_candidates_, split, p, roots, invalid, polys)
-    rational, rat_complete = _rational_sets(rational_candidates_, split, p, roots, invalid)
-    note = ("an exceptional value (the generic analysis may not hold): analysed on its own",)
-    for v in roots:
-        analysis = (
-            _analysis_at(split.field, split.variables, split.weights, {p: v})
+    analyses.prefetch(
+        [
+            {p: v}
+            for v in (
+                *integer_candidates_.values,
+                *half_candidates.values,
+                *rational_candidates_.values,
+                *roots,
+            )
             if v.is_rational
-            else None
-        )
-        if analysis is None:
-            continue
-        if analysis.all_integer:
-            integer += (SpecialSet("integer", {p: v}, analysis, notes=note),)
-        elif analysis.all_rational:
-            rational += (SpecialSet("rational", {p: v}, analysis, notes=note),)
-    coverage = [*integer_candidates_.notes, *rational_candidates_.notes]
+        ]
+    )
+    integer, int_complete = _integer_sets(
+        integer_candidates_, split, p, roots, invalid, polys, analyses
+    )
+    half, half_complete = _integer_sets(
+        half_candidates, split, p, roots, invalid, polys, analyses, "half-integer"
+    )
+    rational, rat_complete = _rational_sets(
+        rational_candidates_, split, p, roots, invalid, analyses
+    )
+    note = ("an exceptional value (the generic analysis may not hold): analysed on its own",)
+    found = {"integer": integer, "half-integer": half, "rational": rational}
+    for v in roots:
+        analysis = analyses.at({p: v}) if v.is_rational else None
+        kind = None if analysis is None else kind_of(analysis)
+        if kind is not None:
+            found[kind] += (SpecialSet(kind, {p: v}, analysis, notes=note),)
+    coverage = [*integer_candidates_.notes, *half_candidates.notes, *rational_candidates_.notes]
+    if any(s.index == p for s in found["integer"]):
+        generic, passing, notes = _painleve_locus(split, p, roots, invalid, analyses, seed)
+        found["integer"] += passing
+        coverage += notes
     if varying:
         coverage.append("some family of balances has exponents that vary along it: not handled")
     if unexamined:
@@ -190,9 +313,10 @@ def _one_parameter(split, generic, factors, exceptional, invalid, varying, start
         coverage.append(f"irrational exceptional values not examined: {shown}")
     examined = not unexamined and not varying
     int_complete, rat_complete = int_complete and examined, rat_complete and examined
+    half_complete = half_complete and examined
     coverage.append(
-        f"integer: {'complete' if int_complete else 'not complete'}; rational (rational "
-        f"parameter values): {'complete' if rat_complete else 'not complete'}"
+        f"integer: {_complete(int_complete)}; half-integer: {_complete(half_complete)}; "
+        f"rational (rational parameter values): {_complete(rat_complete)}"
     )
     return ExponentFamily(
         (p,),
@@ -200,13 +324,70 @@ def _one_parameter(split, generic, factors, exceptional, invalid, varying, start
         factors,
         exceptional,
         unexamined,
-        _sorted(integer),
-        _sorted(rational),
+        _sorted(found["integer"]),
+        _sorted(found["rational"]),
         int_complete,
         rat_complete,
         tuple(coverage),
         time.perf_counter() - start,
+        _sorted(found["half-integer"]),
+        half_complete,
     )
+
+
+def _painleve_locus(split, p, exceptional, invalid, analyses, seed):
+    """Where every exponent is an integer for every value of p: the generic analysis with
+    the Painlevé test over Q(p), and the values of p where its compatibility conditions
+    all hold (each condition must vanish for every value of the free coefficients, so
+    each of its coefficients in them is an equation in p), each confirmed by an exact
+    analysis; notes on what was not decided (a Jordan block over Q(p), an irrational
+    value)."""
+    generic = analyse(split, painleve=True, seed=seed)
+    equations: list[sp.Expr] = []
+    notes: list[str] = []
+    for b in generic.balances:
+        for r in b.painleve.resonances:
+            if r.missing:
+                notes.append(
+                    f"a resonance {r.order} lacks a free coefficient for generic {p}: the "
+                    "values where the Painlevé test passes were not sought"
+                )
+                return generic, (), tuple(notes)
+            for condition in r.conditions:
+                numer = sp.expand(sp.fraction(sp.together(condition))[0])
+                others = sorted(numer.free_symbols - {p}, key=str)
+                parts = sp.Poly(numer, *others).coeffs() if others else [numer]
+                equations += [sp.expand(c) for c in parts]
+    if not equations:
+        return generic, (), ("the Painlevé test passes for generic values of the parameter",)
+    values = {
+        v
+        for solution in sp.solve(equations, [p], dict=True)
+        if p in solution and (v := solution[p]).is_real
+    }
+    passing = []
+    for v in sorted(values, key=sp.default_sort_key):
+        if v in exceptional or _undefined(invalid, p, v):
+            continue
+        if not v.is_rational:
+            notes.append(f"the Painlevé test's conditions hold at {p} = {v}: not analysed")
+            continue
+        analysis = analyses.at({p: v})
+        if analysis is not None and analysis.painleve_passes:
+            why = ("every compatibility condition of the generic analysis holds here",)
+            passing.append(SpecialSet("integer", {p: v}, analysis, notes=why))
+    return generic, tuple(passing), tuple(notes)
+
+
+def _complete(flag: bool) -> str:
+    return "complete" if flag else "not complete"
+
+
+def _doubled(f: sp.Expr) -> sp.Expr:
+    """f(lambda / 2), monic in lambda: its roots are twice those of f (a half-integer
+    root of f is an integer root here)."""
+    poly = sp.Poly(sp.expand(f.subs(LAMBDA, LAMBDA / 2)), LAMBDA)
+    return sp.expand(sp.cancel(poly.as_expr() / poly.LC()))
 
 
 def _exponent_polynomial(generic: ExponentAnalysis, matrix: sp.Matrix):
@@ -300,55 +481,68 @@ def _analysis_at(field, variables, weights, values) -> ExponentAnalysis | None:
     return analyse(split_field(variables, concrete, weights))
 
 
-def _integer_sets(cands: Candidates, split, p, exceptional, invalid, factors):
+def _integer_sets(
+    cands: Candidates, split, p, exceptional, invalid, factors, analyses, kind="integer"
+):
+    """The candidates of ``kind`` ("integer", or "half-integer" for candidates of the
+    doubled polynomials) confirmed by exact analyses; irrational values are listed as
+    checked on the exponent polynomial only."""
     sets = []
     complete = cands.complete
+    fits = _fits(kind)
     for v in cands.values:
         if v in exceptional or _undefined(invalid, p, v):
             continue
         if v.is_rational:
-            analysis = _analysis_at(split.field, split.variables, split.weights, {p: v})
-            if analysis is not None and analysis.all_integer:
-                sets.append(SpecialSet("integer", {p: v}, analysis))
+            analysis = analyses.at({p: v})
+            if analysis is not None and kind_of(analysis) == kind:
+                sets.append(SpecialSet(kind, {p: v}, analysis))
         else:
             sets.append(
                 SpecialSet(
-                    "integer",
+                    kind,
                     {p: v},
                     notes=("irrational value: checked on the exponent polynomial only",),
                 )
             )
     for expr, index, ranges in cands.families:
         if expr == p:  # every value: the exponents do not depend on p
-            sets.append(SpecialSet("integer", {}, index=p, ranges="every admissible value"))
+            if kind == "integer":
+                sets.append(SpecialSet(kind, {}, index=p, ranges="every admissible value"))
             continue
-        members = _members(split, p, expr, index)
-        if all(m.all_integer for m in members):
+        members = _members(split, p, expr, index, analyses)
+        if all(fits(m) for m in members):
             sets.append(
-                SpecialSet("integer", {p: expr}, index=index, ranges=ranges, members=tuple(members))
+                SpecialSet(kind, {p: expr}, index=index, ranges=ranges, members=tuple(members))
             )
         else:
             complete = False
-            for k in range(-MEMBERS * 3, MEMBERS * 3 + 1):
-                value = expr.subs(index, k)
-                if value in exceptional or _undefined(invalid, p, value):
-                    continue
-                analysis = _analysis_at(split.field, split.variables, split.weights, {p: value})
-                if analysis is not None and analysis.all_integer:
-                    sets.append(SpecialSet("integer", {p: value}, analysis))
+            values = [expr.subs(index, k) for k in range(-MEMBERS * 3, MEMBERS * 3 + 1)]
+            values = [v for v in values if v not in exceptional and not _undefined(invalid, p, v)]
+            analyses.prefetch([{p: v} for v in values])
+            for value in values:
+                analysis = analyses.at({p: value})
+                if analysis is not None and kind_of(analysis) == kind:
+                    sets.append(SpecialSet(kind, {p: value}, analysis))
     return tuple(sets), complete
 
 
-def _rational_sets(cands: Candidates, split, p, exceptional, invalid):
+def _fits(kind: str) -> Callable[[ExponentAnalysis], bool]:
+    """Whether an analysis's exponents are all of ``kind`` or stronger."""
+    allowed = KINDS[: KINDS.index(kind) + 1]
+    return lambda analysis: kind_of(analysis) in allowed
+
+
+def _rational_sets(cands: Candidates, split, p, exceptional, invalid, analyses):
     sets = []
     for v in cands.values:
         if v in exceptional or _undefined(invalid, p, v):
             continue
-        analysis = _analysis_at(split.field, split.variables, split.weights, {p: v})
-        if analysis is not None and analysis.all_rational and not analysis.all_integer:
+        analysis = analyses.at({p: v})
+        if analysis is not None and kind_of(analysis) == "rational":
             sets.append(SpecialSet("rational", {p: v}, analysis))
     for expr, index, ranges in cands.families:
-        members = _members(split, p, expr, index, rational=True) if expr != p else []
+        members = _members(split, p, expr, index, analyses, rational=True) if expr != p else []
         values = {} if expr == p else {p: expr}
         sets.append(
             SpecialSet("rational", values, index=index, ranges=ranges, members=tuple(members))
@@ -356,44 +550,40 @@ def _rational_sets(cands: Candidates, split, p, exceptional, invalid):
     return tuple(sets), cands.complete
 
 
-def _members(split, p, expr, index, rational: bool = False) -> list[ExponentAnalysis]:
+def _members(split, p, expr, index, analyses, rational: bool = False) -> list[ExponentAnalysis]:
     """Exact analyses of a few members of a family (the admissible ones)."""
-    found = []
     picks = [sp.Rational(k, 2) if rational else k for k in range(-MEMBERS, MEMBERS + 1)]
-    for k in picks:
-        value = sp.cancel(expr.subs(index, k))
-        if value.has(sp.zoo, sp.nan):
-            continue
-        analysis = _analysis_at(split.field, split.variables, split.weights, {p: value})
-        if analysis is not None:
-            found.append(analysis)
-    return found
+    values = [sp.cancel(expr.subs(index, k)) for k in picks]
+    values = [v for v in values if not v.has(sp.zoo, sp.nan)]
+    analyses.prefetch([{p: v} for v in values])
+    found = [analyses.at({p: v}) for v in values]
+    return [a for a in found if a is not None]
 
 
 def _undefined(invalid, p, value) -> bool:
     return any(sp.simplify(d.subs(p, value)) == 0 for d in invalid)
 
 
-def _grid_search(split: WeightedField, factors, invalid):
-    """Several parameters: small rational values where the exponent polynomial's roots are
-    integers (or rational), each confirmed by an exact analysis."""
+def _grid_search(split: WeightedField, factors, invalid, grid, analyses):
+    """Several parameters: small rational values (``grid``, else ``GRID``, per parameter)
+    where the exponent polynomial's roots are integers, half-integers or rational, each
+    confirmed by an exact analysis."""
     params = split.parameters
-    integer, rational = [], []
-    for point in itertools.product(GRID, repeat=len(params)):
+    points = []
+    for point in itertools.product(*(grid.get(p, GRID) for p in params)):
         values = dict(zip(params, point, strict=True))
         if any(sp.simplify(d.subs(values)) == 0 for d in invalid):
             continue
-        kind = _root_kind([f.subs(values) for f, _ in factors])
-        if kind is None:
-            continue
-        analysis = _analysis_at(split.field, split.variables, split.weights, values)
-        if analysis is None:
-            continue
-        if analysis.all_integer:
-            integer.append(SpecialSet("integer", values, analysis))
-        elif analysis.all_rational:
-            rational.append(SpecialSet("rational", values, analysis))
-    return tuple(integer), tuple(rational)
+        if not factors or _root_kind([f.subs(values) for f, _ in factors]) is not None:
+            points.append(values)
+    analyses.prefetch(points)
+    found: dict[str, list[SpecialSet]] = {k: [] for k in KINDS}
+    for values in points:
+        analysis = analyses.at(values)
+        kind = None if analysis is None else kind_of(analysis)
+        if kind is not None:
+            found[kind].append(SpecialSet(kind, values, analysis))
+    return tuple(found["integer"]), tuple(found["half-integer"]), tuple(found["rational"])
 
 
 def _root_kind(polys: Sequence[sp.Expr]) -> str | None:

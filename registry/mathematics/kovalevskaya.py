@@ -74,7 +74,7 @@ class Exponents:
     def degrees(self) -> tuple[int, ...]:
         """The positive integer exponents: the only weighted degrees a weighted-homogeneous
         integral with a gradient not zero at this balance can have (Yoshida)."""
-        return tuple(sorted({int(v) for v in self.values if v.is_integer and v >= 1}))
+        return tuple(sorted({int(v) for v in self.values if _positive_integer(v)}))
 
     @property
     def resonances(self) -> dict[int, int]:
@@ -82,9 +82,15 @@ class Exponents:
         test has conditions."""
         found: dict[int, int] = {}
         for v in self.values:
-            if v.is_integer and v >= 1:
+            if _positive_integer(v):
                 found[int(v)] = found.get(int(v), 0) + 1
         return found
+
+
+def _positive_integer(v: sp.Expr) -> bool:
+    """Whether an exponent is a number and a positive integer (an exponent in the
+    parameters, even an integer-valued one, is not counted)."""
+    return bool(v.is_Integer and v >= 1)
 
 
 @dataclass(frozen=True)

@@ -38,6 +38,8 @@ TABLES: dict[str, str] = {
     "drift_curves": "The trajectory each run integrated for a refuted claim, to draw its drift.",
     "searches": "Recorded searches for polynomial integrals, with their completeness statement.",
     "discoveries": "Sets of parameter values where a search found integrals, and the integrals.",
+    "exponents": "Kovalevskaya analyses of case versions: balances, exponents, Yoshida's "
+    "degrees, the Painlevé test and the statement (the JSON document of registry exponents).",
     "latest_verdicts": "The newest verdict of every check and claim of the newest case "
     "versions (a view).",
 }

@@ -218,9 +218,11 @@ def search_text(search: Search, width: int | None = None) -> str:
             return
         lines.append(f"{where}: {entry.extra} extra integral(s)")
         status = entry.status or (None,) * len(entry.integrals)
-        for text, casimir, st in zip(entry.integrals, entry.casimir, status, strict=True):
+        casimirs = entry.casimir or (None,) * len(entry.integrals)  # None: no bracket
+        for text, casimir, st in zip(entry.integrals, casimirs, status, strict=True):
             what = f"; {status_text(st)}" if st is not None else ""
-            lines.append(f"    {text}    (integral verified; casimir {casimir}{what})")
+            bracket = f"; casimir {casimir}" if casimir is not None else ""
+            lines.append(f"    {text}    (integral verified{bracket}{what})")
         lines.extend(f"    same system as {same_text(s)}" for s in entry.same_as)
 
     if search.decided:

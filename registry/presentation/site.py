@@ -21,7 +21,7 @@ import json
 import re
 from collections import Counter
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import cached_property
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -34,7 +34,7 @@ from ..errors import RegistryError
 from ..language import forms
 from ..language.parser import Namespace, parse_equation, parse_expression
 from ..language.printer import to_text
-from ..model import Case, CheckResult, Correction, Verdict
+from ..model import Case, CheckResult, Correction, ExponentResult, Verdict
 from . import bibtex, latex
 from .audit_json import audit_document
 from .cas_export import LANGUAGES, export
@@ -70,16 +70,30 @@ class CaseEntry:
 
 
 @dataclass(frozen=True)
+class ExponentEntry:
+    """A case's newest Kovalevskaya analysis as the site shows it: its number, the case
+    version analysed, the analysis, and what it proves together with the newest search
+    on the whole phase space (``discovery.every_degree``; None without a search)."""
+
+    number: int
+    version: int
+    result: ExponentResult
+    every_degree: str | None = None
+
+
+@dataclass(frozen=True)
 class Catalog:
     """What the site shows, gathered by the facade (``Registry.catalog``): the rows of
     ``Registry.cases()``, an entry per case, every stored version (``case, version,
-    content_hash, added_at``), the recorded searches and discoveries."""
+    content_hash, added_at``), the recorded searches and discoveries, and the newest
+    Kovalevskaya analysis of each case that has one (by case id)."""
 
     cases: pd.DataFrame
     entries: tuple[CaseEntry, ...]
     versions: pd.DataFrame
     searches: pd.DataFrame
     discoveries: pd.DataFrame
+    exponents: dict[str, ExponentEntry] = field(default_factory=dict)
 
 
 # ------------------------------------------------------------------ formulas
@@ -289,6 +303,7 @@ class _Views:
             "claims": self.claims[case.id],
             "newest_search": search,
             "search_discoveries": [_discovery(d, ns) for d in found],
+            "exponents": _exponents(self.catalog.exponents.get(case.id)),
             "history": history,
             "source_bibtex": self.bib[case.id].text if case.id in self.bib else "",
             "entry_bibtex": self.entry_bibtex(entry, history),
@@ -444,6 +459,62 @@ def _discovery(row: dict[str, Any], ns: Namespace) -> dict[str, Any]:
 
 
 # ------------------------------------------------------------------ writing
+
+
+def _exponents(entry: ExponentEntry | None) -> dict[str, Any] | None:
+    """A case's newest Kovalevskaya analysis for its page: the weights, each balance with
+    its exponents and Painlevé test, the degrees, a family's special sets (with what the
+    method guarantees of their list), the statements."""
+    if entry is None:
+        return None
+    d = entry.result.document
+    balances = [
+        {
+            "point": ", ".join(f"{x} = {v}" for x, v in b["point"].items()),
+            "root_of": b.get("root_of", ""),
+            "family": b.get("dimension", 0),
+            "along": ", ".join(b.get("along", ())),
+            "exponents": ", ".join(b["exponents"]),
+            "compatible": b["painleve"]["compatible"],
+            "failing": [
+                f"resonance {r['order']}: condition fails: {c}"
+                for r in b["painleve"]["resonances"] for c in r["conditions"]
+            ] + [
+                f"resonance {r['order']}: {r['missing']} free coefficient(s) missing"
+                for r in b["painleve"]["resonances"] if r["missing"]
+            ],
+        }
+        for b in d.get("balances", ())
+    ]  # fmt: skip
+    special = [
+        {
+            "kind": s["kind"],
+            "when": ", ".join(s["when"]) or "every value",
+            "painleve": s["painleve"]["passes"] if "painleve" in s else None,
+            "exponents": [", ".join(e) for e in s.get("exponents", ())],
+        }
+        for s in d.get("special", ())
+    ]
+    complete = d.get("complete", {})
+    return {
+        "number": entry.number,
+        "version": entry.version,
+        "weights": ", ".join(f"{k} = {v}" for k, v in d["weights"].items()),
+        "free": ", ".join(d.get("free", ())),
+        "decided": entry.result.decided,
+        "homogeneous": d.get("homogeneous"),
+        "balances": balances,
+        "degrees": ", ".join(map(str, d.get("degrees", ()))) or "none",
+        "passes": entry.result.passes,
+        "family": "special" in d,
+        "special": special,
+        "complete": ", ".join(
+            f"{k.replace('_', '-')} {'yes' if v else 'no'}" for k, v in complete.items()
+        ),
+        "coverage": [] if all(complete.values()) else list(d.get("coverage", ())),
+        "statement": entry.result.statement,
+        "every_degree": entry.every_degree,
+    }
 
 
 def _environment() -> Environment:

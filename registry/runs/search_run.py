@@ -15,6 +15,7 @@ from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
 
+from ..discovery.every_degree import bounded, every_degree, summary
 from ..discovery.identification.catalog_index import CatalogIndex
 from ..discovery.search import discover, search_options
 from ..discovery.survey import searched, stated_options
@@ -23,13 +24,15 @@ from ..execution.executor import Executor
 from ..language.case_writer import derived_case_text
 from ..language.casefile import load_case, parse_case_text
 from ..language.parser import Namespace, parse_equation
-from ..model import Case, Equation, Search, SearchOptions, Weights
+from ..model import Case, Equation, ExponentResult, Search, SearchOptions, Weights
 from ..presentation.search_output import search_document, search_text, statement
 from ..presentation.terminal import terminal_width
-from ..settings import DEFAULT_SEARCH_SECONDS
+from ..presentation.text_table import wrapped
+from ..settings import DEFAULT_SEARCH_SECONDS, DEFAULT_SURVEY_SECONDS
 from ..store import conversions
 from ..store.database import Store, StoredCase
 from ..version import code_version
+from .exponents_run import beside_search, beside_searches
 
 
 @dataclass(frozen=True)
@@ -45,10 +48,28 @@ class SearchReport:
     #: What happened on the Dask cluster that ran the search (workers lost, candidate
     #: sets searched again elsewhere), one line each; empty without a scheduler.
     events: tuple[str, ...] = ()
+    #: The Kovalevskaya analysis under the search's weights, combined with it (None for a
+    #: search on a level set or of relations).
+    exponents: ExponentResult | None = None
+
+    @property
+    def every_degree(self) -> str:
+        """What the search and the exponents prove together at every degree
+        (``discovery.every_degree``)."""
+        return every_degree(self.search, self.exponents)
+
+    @property
+    def bounded(self) -> bool:
+        """Whether every degree Yoshida's theorem allows lies within the complete search
+        (``discovery.every_degree.bounded``)."""
+        return bounded(self.search, self.exponents)
 
     def document(self) -> dict:
         """The JSON document of docs/json-output.md (Search output) for this search."""
         document = search_document(self.search)
+        if self.exponents is not None:
+            document["exponents"] = summary(self.exponents)
+        document["every_degree"] = self.every_degree
         if self.number is not None:
             document["search"] = self.number
             document["reused"] = self.reused
@@ -59,14 +80,21 @@ class SearchReport:
         return document
 
     def text(self, width: int | None = None) -> str:
-        """The search in plain text, as ``registry discover`` prints it, wrapped to
-        ``width`` (None: the terminal's, ``presentation.terminal``)."""
-        return search_text(self.search, width or terminal_width())
+        """The search in plain text, as ``registry discover`` prints it, with what it and
+        the exponents prove together at every degree, wrapped to ``width`` (None: the
+        terminal's, ``presentation.terminal``)."""
+        width = width or terminal_width()
+        every = wrapped(f"at every degree: {self.every_degree}", width, subsequent="  ")
+        return f"{search_text(self.search, width)}\n{every}"
 
     @property
     def statement(self) -> str:
-        """The result in one sentence."""
-        return statement(self.search)
+        """The result in one sentence; with what it and the exponents prove at every degree
+        where they can be combined."""
+        combined = self.every_degree
+        if combined.startswith("Nothing is stated"):
+            return statement(self.search)
+        return f"{statement(self.search)} {combined}"
 
 
 @dataclass(frozen=True)
@@ -122,7 +150,7 @@ def search_run(
     if store is not None and not request.fresh:
         reused = _reused_search(store, case, stored, options)
     if reused is not None:
-        return reused
+        return replace(reused, exponents=beside_search(store, stored, case, options, executor))
     catalog = catalog_index(store) if store is not None and request.identify else None
     search = discover(
         case,
@@ -134,11 +162,13 @@ def search_run(
     )
     events = tuple(executor.events)
     if not request.record or store is None:
-        return SearchReport(search, events=events)
+        found = beside_search(store, stored, case, options, executor)
+        return SearchReport(search, events=events, exponents=found)
     if stored is None:
         store.add_case(case)
         (stored,) = [s for s in store.case_versions([case.id])]
-    return replace(_recorded(store, stored, case, search), events=events)
+    found = beside_search(store, stored, case, options, executor, record=True)
+    return replace(_recorded(store, stored, case, search), events=events, exponents=found)
 
 
 def survey_run(
@@ -147,7 +177,7 @@ def survey_run(
     executor: Executor,
     *,
     fresh: bool = False,
-    budget: float | None = DEFAULT_SEARCH_SECONDS,
+    budget: float | None = DEFAULT_SURVEY_SECONDS,
     progress: Callable[[int, int, str], None] | None = None,
 ) -> list[SearchReport]:
     """``Registry.survey``: the stated searches of every case (or the named ones),
@@ -171,7 +201,8 @@ def survey_run(
         if progress is not None:
             progress(done + 1, len(todo), search.case)
         reports[i] = _recorded(store, planned[i][0], planned[i][1], search)
-    return [reports[i] for i in range(len(planned))]
+    found = beside_searches(store, planned, executor)
+    return [replace(reports[i], exponents=found[i]) for i in range(len(planned))]
 
 
 def catalog_index(store: Store) -> CatalogIndex:

@@ -23,6 +23,8 @@ from ..model import (
     Correction,
     DriftCurve,
     Evidence,
+    ExponentOptions,
+    ExponentResult,
     FamilyRecord,
     IntegralSet,
     IntegralStatus,
@@ -43,6 +45,7 @@ from .tables import (
     DiscoveryRow,
     DriftCurveRow,
     EvidenceRow,
+    ExponentRow,
     ResultRow,
     SearchRow,
     SourceRow,
@@ -405,3 +408,35 @@ def derived(rows: Iterable[CorrectionRow]) -> dict:
                 )
             )
     return {"family": family, "corrections": tuple(corrections), "conditions": tuple(conditions)}
+
+
+def exponent_row(case_pk: int, result: ExponentResult, code_version: str) -> ExponentRow:
+    """The row of a Kovalevskaya analysis: its summary columns and its whole document."""
+    return ExponentRow(
+        case_pk=case_pk,
+        options=result.options.as_dict(),
+        options_key=exponent_options_key(result.options),
+        code_version=code_version,
+        started_at=now(),
+        seconds=float(result.seconds),
+        decided=result.decided,
+        homogeneous=result.homogeneous,
+        all_integer=result.all_integer,
+        all_rational=result.all_rational,
+        passes=result.passes,
+        degrees=list(result.degrees),
+        balances=result.balances,
+        statement=result.statement,
+        document=dict(result.document),
+    )
+
+
+def exponent_options_key(options: ExponentOptions) -> str:
+    """The canonical text of an analysis's options: equal options, equal text."""
+    return json.dumps(options.as_dict(), sort_keys=True, separators=(",", ":"))
+
+
+def exponent_result(row: ExponentRow, case_id: str, content_hash: str) -> ExponentResult:
+    """A Kovalevskaya analysis rebuilt from its row."""
+    options = ExponentOptions(tuple(row.options["weights"].items()), tuple(row.options["free"]))
+    return ExponentResult(case_id, content_hash, options, dict(row.document), row.seconds)

@@ -82,6 +82,7 @@ ROW_NAMES = {
     "evidence": ("evidence record", "evidence records"),
     "searches": ("search", "searches"),
     "discoveries": ("discovery", "discoveries"),
+    "exponents": ("exponent analysis", "exponent analyses"),
 }
 
 

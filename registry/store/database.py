@@ -49,6 +49,8 @@ from ..model import (
     Claim,
     ClaimKind,
     Equation,
+    ExponentOptions,
+    ExponentResult,
     Expression,
     Provenance,
     Search,
@@ -66,11 +68,17 @@ from .conversions import (
     drift_curve,
     evidence,
     evidence_row,
+    exponent_options_key,
+    exponent_result,
+    exponent_row,
     fill_source,
     options_key,
     result_row,
     search_row,
     source_fields,
+)
+from .conversions import (
+    search as search_of,
 )
 from .engine import (
     WRITE_OPTION,
@@ -93,6 +101,7 @@ from .tables import (
     DiscoveryRow,
     DriftCurveRow,
     EvidenceRow,
+    ExponentRow,
     ResultRow,
     RunRow,
     SearchRow,
@@ -554,6 +563,84 @@ class Store:
             )
             session.expunge_all()
             return row.id, row, found
+
+    # ----------------------------------------------------------------- exponents
+
+    @guarded
+    def record_exponents(self, case_pk: int, result: ExponentResult, code_version: str) -> int:
+        """Store a Kovalevskaya analysis of a case version as a new row (an earlier one is
+        kept, like an earlier audit); returns its number."""
+        with self.write() as session:
+            row = exponent_row(case_pk, result, code_version)
+            session.add(row)
+            session.flush()
+            return row.id
+
+    @guarded
+    def stored_exponents(
+        self, case_pk: int, options: ExponentOptions, code_version: str | None = None
+    ) -> tuple[int, ExponentResult] | None:
+        """The newest analysis of this case version with these options (by this code
+        version, where given), as (number, result), or None: what a repeated analysis
+        reuses, and what a search's statement is combined with."""
+        with self.read() as session:
+            query = select(ExponentRow, CaseRow.case_id, CaseRow.content_hash).join(
+                CaseRow, CaseRow.id == ExponentRow.case_pk
+            )
+            query = query.where(
+                ExponentRow.case_pk == case_pk,
+                ExponentRow.options_key == exponent_options_key(options),
+            )
+            if code_version is not None:
+                query = query.where(ExponentRow.code_version == code_version)
+            found = session.execute(query.order_by(ExponentRow.id.desc())).first()
+            if found is None:
+                return None
+            row, case_id, content_hash = found
+            return row.id, exponent_result(row, case_id, content_hash)
+
+    @guarded
+    def newest_exponents(self) -> dict[str, tuple[int, int, ExponentResult]]:
+        """The newest analysis of every case with one, by case id: (number, the version
+        analysed, result); what the site shows."""
+        with self.read() as session:
+            rows = session.execute(
+                select(ExponentRow, CaseRow.case_id, CaseRow.version, CaseRow.content_hash)
+                .join(CaseRow, CaseRow.id == ExponentRow.case_pk)
+                .order_by(ExponentRow.id)
+            ).all()
+            return {
+                case_id: (row.id, version, exponent_result(row, case_id, content_hash))
+                for row, case_id, version, content_hash in rows
+            }
+
+    @guarded
+    def newest_searches(self) -> dict[str, tuple[int, int, Search]]:
+        """The newest search on the whole phase space of every case with one, by case id:
+        (number, the version searched, search); what the site combines with the newest
+        exponents."""
+        with self.read() as session:
+            rows = session.execute(
+                select(SearchRow, CaseRow.case_id, CaseRow.version, CaseRow.content_hash)
+                .join(CaseRow, CaseRow.id == SearchRow.case_pk)
+                .order_by(SearchRow.id)
+            ).all()
+            newest = {
+                case_id: (row, version, content_hash)
+                for row, case_id, version, content_hash in rows
+                if not row.options.get("on")
+            }
+            found = {}
+            for case_id, (row, version, content_hash) in newest.items():
+                sets = session.scalars(
+                    select(DiscoveryRow).where(DiscoveryRow.search_id == row.id)
+                ).all()
+                found[case_id] = (
+                    row.id,
+                    version,
+                    search_of(row, case_id, content_hash, sets, on=()),
+                )
+            return found
 
     @guarded
     def recorded_searches(

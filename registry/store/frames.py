@@ -24,6 +24,7 @@ from .tables import (
     ClaimRow,
     CorrectionRow,
     DiscoveryRow,
+    ExponentRow,
     ResultRow,
     RunRow,
     SearchRow,
@@ -62,6 +63,7 @@ def cases_frame(store: Store) -> pd.DataFrame:
             CaseRow.torque,
             CaseRow.hamiltonian,
             CaseRow.kappa,
+            CaseRow.form.label("own_state"),
             SourceRow.authors,
             SourceRow.year,
             SourceRow.title.label("source_title"),
@@ -90,7 +92,28 @@ def cases_frame(store: Store) -> pd.DataFrame:
         ):
             aliases.setdefault(pk, []).append(alias)
     frame["aliases"] = [aliases.get(pk, []) for pk in frame["pk"]]
-    return frame.drop(columns=["pk"])
+    frame.insert(
+        frame.columns.get_loc("hamiltonian"),
+        "form",
+        [
+            _form_name(own, h)
+            for own, h in zip(frame["own_state"], frame["hamiltonian"], strict=True)
+        ],
+    )
+    frame.insert(
+        frame.columns.get_loc("form") + 1,
+        "variables",
+        [list((own or {}).get("variables", [])) for own in frame["own_state"]],
+    )
+    return frame.drop(columns=["pk", "own_state"])
+
+
+def _form_name(own: dict | None, hamiltonian: str | None) -> str:
+    """The form a stored system was written in (``System.form``): "inertia" or
+    "hamiltonian" on the paper's state, "equations" or "bracket" on a state of its own."""
+    if own and own.get("variables"):
+        return "bracket" if own.get("bracket") or not own.get("equations") else "equations"
+    return "hamiltonian" if isinstance(hamiltonian, str) else "inertia"  # NULL reads as NaN
 
 
 @guarded
@@ -391,6 +414,45 @@ def discoveries_frame(store: Store) -> pd.DataFrame:
         .order_by(DiscoveryRow.search_id, DiscoveryRow.position)
     )
     return _select_frame(store, stmt)
+
+
+@guarded
+def exponents_frame(store: Store) -> pd.DataFrame:
+    """One row per recorded Kovalevskaya analysis, oldest first: the case version, the
+    weights and free parameters, whether it was decided, whether the field is
+    weighted-homogeneous under the weights, the number of balances, whether every
+    exponent is an integer (rational), Yoshida's degrees, the Painlevé test, how many
+    special sets a family has, the statement, and its provenance (code, time, seconds)."""
+    stmt = (
+        select(
+            ExponentRow.id.label("analysis"),
+            CaseRow.case_id.label("case"),
+            CaseRow.version,
+            ExponentRow.options,
+            ExponentRow.decided,
+            ExponentRow.homogeneous,
+            ExponentRow.balances,
+            ExponentRow.all_integer,
+            ExponentRow.all_rational,
+            ExponentRow.degrees,
+            ExponentRow.passes.label("painleve"),
+            ExponentRow.document,
+            ExponentRow.statement,
+            ExponentRow.code_version,
+            ExponentRow.started_at,
+            ExponentRow.seconds,
+        )
+        .join(CaseRow, CaseRow.id == ExponentRow.case_pk)
+        .order_by(ExponentRow.id)
+    )
+    frame = _select_frame(store, stmt)
+    options = list(frame.pop("options"))
+    frame.insert(3, "weights", [o["weights"] for o in options])
+    frame.insert(4, "free", [o["free"] for o in options])
+    documents = list(frame.pop("document"))
+    where = list(frame.columns).index("painleve") + 1
+    frame.insert(where, "n_special", [len(d.get("special", ())) for d in documents])
+    return frame
 
 
 def _select_frame(store: Store, stmt: Select) -> pd.DataFrame:

@@ -316,6 +316,33 @@ class DiscoveryRow(Base):
     same_as: Mapped[list[dict[str, Any]]] = mapped_column(JSON, default=list, server_default="[]")
 
 
+class ExponentRow(Base):
+    """One Kovalevskaya analysis of one case version (``registry exponents``): its options
+    (and their canonical text, the key of its reuse), the code that ran it, what a query
+    filters on (decided, homogeneous, integer and rational exponents, the Painlevé test,
+    Yoshida's degrees, the number of balances, the statement), and the whole JSON document
+    (docs/json-output.md). A new analysis is a new row: none is ever overwritten."""
+
+    __tablename__ = "exponents"
+
+    id: Mapped[int] = mapped_column(primary_key=True)
+    case_pk: Mapped[int] = mapped_column(ForeignKey("cases.id"), index=True)
+    options: Mapped[dict[str, Any]] = mapped_column(JSON)
+    options_key: Mapped[str] = mapped_column(Text)
+    code_version: Mapped[str] = mapped_column(Text)
+    started_at: Mapped[datetime] = mapped_column(UTCDateTime)
+    seconds: Mapped[float] = mapped_column(Float, default=0.0)
+    decided: Mapped[bool] = mapped_column(Boolean)
+    homogeneous: Mapped[bool] = mapped_column(Boolean)
+    all_integer: Mapped[bool] = mapped_column(Boolean)
+    all_rational: Mapped[bool] = mapped_column(Boolean)
+    passes: Mapped[bool] = mapped_column(Boolean)
+    degrees: Mapped[list[int]] = mapped_column(JSON)
+    balances: Mapped[int]
+    statement: Mapped[str] = mapped_column(Text, default="")
+    document: Mapped[dict[str, Any]] = mapped_column(JSON)
+
+
 # --------------------------------------------------------------------------- views
 
 

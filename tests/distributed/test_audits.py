@@ -128,7 +128,11 @@ def test_local_2_audits_the_seed_catalog_exactly_as_the_local_pool(tmp_path):
     )
 
     (run,) = on_dask.runs().to_dict("records")
-    assert run["status"] == "complete" and run["n_cases"] == len(seed_cases())
+    # n_cases counts the cases with results: a system given by its equations, without
+    # claims, has nothing to decide
+    silent = [a.case for a in got.audits if not a.results]
+    assert all(not c.claims for c in seed_cases() if c.id in silent)
+    assert run["status"] == "complete" and run["n_cases"] == len(seed_cases()) - len(silent)
     options = run["options"]
     assert options["scheduler"] == "local:2" and options["jobs"] is None
     assert options["cluster"]["workers"] == 2 and options["cluster"]["threads"] == 2

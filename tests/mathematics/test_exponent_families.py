@@ -5,7 +5,8 @@ plane: Kowalevski (Acta Math. 12 (1889) 177-232, as reviewed in JFM 21.0935.01) 
 that, besides the known cases, the Laurent series carry five arbitrary constants when
 two moments are equal and twice the third with the centre of gravity in the plane of
 the equal moments: here c = 1/2. The search finds exactly c = 1/2 and the sphere c = 1,
-and says that the search is complete.
+and says that the search is complete; and, as the only value where every exponent is
+half an integer without all being integers, Goryachev and Chaplygin's c = 1/4.
 """
 
 from __future__ import annotations
@@ -25,6 +26,12 @@ def test_the_symmetric_heavy_top_is_integral_exactly_for_kovalevskaya_and_the_sp
     family = exponent_family(STATE, heavy_top((1, 1, c), (1, 0, 0)), HEAVY_WEIGHTS, [c])
     assert [s.values for s in family.integer] == [{c: sp.Rational(1, 2)}, {c: 1}]
     assert family.complete_integer and family.complete_rational
+    (goryachev,) = family.half_integer
+    assert goryachev.values == {c: sp.Rational(1, 4)} and family.complete_half_integer
+    assert {v for b in goryachev.analysis.balances for v in b.exponents.values} >= {
+        -sp.Rational(1, 2),
+        sp.Rational(3, 2),
+    }
     kovalevskaya = family.integer[0].analysis
     assert kovalevskaya.all_integer and kovalevskaya.painleve_passes
     assert [list(b.exponents.values) for b in kovalevskaya.balances][0] == [-1, 0, 1, 2, 3, 4]
@@ -56,3 +63,20 @@ def test_several_free_parameters_are_searched_and_not_claimed_complete():
     assert not family.complete_integer and not family.complete_rational
     assert family.integer and all(s.analysis.all_integer for s in family.integer)
     assert "not complete" in family.coverage[-1]
+
+
+def test_the_analyses_at_candidate_values_run_through_the_mapper_given():
+    """Each candidate's exact analysis is one call of the mapper (a worker pool's map),
+    and the result is the same as in process."""
+    calls: list[int] = []
+
+    def mapper(fn, items):
+        calls.append(len(items))
+        return [fn(item) for item in items]
+
+    field = [x * (-x + p * y), y * (3 * x - 2 * y)]
+    mapped = exponent_family([x, y], field, [1, 1], [p], mapper=mapper)
+    assert sum(calls) >= 5
+    assert [s.values for s in mapped.special] == [
+        s.values for s in exponent_family([x, y], field, [1, 1], [p]).special
+    ]

@@ -86,8 +86,18 @@ def test_the_python_file_evaluates_to_the_case_expressions(path):
         assert sp.expand(namespace["claims"][claim.label] - claim.expression.expr) == 0
         exported = namespace["level_sets"][claim.label]
         assert [(e.lhs, e.rhs) for e in exported] == [(e.lhs, e.rhs) for e in claim.on]
-    for got, want in zip(namespace["torque"], case.system.torque_exprs, strict=True):
+    dynamics = case.dynamics
+    assert [str(x) for x in namespace["variables"]] == [str(x) for x in dynamics.variables]
+    assert len(namespace["equations"]) == len(dynamics.field)
+    for got, want in zip(
+        namespace["torque"] if "torque" in namespace else (),
+        dynamics.torque_exprs or (),
+        strict=True,
+    ):
         assert sp.expand(got - want) == 0
+    if not any(sp.Symbol(str(x)) != x for x in dynamics.variables):  # plain symbols
+        for got, want in zip(namespace["equations"], dynamics.field, strict=True):
+            assert sp.simplify(got - want) == 0
     assert namespace["case_id"] == case.id and namespace["title"] == case.title
 
 

@@ -19,6 +19,7 @@ printed). Every internal link of every page is also checked on the files. Under
 
 from __future__ import annotations
 
+import html
 import json
 import os
 import re
@@ -100,6 +101,8 @@ def built(tmp_path_factory) -> SimpleNamespace:
             reg.add_case(parse_case_text(text, f"{name}.toml"))
         reg.audit(jobs=1)
         reg.survey([RENAMED], jobs=1)
+        reg.analyse_exponents(SO4, record=True)
+        reg.analyse_exponents(HOSTILE_ID, free=["c"], record=True, jobs=1)
         first = reg.site(folder / "one")
         reg.site(folder / "two")
         cases = reg.cases()
@@ -262,6 +265,52 @@ def test_case_page_shows_verdicts_witness_corrections_history_and_citations(buil
     renamed = (built.site / "cases" / f"{RENAMED}.html").read_text(encoding="utf-8")
     assert "Newest search for integrals" in renamed and "No search recorded" not in renamed
     assert f'<a href="{ZHUKOVSKY}.html">{ZHUKOVSKY}</a>' in renamed
+
+
+def _exponents_section(built, case_id: str) -> str:
+    page = (built.site / "cases" / f"{case_id}.html").read_text(encoding="utf-8")
+    return html.unescape(page[page.index('id="exponents"') : page.index('id="history"')])
+
+
+def test_a_case_page_shows_its_newest_kovalevskaya_analysis(built):
+    section = _exponents_section(built, SO4)
+    assert re.search(
+        r"Analysis \d+ of version 1, weights M = 1, gamma = 2 \(the field is not "
+        r"weighted-homogeneous: its leading part is analysed\)\.",
+        section,
+    )
+    # two families of balances along M2 (-1, 0, 1, 2, 3, 4), two isolated ones
+    assert section.count("(a family of dimension 1, along M2)") == 2
+    assert section.count("<code>-1, 0, 1, 2, 3, 4</code>") == 2
+    assert section.count("<code>-1, -1, 2, 2, 3, 4</code>") == 2
+    assert section.count("every condition holds") == 4
+    degrees = "Degrees Yoshida's theorem allows: 1, 2, 3, 4. Painlevé (ARS) test: passes."
+    assert degrees in section
+    assert "applied to the leading part" in section  # the statement, as strong as Yoshida's
+    assert "With the newest search" not in section  # no search of this case
+    other = _exponents_section(built, YEHIA_B)
+    assert "No Kovalevskaya analysis recorded for this case." in other
+
+
+def test_a_family_s_analysis_shows_its_special_sets_and_their_completeness(built):
+    section = _exponents_section(built, HOSTILE_ID)
+    assert ", free c." in section and "(generic values of c)" in section
+    assert "Painlevé (ARS) test for generic values: passes." in section
+    rows = re.findall(r"<tr><td>(\w+)</td><th scope=\"row\"><code>([^<]*)</code></th>", section)
+    assert rows == [("integer", "every value"), ("rational", "every value")]
+    assert "Complete: integer yes, half-integer yes, rational yes." in section
+
+
+def test_a_surveyed_case_s_analysis_is_combined_with_its_newest_search(built):
+    """The survey analysed Zhukovsky's gyrostat beside its search; with every parameter
+    generic the analysis may run out of its short budget: either way the page says what
+    the two halves prove together, and no more."""
+    section = _exponents_section(built, RENAMED)
+    assert "Analysis " in section and "With the newest search: " in section
+    combined = section[section.index("With the newest search: ") :]
+    assert combined.startswith("With the newest search: Nothing is stated beyond degree") or (
+        "Yoshida" in combined
+    )
 
 
 def test_bracket_names_follow_the_sign_of_kappa(built):

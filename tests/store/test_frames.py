@@ -101,3 +101,40 @@ def test_latest_verdicts_span_case_versions(store, sample_case, case_factory):
     assert set(zip(latest["version"], latest["run"], strict=True)) == {(2, run2)}
     assert latest["reused"].all()
     assert frames.runs_frame(store)["n_reused"].tolist() == [0, 4]
+
+
+def test_every_kovalevskaya_analysis_is_a_row_and_none_is_overwritten(store, sample_case):
+    """Two analyses of one case version (a later code version, say) are two rows, oldest
+    first; the newest is what ``stored_exponents`` returns for those options."""
+    from registry.model import ExponentOptions, ExponentResult
+
+    store.add_case(sample_case)
+    (stored,) = store.case_versions()
+    options = ExponentOptions((("M", 1), ("gamma", 2)))
+    first = ExponentResult(
+        sample_case.id,
+        sample_case.content_hash,
+        options,
+        {"decided": True, "homogeneous": True, "all_integer": False, "all_rational": True,
+         "degrees": [2, 4], "balances": [{}, {}], "painleve": {"passes": False},
+         "statement": "first"},
+        1.5,
+    )  # fmt: skip
+    second = ExponentResult(
+        first.case, first.content_hash, options, {**first.document, "statement": "second"}
+    )
+    a = store.record_exponents(stored.pk, first, "code-1")
+    b = store.record_exponents(stored.pk, second, "code-2")
+    frame = frames.exponents_frame(store)
+    assert list(frame.columns) == [
+        "analysis", "case", "version", "weights", "free", "decided", "homogeneous", "balances",
+        "all_integer", "all_rational", "degrees", "painleve", "n_special", "statement",
+        "code_version", "started_at", "seconds",
+    ]  # fmt: skip
+    assert frame["analysis"].tolist() == [a, b]
+    assert frame["statement"].tolist() == ["first", "second"]
+    assert frame.loc[0, "degrees"] == [2, 4] and frame.loc[0, "balances"] == 2
+    assert frame.loc[0, "weights"] == {"M": 1, "gamma": 2} and frame.loc[0, "free"] == []
+    assert store.stored_exponents(stored.pk, options, "code-1") == (a, first)
+    assert store.stored_exponents(stored.pk, options)[0] == b  # the newest, any code
+    assert store.newest_exponents()[sample_case.id][0] == b

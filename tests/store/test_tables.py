@@ -17,7 +17,7 @@ from tests.helpers.stores import audit_of, count
 def test_a_store_has_schema_version(store):
     with store.engine.connect() as conn:
         value = conn.scalar(text("SELECT value FROM meta WHERE key = 'schema_version'"))
-    assert value == str(tables.SCHEMA_VERSION) == "8"
+    assert value == str(tables.SCHEMA_VERSION) == "9"
 
 
 def test_foreign_keys_are_enforced(store, sample_case):
@@ -62,6 +62,7 @@ def test_the_orm_tables_are_the_registry_tables():
         "case_aliases",
         "searches",
         "discoveries",
+        "exponents",
     }
     assert tables.latest_verdicts.name == tables.VIEW_NAME == "latest_verdicts"
     assert tables.RUN_STATUSES[0] == "running"

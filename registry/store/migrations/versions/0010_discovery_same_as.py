@@ -3,19 +3,15 @@ set of values a search found integrals on, the catalog cases it is the same syst
 (case id, parameter values, transformation, the claims its integrals equal), as JSON;
 "[]" for every earlier row (they were not identified). Nothing else changes.
 
-Revision 0009 is another branch's (exponents-cli: table ``exponents``), not on this
-branch yet; when both are merged this revision's ``down_revision`` becomes "0009" so
-the chain stays linear.
-
 Revision ID: 0010
-Revises: 0008
+Revises: 0009
 """
 
 import sqlalchemy as sa
 from alembic import op
 
 revision = "0010"
-down_revision = "0008"
+down_revision = "0009"
 branch_labels = None
 depends_on = None
 

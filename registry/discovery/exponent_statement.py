@@ -1,0 +1,204 @@
+"""What a Kovalevskaya analysis proves, in words: each statement exactly as strong as the
+theorem it cites, with the theorem named and its hypotheses stated.
+
+* Yoshida (Celestial Mech. 31 (1983) 363): if I is a weighted-homogeneous first integral
+  of weighted degree k >= 1 of a weighted-homogeneous field and grad I(c) != 0 at a
+  balance c, then k is an exponent of c. For a field that is not homogeneous, the
+  leading weighted-homogeneous part of a polynomial integral is an integral of the
+  field's leading part, and the theorem applies to it there.
+* Yoshida (1983): n - 1 weighted-homogeneous algebraic integrals whose gradients are
+  independent at a balance make every exponent of that balance rational.
+* Ablowitz, Ramani and Segur (J. Math. Phys. 21 (1980) 715): the Painlevé test needs
+  every exponent to be an integer and every compatibility condition to hold; a failing
+  condition forces a logarithmic term (movable logarithmic branch points). Passing the
+  test is necessary for the Painlevé property, never a proof of it.
+
+The texts are written from the analysis's document (plain data), so that a stored
+analysis says the same as a fresh one.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from typing import Any
+
+YOSHIDA = "Yoshida (Celestial Mech. 31 (1983) 363)"
+ARS = "the ARS test (Ablowitz, Ramani and Segur, J. Math. Phys. 21 (1980) 715)"
+
+
+def statement(document: Mapping[str, Any], weights: str, generic: Sequence[str] = ()) -> str:
+    """The statement of one analysis (module doc): the scope (the whole field or its
+    leading part, generic parameter values), Yoshida's degrees, what irrational exponents
+    exclude, and the Painlevé test."""
+    homogeneous = bool(document["homogeneous"])
+    balances = document["balances"]
+    where = f" for generic values of {', '.join(generic)}" if generic else ""
+    if homogeneous:
+        scope = f"The field is weighted-homogeneous under weights {weights}"
+    else:
+        scope = (
+            f"The field is not weighted-homogeneous under weights {weights}: its balances and "
+            "exponents are those of its leading part (the terms of the highest shift), the "
+            "lower terms entering only the Painlevé test's series"
+        )
+    if not balances:
+        return (
+            f"{scope}. Its leading part has no balance (no solution x = c t^(-w)): "
+            "Kovalevskaya's exponents, Yoshida's theorem and the Painlevé test say nothing here."
+        )
+    parts = [f"{scope}; {len(balances)} balance(s){where}"]
+    parts.append(_yoshida(document, homogeneous))
+    if not document["all_rational"]:
+        whose = "the field" if homogeneous else "the leading part"
+        k = _dimension(document) - 1
+        parts.append(
+            f"{YOSHIDA}: {k} (the dimension less one) weighted-homogeneous algebraic first "
+            "integrals whose gradients are independent at a balance make every exponent of "
+            "that balance rational; a balance here has an irrational or complex exponent, "
+            f"so {whose} has no {k} such integrals independent there"
+        )
+    parts.append(_painleve(document))
+    return "; ".join(parts) + "."
+
+
+def _yoshida(document: Mapping[str, Any], homogeneous: bool) -> str:
+    degrees = document["degrees"]
+    if homogeneous:
+        theorem = (
+            f"{YOSHIDA}: a weighted-homogeneous first integral of weighted degree k >= 1 "
+            "whose gradient is not zero at a balance has k among that balance's exponents"
+        )
+    else:
+        theorem = (
+            f"{YOSHIDA}, applied to the leading part: the leading weighted-homogeneous part "
+            "of a polynomial first integral is a first integral of the leading part, and "
+            "where its gradient is not zero at a balance, its weighted degree k is among "
+            "that balance's exponents"
+        )
+    if degrees:
+        return f"{theorem}: the degrees some balance allows are {', '.join(map(str, degrees))}"
+    return (
+        f"{theorem}: no balance has a positive integer exponent, so every such integral "
+        "has a gradient that vanishes at every balance"
+    )
+
+
+def _painleve(document: Mapping[str, Any]) -> str:
+    painleve = document["painleve"]
+    if not document["all_integer"]:
+        return f"{ARS} needs every exponent to be an integer: it fails"
+    failing = painleve["conditions"]
+    if failing:
+        first = failing[0]
+        where = f"balance {first['balance']}, resonance {first['resonance']}"
+        return (
+            f"{ARS}: a compatibility condition fails ({where}), so the Laurent series needs "
+            "a logarithmic term: the general solution has movable logarithmic branch points "
+            "and the field does not have the Painlevé property"
+        )
+    if painleve["passes"]:
+        return (
+            f"{ARS} passes (integer exponents, every compatibility condition holds): "
+            "necessary for the Painlevé property, not a proof of it"
+        )
+    return f"{ARS} was not run"
+
+
+def family_statement(document: Mapping[str, Any], weights: str) -> str:
+    """The statement of a family's analysis: what holds for generic values of the free
+    parameters, the sets where every exponent is an integer, half an integer, rational
+    (each with its Painlevé test), and whether the lists are complete ("exactly" only
+    where they are; "at least" otherwise)."""
+    free = ", ".join(document["free"])
+    parts = [f"Kovalevskaya exponents of the family in {free} under weights {weights}"]
+    special = document["special"]
+    complete = document["complete"]
+    everywhere = [s for s in special if s["kind"] == "integer" and _every_value(s)]
+    if everywhere:
+        parts.append(f"every exponent of every balance is an integer for every value of {free}")
+        parts.append(_painleve_everywhere(document, special, complete["integer"]))
+    elif document["balances"]:
+        parts.append(_generic(document))
+    else:
+        parts.append("the generic analysis was not made (see the coverage)")
+    kinds = (
+        ("integer", "an integer", complete["integer"]),
+        ("half-integer", "half an integer (not all integers)", complete["half_integer"]),
+        ("rational", "rational (among rational parameter values)", complete["rational"]),
+    )
+    for kind, label, flag in kinds:
+        if everywhere and kind != "half-integer":
+            continue
+        sets = [s for s in special if s["kind"] == kind]
+        if not sets:
+            if flag:
+                parts.append(f"no value makes every exponent of every balance {label}")
+            continue
+        how = "exactly" if flag else "at least"
+        listed = "; ".join(_special_text(s) for s in sets)
+        parts.append(f"every exponent of every balance is {label} {how} at: {listed}")
+    if not all(complete.values()):
+        parts.append("not complete: " + "; ".join(document["coverage"]))
+    return "; ".join(parts) + "."
+
+
+def _generic(document: Mapping[str, Any]) -> str:
+    """What the exponents are for generic values of the free parameters."""
+    if document["all_integer"]:
+        return "for generic values every exponent of every balance is an integer"
+    if document["all_rational"]:
+        return f"for generic values some exponent is not an integer, so {ARS} fails there"
+    k = _dimension(document) - 1
+    return (
+        f"for generic values some exponent is irrational or complex: {ARS} fails there, and "
+        f"by {YOSHIDA} the leading part has no {k} (the dimension less one) "
+        "weighted-homogeneous algebraic integrals independent at that balance"
+    )
+
+
+def _painleve_everywhere(
+    document: Mapping[str, Any], special: Sequence[Mapping[str, Any]], complete: bool
+) -> str:
+    """The Painlevé test of a family whose exponents are integers for every value: for
+    generic values, and the values where its failing conditions hold."""
+    failing = document["painleve"]["conditions"]
+    if not failing:
+        return f"{ARS} passes for generic values (necessary for the Painlevé property, not a proof)"
+    passing = [
+        ", ".join(s["when"])
+        for s in special
+        if s["kind"] == "integer" and not _every_value(s) and s.get("painleve", {}).get("passes")
+    ]
+    first = failing[0]
+    where = f"balance {first['balance']}, resonance {first['resonance']}"
+    fails = (
+        f"for generic values a compatibility condition fails ({where}: {first['condition']}), "
+        "so there the field does not have the Painlevé property"
+    )
+    if not passing:
+        return f"{fails}; {ARS} passes at no value found"
+    how = "exactly" if complete else "at least"
+    return f"{fails}; {ARS} passes {how} at: {'; '.join(passing)}"
+
+
+def _every_value(entry: Mapping[str, Any]) -> bool:
+    return not entry["when"] and "index" in entry
+
+
+def _dimension(document: Mapping[str, Any]) -> int:
+    """The dimension of the state (the number of coordinates of a balance)."""
+    return len(document["balances"][0]["point"])
+
+
+def _special_text(entry: Mapping[str, Any]) -> str:
+    when = ", ".join(entry["when"]) or "every value"
+    if "index" in entry:
+        when += f" ({entry['index']['ranges']})"
+        return when
+    painleve = entry.get("painleve")
+    if painleve is None:
+        return f"{when} (not analysed: {'; '.join(entry['notes'])})"
+    if entry["kind"] != "integer":
+        return when
+    verdict = "ARS test passes" if painleve["passes"] else "a compatibility condition fails"
+    return f"{when} ({verdict})"

@@ -1,0 +1,581 @@
+"""The Kovalevskaya analysis of a case (``registry exponents``): its system's field split
+into weighted-homogeneous parts under weights given by vector, every balance of the
+leading part with its exponents, Yoshida's degrees and the Painlevé (ARS) test; with
+free parameters, the values where every exponent is an integer, half an integer or
+rational (``mathematics.exponent_families``).
+
+The system is read from ``Case.dynamics`` whatever form its file gave it in (moments of
+inertia, a Hamiltonian with kappa, equations, a Hamiltonian with a bracket); nothing of
+the file is executed. The result is an ``ExponentResult``: the JSON document of
+docs/json-output.md, every expression written as text (algebraic numbers exactly:
+``sqrt(7)``, ``I``), with a statement that says only what the cited theorems prove.
+A system the method cannot analyse is refused with an ``ExponentError`` naming the file,
+the field and the text (``case_field``).
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable, Iterator, Mapping, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import sympy as sp
+
+from ..dynamics import Dynamics
+from ..errors import ExponentError, Problem, WeightedFieldError
+from ..execution.executor import Executor, InProcess, in_order, timed
+from ..execution.serving import Failure
+from ..execution.time_budget import BudgetExceeded, time_limit
+from ..mathematics.exponent_analysis import BalanceResult, ExponentAnalysis, exponents
+from ..mathematics.exponent_families import GRID, ExponentFamily, SpecialSet, exponent_family
+from ..mathematics.grading import candidates, per_variable, shift
+from ..mathematics.weighted import split_field
+from ..model import Case, ExponentOptions, ExponentResult, Weights, as_weights
+from .exponent_statement import family_statement, statement
+
+#: What the analysis says of how it works (in every document).
+METHOD = (
+    "weighted split of the polynomial field; balances by Groebner bases in shape position "
+    "over Q(parameters) and its algebraic extensions; exponents exact, per component in "
+    "k[u]/(g); the ARS recursion to the last resonance, its conditions decided exactly"
+)
+
+#: With several free parameters: the share of the budget the generic analysis over
+#: Q(free) may take before the grid of small values is searched without it.
+GENERIC_SHARE = 0.3
+
+
+@dataclass(frozen=True)
+class CaseField:
+    """A case's system as the analysis reads it: the state, dx/dt as polynomials in it
+    (shorthands such as ``s`` written out), each variable's weight, the parameters left
+    generic and those whose special values are sought."""
+
+    variables: tuple[sp.Symbol, ...]
+    field: tuple[sp.Expr, ...]
+    weights: tuple[int, ...]
+    parameters: tuple[sp.Symbol, ...]
+    free: tuple[sp.Symbol, ...]
+
+
+def exponent_options(
+    case: Case,
+    weights: Weights | Mapping[str, int] | tuple[int, int] | None = None,
+    free: Sequence[str] = (),
+) -> ExponentOptions:
+    """The options for analysing ``case``: a weight for every vector of its state (those
+    given, the others ``_default_weights``) and the ``free`` parameters (each must be one
+    the case declares)."""
+    dynamics = case.dynamics
+    names = [v.name for v in dynamics.vectors]
+    problems = []
+    try:
+        given = dict(as_weights(weights)) if weights is not None else {}
+    except ValueError as err:
+        given = {}
+        problems.append(Problem("--weights", str(err)))
+    unknown = [n for n in given if n not in names]
+    if unknown:
+        problems.append(
+            Problem(
+                "--weights",
+                f"names a vector the case's state does not have (its vectors: {', '.join(names)})",
+                ", ".join(unknown),
+            )
+        )
+    strangers = [f for f in free if f not in case.parameters]
+    if strangers:
+        declared = ", ".join(case.parameters) or "none"
+        problems.append(
+            Problem(
+                "--free",
+                f"names a parameter the case does not declare (its parameters: {declared})",
+                ", ".join(strangers),
+            )
+        )
+    if problems:
+        raise ExponentError(_file(case), problems)
+    default = dict(_default_weights(dynamics))
+    chosen = tuple((v.name, given.get(v.name, default[v.name])) for v in dynamics.vectors)
+    return ExponentOptions(chosen, tuple(dict.fromkeys(free)))
+
+
+def _default_weights(dynamics: Dynamics) -> Weights:
+    """The weights an analysis uses unless told: the system's grading where its field is
+    homogeneous under it; else the first of the vectors' own weights (M: 1, gamma: 2 for
+    the reference paper's state, under which a deformation such as so(4)'s is of lower
+    shift) and the other gradings tried (``grading.candidates``) under which the field has
+    a leading part (no term of shift above 1); else the vectors' own weights."""
+    own = tuple((v.name, v.weight) for v in dynamics.vectors)
+    if dynamics.grading and (
+        shift(
+            dynamics.field,
+            dynamics.grading,
+            dynamics.vectors,
+            dynamics.shorthands,
+            dynamics.variables,
+        )
+        is not None
+    ):
+        return dynamics.grading
+    field = [sp.expand(dynamics.expanded(v)) for v in dynamics.field]
+    for weights in (own, *candidates(dynamics.vectors)):
+        try:
+            split_field(
+                dynamics.variables,
+                field,
+                per_variable(weights, dynamics.vectors, dynamics.variables),
+            )
+        except WeightedFieldError:
+            continue
+        return weights
+    return own
+
+
+def case_field(case: Case, options: ExponentOptions) -> CaseField:
+    """The polynomial field of ``case`` under ``options`` (ExponentError, every problem
+    at once, for a system that is not polynomial in its state, arbitrary functions, or a
+    family whose other parameters are neither free nor fixed)."""
+    dynamics = case.dynamics
+    problems = []
+    if dynamics.functions:
+        problems.append(
+            Problem(
+                "functions",
+                "arbitrary functions leave the field's degree unknown: the analysis needs "
+                "a polynomial field",
+                ", ".join(dynamics.functions),
+            )
+        )
+    state = set(dynamics.variables)
+    field = []
+    for x, v in zip(dynamics.variables, dynamics.field, strict=True):
+        expr = sp.expand(dynamics.expanded(v))
+        numer, denom = sp.fraction(sp.together(expr))
+        below = sorted(map(str, denom.free_symbols & state))
+        if below or not _polynomial(numer, dynamics.variables):
+            why = f" (divided by a function of {', '.join(below)})" if below else ""
+            problems.append(
+                Problem(
+                    f"d{x}/dt",
+                    f"not a polynomial in the state variables{why}: the analysis seeks "
+                    "balances x = c t^(-w) of a polynomial field",
+                    sp.sstr(expr),
+                )
+            )
+        field.append(expr)
+    free = tuple(case.parameters[f] for f in options.free)
+    present = set().union(*(e.free_symbols for e in field)) - state
+    if free:
+        others = sorted((str(p) for p in present if p not in set(free)), key=str)
+        if others:
+            problems.append(
+                Problem(
+                    "--free",
+                    "every other parameter of the field must be free too, or be fixed in the "
+                    "case (the special values of a family are sought over Q(free))",
+                    ", ".join(others),
+                )
+            )
+    if problems:
+        raise ExponentError(_file(case), problems)
+    weights = per_variable(options.weights, dynamics.vectors, dynamics.variables)
+    parameters = tuple(p for p in dynamics.parameters if p in present and p not in set(free))
+    return CaseField(dynamics.variables, tuple(field), weights, parameters, free)
+
+
+def analyse_case(
+    case: Case,
+    options: ExponentOptions,
+    *,
+    budget: float | None = None,
+    executor: Executor | None = None,
+    seed: int = 0,
+) -> ExponentResult:
+    """The analysis of ``case`` (module doc); with ``options.free``, the family's special
+    values, their exact analyses run by ``executor`` (default: in this process). Past
+    ``budget`` seconds the analysis stops and the result is not decided (its reason
+    says so); ExponentError for a system the method cannot analyse."""
+    start = time.perf_counter()
+    found = case_field(case, options)
+    try:
+        if not found.free:
+            with time_limit(budget):
+                analysis = _exponents(case, found, seed)
+            document = _document(case, options, found, analysis)
+        else:
+            family = _family(case, found, executor or InProcess(), budget, seed)
+            document = _family_document(case, options, found, family)
+    except BudgetExceeded:
+        document = undecided_document(
+            case, options, f"time budget exceeded ({budget:g} s) before the analysis ended"
+        )
+        document["budget"] = budget  # a larger one may decide it (runs.exponents_run)
+    seconds = time.perf_counter() - start
+    document["seconds"] = round(seconds, 3)
+    return ExponentResult(case.id, case.content_hash, options, document, seconds)
+
+
+def refused(case: Case, options: ExponentOptions, reason: str) -> ExponentResult:
+    """The record of an analysis the method refuses: nothing established, and why."""
+    return ExponentResult(
+        case.id, case.content_hash, options, undecided_document(case, options, reason)
+    )
+
+
+def undecided_document(case: Case, options: ExponentOptions, reason: str) -> dict[str, Any]:
+    """The document of an analysis that establishes nothing, with the reason."""
+    return {
+        "case": case.id,
+        "weights": dict(options.weights),
+        "free": list(options.free),
+        "decided": False,
+        "reason": reason,
+        "balances": [],
+        "statement": f"Nothing is established about the Kovalevskaya exponents: {reason}.",
+        "seconds": 0.0,
+    }
+
+
+def analysed(
+    work: Sequence[tuple[Case, ExponentOptions]],
+    *,
+    budget: float | None,
+    executor: Executor | None = None,
+) -> Iterator[ExponentResult]:
+    """The analysis of each (case, options), in order, by ``executor`` (default: in this
+    process), one call each (the survey's); an analysis the method refuses, or that came
+    back with no result, is recorded as ``refused`` with the reason."""
+    executor = executor or InProcess()
+    calls = executor.map(
+        _analysed_apart,
+        [(item, budget) for item in work],
+        deadline=timed(budget),
+        label=lambda w: w[0][0].id,
+        name="registry-exponents",
+    )
+    for index, outcome in in_order(calls, len(work)):
+        if isinstance(outcome, Failure):
+            case, options = work[index]
+            outcome = refused(case, options, f"no result came back: {outcome.reason}")
+        yield outcome
+
+
+def _analysed_apart(work) -> ExponentResult:
+    (case, options), budget = work
+    try:
+        return analyse_case(case, options, budget=budget)
+    except ExponentError as err:
+        return refused(case, options, str(err))
+
+
+# ------------------------------------------------------------------ one system
+
+
+def _exponents(case: Case, found: CaseField, seed: int) -> ExponentAnalysis:
+    try:
+        return exponents(
+            found.variables, found.field, found.weights, parameters=found.parameters, seed=seed
+        )
+    except WeightedFieldError as err:
+        raise _named(case, found, err) from None
+
+
+def _named(case: Case, found: CaseField, err: WeightedFieldError) -> ExponentError:
+    """The maths' problems with the field's components named dx/dt, for the case's file."""
+    names = {f"field[{i}]": f"d{x}/dt" for i, x in enumerate(found.variables)}
+    return ExponentError(
+        _file(case), [Problem(names.get(p.field, p.field), p.message, p.text) for p in err.problems]
+    )
+
+
+def _document(
+    case: Case, options: ExponentOptions, found: CaseField, analysis: ExponentAnalysis
+) -> dict[str, Any]:
+    """The JSON document of one analysis (docs/json-output.md)."""
+    document: dict[str, Any] = {
+        "case": case.id,
+        "weights": dict(options.weights),
+        "homogeneous": analysis.homogeneous,
+        "free": list(options.free),
+        "parameters": [str(p) for p in analysis.parameters],
+    }
+    if not analysis.homogeneous:
+        document["leading"] = {
+            str(x): sp.sstr(v) for x, v in zip(analysis.variables, analysis.leading, strict=True)
+        }
+    document |= _analysis_part(analysis)
+    document["statement"] = statement(
+        document, options.weights_text(), [str(p) for p in found.parameters]
+    )
+    document["notes"] = list(analysis.notes)
+    document["method"] = METHOD
+    document["decided"] = True
+    return document
+
+
+def _analysis_part(analysis: ExponentAnalysis) -> dict[str, Any]:
+    """Balances, exponents, degrees and the Painlevé test of one analysis."""
+    balances = [_balance(b) for b in analysis.balances]
+    conditions = [
+        {"balance": i, **c}
+        for i, b in enumerate(balances, 1)
+        for r in b["painleve"]["resonances"]
+        for c in _obstructions(r)
+    ]
+    return {
+        "balances": balances,
+        "all_integer": analysis.all_integer,
+        "all_rational": analysis.all_rational,
+        "degrees": list(analysis.degrees),
+        "painleve": {
+            "passes": analysis.painleve_passes,
+            "compatible": analysis.compatible,
+            "conditions": conditions,
+        },
+    }
+
+
+def _balance(b: BalanceResult) -> dict[str, Any]:
+    """One balance: the maths' entry, with its Painlevé test resonance by resonance and
+    its coordinates along a family of balances named ``along``."""
+    entry = b.as_dict()
+    named = {} if b.balance.root is not None else {b.balance.component.symbol: sp.Symbol("theta")}
+    entry["along"] = entry.pop("free")
+    entry["painleve"] = {
+        "compatible": b.painleve.compatible,
+        "resonances": [
+            {
+                "order": r.order,
+                "multiplicity": r.multiplicity,
+                "free": [str(f) for f in r.free],
+                "conditions": [f"{sp.sstr(c.xreplace(named))} = 0" for c in r.conditions],
+                "missing": r.missing,
+            }
+            for r in b.painleve.resonances
+        ],
+    }
+    return entry
+
+
+def _obstructions(resonance: Mapping[str, Any]) -> list[dict[str, Any]]:
+    """What fails at one resonance: each condition that does not hold, and a missing free
+    coefficient (a Jordan block) as an entry without a condition."""
+    found = [
+        {"resonance": resonance["order"], "condition": c, "missing": 0}
+        for c in resonance["conditions"]
+    ]
+    if resonance["missing"]:
+        found.append(
+            {"resonance": resonance["order"], "condition": "", "missing": resonance["missing"]}
+        )
+    return found
+
+
+# ------------------------------------------------------------------ families
+
+
+def _family(
+    case: Case, found: CaseField, executor: Executor, budget: float | None, seed: int
+) -> ExponentFamily:
+    """The family's special values, the exact analyses at its candidates run by the
+    executor (each bounded by what is left of the budget)."""
+    started = time.perf_counter()
+
+    def left() -> float | None:
+        return None if budget is None else max(1.0, budget - (time.perf_counter() - started))
+
+    mapper = _mapper(executor, left)
+    try:
+        if len(found.free) == 1:
+            with time_limit(budget):
+                return exponent_family(
+                    found.variables,
+                    found.field,
+                    found.weights,
+                    found.free,
+                    seed=seed,
+                    mapper=mapper,
+                )
+        generic = None
+        try:
+            with time_limit(None if budget is None else GENERIC_SHARE * budget):
+                generic = exponents(
+                    found.variables,
+                    found.field,
+                    found.weights,
+                    parameters=found.free,
+                    painleve=False,
+                )
+        except BudgetExceeded:
+            pass
+        with time_limit(left()):
+            family = exponent_family(
+                found.variables,
+                found.field,
+                found.weights,
+                found.free,
+                seed=seed,
+                mapper=mapper,
+                grid=_grid(found.free),
+                generic=False,
+            )
+    except WeightedFieldError as err:
+        raise _named(case, found, err) from None
+    if generic is None:
+        return family
+    coverage = tuple(c for c in family.coverage if "generic analysis" not in c)
+    return ExponentFamily(
+        family.free,
+        generic,
+        family.factors,
+        family.exceptional,
+        family.unexamined,
+        family.integer,
+        family.rational,
+        False,
+        False,
+        coverage,
+        family.seconds,
+        family.half_integer,
+        False,
+    )
+
+
+def _mapper(executor: Executor, left: Callable[[], float | None]):
+    """``mapper(fn, items)`` of the executor: results in order, None where a call failed
+    (a value whose analysis did not come back is then not reported)."""
+
+    def mapper(fn, items):
+        if not items:
+            return []
+        calls = executor.map(
+            fn,
+            list(items),
+            deadline=left(),
+            label=lambda item: ", ".join(f"{k} = {v}" for k, v in item[3].items()),
+            name="registry-exponents",
+        )
+        return [
+            None if isinstance(outcome, Failure) else outcome
+            for _, outcome in in_order(calls, len(items))
+        ]
+
+    return mapper
+
+
+def _grid(free: Sequence[sp.Symbol]) -> dict[sp.Symbol, tuple[sp.Expr, ...]]:
+    """The small values tried for each free parameter, those its assumptions allow."""
+    return {p: tuple(v for v in GRID if _allowed(p, v)) for p in free}
+
+
+def _allowed(p: sp.Symbol, value: sp.Expr) -> bool:
+    """Whether a value respects the parameter's declared assumption (a real algebraic
+    value's sign decided exactly)."""
+    value = sp.nsimplify(value) if value.is_Float else value
+    if value.is_real is False:
+        return False
+    if p.is_positive and not bool(value > 0):
+        return False
+    if p.is_nonzero and value == 0:
+        return False
+    return not (p.is_integer and value.is_integer is not True)
+
+
+def _family_document(
+    case: Case, options: ExponentOptions, found: CaseField, family: ExponentFamily
+) -> dict[str, Any]:
+    """The JSON document of a family: the generic analysis (where it was made) and the
+    ``special`` list, each set with its exponents and Painlevé test."""
+    generic = family.generic
+    document: dict[str, Any] = {
+        "case": case.id,
+        "weights": dict(options.weights),
+        "homogeneous": generic.homogeneous if generic is not None else None,
+        "free": list(options.free),
+        "parameters": [],
+    }
+    if generic is not None:
+        if not generic.homogeneous:
+            document["leading"] = {
+                str(x): sp.sstr(v) for x, v in zip(generic.variables, generic.leading, strict=True)
+            }
+        document |= _analysis_part(generic)  # the Painlevé test of generic members
+    else:
+        document |= {"balances": [], "all_integer": None, "all_rational": None, "degrees": []}
+        document["painleve"] = {"passes": False, "compatible": None, "conditions": []}
+    dropped: list[str] = []
+    special = [s for s in family.special if _kept(s, dropped)]
+    document["special"] = [_special(s) for s in special]
+    document["exponent_polynomial"] = [
+        {"factor": sp.sstr(f), "multiplicity": m} for f, m in family.factors
+    ]
+    document["exceptional"] = [f"{sp.sstr(q)} = 0" for q in family.exceptional]
+    document["complete"] = {
+        "integer": family.complete_integer,
+        "half_integer": family.complete_half_integer,
+        "rational": family.complete_rational,
+    }
+    coverage = list(family.coverage)
+    if dropped:
+        coverage.append(f"left out, against the declared assumptions: {', '.join(dropped)}")
+    document["coverage"] = coverage
+    document["statement"] = family_statement(document, options.weights_text())
+    document["notes"] = list(generic.notes) if generic is not None else []
+    document["method"] = METHOD
+    document["decided"] = True
+    return document
+
+
+def _kept(s: SpecialSet, dropped: list[str]) -> bool:
+    """Whether a special point respects the declared assumptions (an infinite family is
+    kept whole: its index ranges over every value the equations allow)."""
+    if s.index is not None or all(_allowed(p, v) for p, v in s.values.items()):
+        return True
+    dropped.append(", ".join(f"{p} = {sp.sstr(v)}" for p, v in s.values.items()))
+    return False
+
+
+def _special(s: SpecialSet) -> dict[str, Any]:
+    """One special set: its equations, kind, and exponents with the Painlevé test (of the
+    point, or of a few members of an infinite family)."""
+    entry: dict[str, Any] = {
+        "when": [f"{p} = {sp.sstr(v)}" for p, v in s.values.items()],
+        "kind": s.kind,
+    }
+    if s.index is not None:
+        entry["index"] = {"name": str(s.index), "ranges": s.ranges}
+        entry["members"] = [_member(a) for a in s.members]
+    if s.analysis is not None:
+        entry |= _member(s.analysis)
+    entry["notes"] = list(s.notes)
+    return entry
+
+
+def _member(analysis: ExponentAnalysis) -> dict[str, Any]:
+    part = _analysis_part(analysis)
+    return {
+        "exponents": [b["exponents"] for b in part["balances"]],
+        "degrees": part["degrees"],
+        "painleve": {
+            "passes": part["painleve"]["passes"],
+            "conditions": part["painleve"]["conditions"],
+        },
+    }
+
+
+# ------------------------------------------------------------------ helpers
+
+
+def _polynomial(expr: sp.Expr, variables: Sequence[sp.Symbol]) -> bool:
+    try:
+        sp.Poly(expr, *variables)
+    except sp.PolynomialError:
+        return False
+    return True
+
+
+def _file(case: Case) -> str:
+    """How an error names the case: its file's path, else its id."""
+    return case.path or case.id

@@ -1,0 +1,116 @@
+"""Presenting a Kovalevskaya analysis: the plain text ``registry exponents`` prints, from
+the analysis's JSON document (docs/json-output.md), which is what the registry stores:
+a fresh analysis and a stored one read the same."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from typing import Any
+
+from ..model import ExponentResult
+from .text_table import wrapped
+
+
+def exponents_text(result: ExponentResult, width: int | None = None) -> str:
+    """The analysis in plain text: the weights, the leading part where the field is not
+    homogeneous, each balance with its exponents and Painlevé test, Yoshida's degrees,
+    a family's special sets, the statement and the time; each line wrapped to ``width``
+    (None: no limit) under a hanging indent."""
+    return "\n".join(_hanging(line, width) for line in _lines(result))
+
+
+def _hanging(line: str, width: int | None) -> str:
+    """A line wrapped to ``width``, its next lines indented two more than its first."""
+    text = line.lstrip(" ")
+    indent = " " * (len(line) - len(text))
+    return wrapped(text, width, indent=indent, subsequent=indent + "  ")
+
+
+def _lines(result: ExponentResult) -> list[str]:
+    d = result.document
+    lines = [_heading(d)]
+    if not result.decided:
+        lines += [f"not decided: {d.get('reason', '')}", result.statement]
+        return lines
+    if d.get("leading"):
+        lines.append("the field is not weighted-homogeneous: its leading part is analysed,")
+        lines += [f"    d{x}/dt = {v}" for x, v in d["leading"].items()]
+    if d.get("parameters"):
+        lines.append(f"parameters (generic values): {', '.join(d['parameters'])}")
+    for i, b in enumerate(d["balances"], 1):
+        lines += _balance(i, b)
+    if not d["balances"] and d.get("all_integer") is not None:
+        lines.append("no balance: the leading part has no solution x = c t^(-w)")
+    if d["balances"]:
+        degrees = ", ".join(map(str, d["degrees"])) or "none"
+        lines.append(f"degrees (Yoshida): {degrees}")
+        verdict = "passes" if d["painleve"]["passes"] else "fails"
+        lines.append(f"Painlevé (ARS) test{' for generic values' if d['free'] else ''}: {verdict}")
+    if "special" in d:
+        lines += _special(d["special"], d["complete"], d["coverage"])
+    lines.append(result.statement)
+    lines.append(f"{result.seconds:.2f} s")
+    return lines
+
+
+def _heading(d: Mapping[str, Any]) -> str:
+    weights = ",".join(f"{k}={v}" for k, v in d["weights"].items())
+    free = f", free {', '.join(d['free'])}" if d.get("free") else ""
+    return f"{d['case']}: Kovalevskaya exponents (weights {weights}{free})"
+
+
+def _balance(i: int, b: Mapping[str, Any]) -> list[str]:
+    point = ", ".join(f"{x} = {v}" for x, v in b["point"].items())
+    lines = [f"balance {i}: {point}"]
+    if b.get("root_of"):
+        lines.append(f"    theta: a root of {b['root_of']}")
+    if b.get("dimension"):
+        lines.append(
+            f"    a family of balances of dimension {b['dimension']} (along "
+            f"{', '.join(b['along'])})"
+        )
+    kind = "integers" if b["integer"] else "rational" if b["rational"] else "not all rational"
+    lines.append(f"    exponents: {', '.join(b['exponents'])} ({kind})")
+    lines += [f"    {text}" for text in _painleve(b["painleve"]["resonances"])]
+    return lines
+
+
+def _painleve(resonances: Sequence[Mapping[str, Any]]) -> list[str]:
+    """The Painlevé test at one balance, resonance by resonance, where it fails; one line
+    where every condition holds."""
+    failing = []
+    for r in resonances:
+        failing += [f"resonance {r['order']}: condition fails: {c}" for c in r["conditions"]]
+        if r["missing"]:
+            failing.append(
+                f"resonance {r['order']}: {r['missing']} free coefficient(s) missing (a "
+                "logarithmic term is needed)"
+            )
+    if failing:
+        return failing
+    if resonances:
+        orders = ", ".join(str(r["order"]) for r in resonances)
+        return [f"Painlevé: every compatibility condition holds (resonances {orders})"]
+    return []
+
+
+def _special(
+    special: Sequence[Mapping[str, Any]], complete: Mapping[str, bool], coverage: Sequence[str]
+) -> list[str]:
+    lines = ["special sets:" if special else "special sets: none"]
+    for s in special:
+        when = ", ".join(s["when"]) or "every value"
+        if "index" in s:
+            when += f" ({s['index']['ranges']})"
+        line = f"  {s['kind']}: {when}"
+        if "painleve" in s:
+            line += f"; Painlevé (ARS) test {'passes' if s['painleve']['passes'] else 'fails'}"
+        lines.append(line)
+        for exponents in s.get("exponents", ()):
+            lines.append(f"      exponents {', '.join(exponents)}")
+        lines += [f"      note: {n}" for n in s.get("notes", ())]
+    flags = ", ".join(f"{k.replace('_', '-')} {'yes' if v else 'no'}" for k, v in complete.items())
+    lines.append(f"complete: {flags}")
+    if not all(complete.values()):
+        lines += [f"  coverage: {c}" for c in coverage]
+    return lines

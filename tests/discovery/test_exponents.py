@@ -1,0 +1,296 @@
+"""The Kovalevskaya analysis of a case, on every form a case file may give its system in.
+
+The classical tops' exponents are checked against values derived independently, not
+against a printed table: no printed table of heavy-top Kovalevskaya exponents could be
+reached with the search tools (queries for the heavy top's, the Kowalevski top's and the
+Goryachev-Chaplygin top's exponents and resonances found only the openings of papers;
+see also /work/scratch/exponents32/FINDINGS.md). Two independent derivations stand in:
+
+* by hand, for the balances with the angular velocity along a principal axis k (they
+  exist where the centre of mass lies in the plane orthogonal to it): omega = +-2i e_k,
+  gamma a null eigenvector of hat(omega) with eigenvalue 2, and the characteristic
+  polynomial (lambda + 1)(lambda - 2)(lambda - 3)(lambda - 4)(lambda^2 - lambda + sigma),
+  sigma = 2 (2 I_k - I_i)(I_j - I_k) / (I_i I_j) ... written below for r = e1, inertia
+  (1, b, c) and k = 3: sigma = 2 (2c - 1)(b - c) / b, so that Kovalevskaya's (2, 2, 1)
+  (b = 1, c = 1/2) has sigma = 0 (exponents 0, 1) and Goryachev-Chaplygin's (4, 4, 1)
+  (b = 1, c = 1/4) has sigma = -3/4 (exponents -1/2, 3/2);
+* in the test itself, with plain sympy: each balance the analysis reports is put back
+  into v(c) + w c = 0, and the eigenvalues of Dv(c) + diag(w) at it, computed by
+  ``Matrix.eigenvals``, must be the exponents reported, with their multiplicities.
+"""
+
+from __future__ import annotations
+
+from collections import Counter
+
+import pytest
+import sympy as sp
+
+from registry.discovery.exponents import analyse_case, case_field, exponent_options, refused
+from registry.errors import ExponentError
+from registry.language.casefile import load_case
+from tests.helpers.clocks import cpu_bound
+from tests.helpers.samples import CASES, CLASSICAL, FAMILIES, TEST_DATA
+
+EXPONENTS = TEST_DATA / "exponents"
+HALF = sp.Rational(1, 2)
+
+
+def analysed(path, weights=None, free=(), budget=600):
+    case = load_case(path)
+    return case, analyse_case(case, exponent_options(case, weights, free), budget=budget)
+
+
+def spectra(document) -> list[list[str]]:
+    return [b["exponents"] for b in document["balances"]]
+
+
+def independently(case, document, weights=None) -> None:
+    """Every reported balance solves v(c) + w c = 0, and plain sympy's eigenvalues of
+    Dv(c) + diag(w) there are the reported exponents, with multiplicities."""
+    options = exponent_options(case, weights)
+    found = case_field(case, options)
+    names = {str(x): x for x in (*found.variables, *found.parameters)}
+    matrix = sp.Matrix(found.field).jacobian(found.variables) + sp.diag(*found.weights)
+    for b in document["balances"]:
+        point = {names[x]: sp.sympify(v, locals=names) for x, v in b["point"].items()}
+        residual = [
+            sp.simplify(v.xreplace(point) + w * point[x])
+            for x, v, w in zip(found.variables, found.field, found.weights, strict=True)
+        ]
+        assert residual == [0] * len(residual), b["point"]
+        eigen = matrix.xreplace(point).eigenvals()
+        mine = Counter(sp.nsimplify(sp.sympify(e)) for e in b["exponents"])
+        theirs = Counter({sp.nsimplify(sp.simplify(e)): m for e, m in eigen.items()})
+        assert mine == theirs, (b["point"], mine, theirs)
+
+
+def test_kovalevskaya_top_has_integer_exponents_and_passes_the_painleve_test():
+    case, result = analysed(CLASSICAL / "kovalevskaya-top.toml")
+    d = result.document
+    assert (
+        spectra(d) == [["-1", "0", "1", "2", "3", "4"]] * 2 + [["-1", "-1", "2", "2", "3", "4"]] * 2
+    )
+    assert d["all_integer"] and d["painleve"] == {
+        "passes": True,
+        "compatible": True,
+        "conditions": [],
+    }
+    assert d["degrees"] == [1, 2, 3, 4] and d["homogeneous"]
+    assert [b["dimension"] for b in d["balances"]] == [1, 1, 0, 0]  # a family, once
+    independently(case, d)
+
+
+def test_goryachev_chaplygin_top_has_half_integer_exponents():
+    case, result = analysed(CLASSICAL / "goryachev-chaplygin-top.toml")
+    d = result.document
+    assert sorted(map(tuple, spectra(d))) == [
+        ("-1", "-1/2", "3/2", "2", "3", "4"),
+        ("-1", "-1/2", "3/2", "2", "3", "4"),
+        ("-2", "-1", "2", "3", "3", "4"),
+        ("-2", "-1", "2", "3", "3", "4"),
+    ]
+    assert not d["all_integer"] and d["all_rational"] and not d["painleve"]["passes"]
+    assert "needs every exponent to be an integer: it fails" in d["statement"]
+    independently(case, d)
+
+
+def test_lagrange_top_passes_for_every_moment_and_height():
+    case, result = analysed(CLASSICAL / "lagrange-top.toml")
+    d = result.document
+    assert spectra(d) == [["-1", "0", "1", "2", "3", "4"]] * 2
+    assert d["painleve"]["passes"] and d["parameters"] == ["A", "C", "z"]
+    assert "for generic values of A, C, z" in d["statement"]
+
+
+def test_euler_top_as_a_heavy_top_without_gravity():
+    """Moments (1, 2, 3), no potential: four balances with gamma = 0 and exponents
+    -1, 1, 2, 2, 2, 3 (the free body's -1, 2, 2 and the gamma block's 1, 2, 3)."""
+    case, result = analysed(EXPONENTS / "euler-top-123.toml")
+    d = result.document
+    assert spectra(d) == [["-1", "1", "2", "2", "2", "3"]] * 4
+    assert all(b["point"]["gamma1"] == "0" for b in d["balances"])
+    independently(case, d)
+
+
+def test_a_system_given_by_its_hamiltonian_and_bracket():
+    case, result = analysed(EXPONENTS / "euler-bracket.toml")
+    assert spectra(result.document) == [["-1", "2", "2"]] * 4
+    assert result.document["weights"] == {"M": 1}
+    independently(case, result.document)
+
+
+def test_a_system_given_by_its_equations_with_a_logarithmic_branch():
+    case, result = analysed(EXPONENTS / "log-branch.toml", {"x": 1, "y": 3, "z": 2})
+    d = result.document
+    assert spectra(d) == [["-1", "4", "8"]]
+    assert d["all_integer"] and not d["painleve"]["passes"]
+    assert d["painleve"]["conditions"] == [
+        {"balance": 1, "resonance": 8, "condition": "-f4**2 = 0", "missing": 0}
+    ]
+    assert d["balances"][0]["painleve"]["resonances"][1]["conditions"] == ["-f4**2 = 0"]
+    assert "does not have the Painlevé property" in d["statement"]
+    independently(case, d, {"x": 1, "y": 3, "z": 2})
+
+
+def test_a_field_that_is_not_homogeneous_is_analysed_through_its_leading_part():
+    """Kovalevskaya's top on so(4) (Hamiltonian with kappa): under M: 1, gamma: 2 the
+    bracket's kappa terms have lower shift; the leading part is Kovalevskaya's e(3) top,
+    and the statement says so."""
+    case, result = analysed(CASES / "so4" / "komarov-1990-so4-kovalevskaya.toml")
+    d = result.document
+    assert d["weights"] == {"M": 1, "gamma": 2} and d["homogeneous"] is False
+    assert "kappa" not in d["leading"]["gamma1"] and "kappa" in str(case_field(
+        case, exponent_options(case)).field)  # fmt: skip
+    assert spectra(d)[:2] == [["-1", "0", "1", "2", "3", "4"]] * 2
+    assert d["statement"].startswith(
+        "The field is not weighted-homogeneous under weights M: 1, gamma: 2: its balances "
+        "and exponents are those of its leading part"
+    )
+    assert "applied to the leading part" in d["statement"]
+    assert d["painleve"]["passes"]  # the kappa terms enter the series and pass
+
+
+def test_a_single_case_takes_under_two_seconds():
+    case = load_case(CLASSICAL / "kovalevskaya-top.toml")
+    options = exponent_options(case)
+    with cpu_bound(2.0) as used:
+        analyse_case(case, options)
+    assert used.seconds < 2.0
+
+
+def test_the_default_weights_are_the_grading_under_which_the_field_is_homogeneous():
+    clebsch = load_case(CLASSICAL / "clebsch.toml")  # a quadratic potential: M: 1, gamma: 1
+    assert exponent_options(clebsch).weights == (("M", 1), ("gamma", 1))
+    komarov = load_case(CASES / "so4" / "komarov-1990-so4-kovalevskaya.toml")
+    assert exponent_options(komarov).weights == (("M", 1), ("gamma", 2))
+    assert exponent_options(komarov, {"gamma": 1}).weights == (("M", 1), ("gamma", 1))
+
+
+def test_options_name_their_problems_with_the_file():
+    path = CLASSICAL / "kovalevskaya-top.toml"
+    case = load_case(path)
+    with pytest.raises(ExponentError) as info:
+        exponent_options(case, {"omega": 1}, ["q"])
+    assert str(info.value).splitlines() == [
+        f"{path}: --weights: names a vector the case's state does not have (its vectors: "
+        "M, gamma): 'omega'",
+        f"{path}: --free: names a parameter the case does not declare (its parameters: c): 'q'",
+    ]
+
+
+def test_a_system_that_is_not_polynomial_is_refused_naming_each_component():
+    path = EXPONENTS / "non-polynomial.toml"
+    case = load_case(path)
+    with pytest.raises(ExponentError) as info:
+        case_field(case, exponent_options(case))
+    lines = str(info.value).splitlines()
+    assert [line.split(": ")[1] for line in lines] == ["dM1/dt", "dM2/dt"]
+    assert lines[0].startswith(
+        f"{path}: dM1/dt: not a polynomial in the state variables (divided by a function of "
+        "gamma1, gamma2): the analysis seeks balances x = c t^(-w) of a polynomial field: '"
+    )
+    assert isinstance(info.value, ValueError) and info.value.file == str(path)
+
+
+def test_arbitrary_functions_and_dominating_terms_are_refused():
+    family = load_case(CASES / "bcc-family-psi-grad-phi.toml")
+    with pytest.raises(ExponentError, match="functions: arbitrary functions leave"):
+        analyse_case(family, exponent_options(family))
+    clebsch = load_case(CLASSICAL / "clebsch.toml")
+    with pytest.raises(ExponentError) as info:
+        analyse_case(clebsch, exponent_options(clebsch, {"gamma": 2}))
+    assert "field: terms of shift 3 > 1 dominate dx/dt under these weights" in str(info.value)
+
+
+def test_a_family_must_free_every_parameter_of_its_field():
+    case = load_case(CLASSICAL / "lagrange-top.toml")
+    with pytest.raises(ExponentError) as info:
+        analyse_case(case, exponent_options(case, free=["A"]))
+    assert str(info.value).endswith(
+        "--free: every other parameter of the field must be free too, or be fixed in the "
+        "case (the special values of a family are sought over Q(free)): 'C, z'"
+    )
+
+
+def test_past_its_budget_an_analysis_establishes_nothing():
+    case = load_case(CLASSICAL / "kovalevskaya-top.toml")
+    result = analyse_case(case, exponent_options(case), budget=1e-6)
+    assert not result.decided and "time budget exceeded" in result.document["reason"]
+    assert result.statement.startswith("Nothing is established")
+    assert not refused(case, exponent_options(case), "why").decided
+
+
+def test_the_symmetric_top_family_selects_kovalevskaya_and_names_goryachev_chaplygin():
+    """A = B = n C, centre of mass in the equatorial plane: n = 1 and n = 2 pass the
+    Painlevé test, n = 4 is the one value with half-integer exponents, and the lists are
+    complete; within ten seconds of CPU time."""
+    case = load_case(FAMILIES / "symmetric-top-n.toml")
+    options = exponent_options(case, free=["n"])
+    with cpu_bound(10.0) as used:
+        result = analyse_case(case, options)
+    assert used.seconds < 10.0
+    d = result.document
+    found = [(s["kind"], s["when"]) for s in d["special"]]
+    assert found[:3] == [
+        ("integer", ["n = 1"]),
+        ("integer", ["n = 2"]),
+        ("half-integer", ["n = 4"]),
+    ]
+    assert [s["painleve"]["passes"] for s in d["special"][:3]] == [True, True, False]
+    assert d["complete"] == {"integer": True, "half_integer": True, "rational": True}
+    assert (
+        "is an integer exactly at: n = 1 (ARS test passes); n = 2 (ARS test passes)"
+        in (d["statement"])
+    )
+
+
+def test_a_family_s_painleve_verdict_is_that_of_its_generic_members(tmp_path):
+    """Lagrange's top A = B = 1, C = 2 with the centre of mass c on the axis, c free:
+    integer exponents for every c and every condition holding over Q(c), so the test
+    passes for generic c, in the document as in its statement."""
+    path = tmp_path / "lagrange-c.toml"
+    path.write_text(
+        'id = "family-lagrange-c"\ntitle = "Lagrange top, centre c on the axis"\n'
+        '[source]\ncitation = "Test family"\n[parameters]\nc = "positive"\n'
+        '[system]\ninertia = ["1", "1", "2"]\npotential = "c*gamma3"\n',
+        encoding="utf-8",
+    )
+    _, result = analysed(path, free=["c"])
+    d = result.document
+    assert [(s["kind"], s["when"]) for s in d["special"]] == [("integer", []), ("rational", [])]
+    assert spectra(d) == [["-1", "0", "1", "2", "3", "4"]] * 2
+    assert d["painleve"]["passes"] is True and d["painleve"]["conditions"] == []
+    assert result.passes
+    assert "passes for generic values" in result.statement
+
+
+def test_the_catalog_s_new_forms_are_analysed_or_refused_with_the_reason():
+    """Kovalevskaya's top in her own (omega, gamma) equations has the exponents of the
+    (M, gamma) form (above): two families of balances, two isolated ones; the Chaplygin
+    sleigh in (v, omega) is quadratic, with -1 and 2 (the energy's degree) at each
+    balance; a system with an angle among its state, or the Chaplygin ball's field
+    divided by a function of gamma, is refused."""
+    heavy = CASES / "heavy-top" / "kovalevskaya-1889-heavy-top-omega-equations.toml"
+    case, result = analysed(heavy)
+    assert result.decided and result.document["homogeneous"] is True
+    assert spectra(result.document) == (
+        [["-1", "0", "1", "2", "3", "4"]] * 2 + [["-1", "-1", "2", "2", "3", "4"]] * 2
+    )
+    assert [b["dimension"] for b in result.document["balances"]] == [1, 1, 0, 0]
+    assert result.document["degrees"] == [1, 2, 3, 4] and result.passes
+    independently(case, result.document)
+    sleigh = CASES / "nonholonomic" / "tenenbaum-2025-chaplygin-sleigh.toml"
+    case, result = analysed(sleigh)
+    assert spectra(result.document) == [["-1", "2"]] * 2 and 2 in result.document["degrees"]
+    independently(case, result.document)
+    disk = load_case(CASES / "nonholonomic" / "verdier-2016-vertical-rolling-disk-odelab.toml")
+    with pytest.raises(ExponentError) as info:
+        case_field(disk, exponent_options(disk))
+    assert [p.field for p in info.value.problems] == ["dvx/dt", "dvy/dt"]
+    assert "'-R*wphi*wtheta*sin(phi)'" in str(info.value)
+    ball = load_case(CASES / "nonholonomic" / "gaire-2025-chaplygin-ball-code.toml")
+    with pytest.raises(ExponentError) as info:
+        case_field(ball, exponent_options(ball))
+    assert len(info.value.problems) == 6
+    assert "(divided by a function of gamma1, gamma2, gamma3)" in str(info.value)

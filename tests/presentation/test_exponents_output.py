@@ -1,0 +1,79 @@
+"""The plain text of an exponent analysis: each balance with its exponents and where the
+Painlevé test fails, the leading part where the field is not homogeneous, a family's
+special sets, and an undecided analysis saying why."""
+
+from __future__ import annotations
+
+from registry.model import ExponentOptions, ExponentResult
+from registry.presentation.exponents_output import exponents_text
+
+OPTIONS = ExponentOptions((("x", 1), ("y", 3)))
+
+
+def result(document):
+    base = {"case": "demo", "weights": {"x": 1, "y": 3}, "free": [], "statement": "S."}
+    return ExponentResult("demo", "h", OPTIONS, base | document, 0.25)
+
+
+def test_a_balance_with_a_failing_condition_and_a_leading_part():
+    balance = {
+        "point": {"x": "1", "y": "0"}, "exponents": ["-1", "8"], "integer": True,
+        "rational": True, "dimension": 0, "along": [],
+        "painleve": {"compatible": False, "resonances": [
+            {"order": 8, "multiplicity": 1, "free": [], "conditions": ["-f4**2 = 0"],
+             "missing": 0}]},
+    }  # fmt: skip
+    text = exponents_text(
+        result(
+            {
+                "leading": {"x": "-x**2", "y": "5*x*y"},
+                "balances": [balance],
+                "degrees": [8],
+                "painleve": {"passes": False},
+            }
+        )
+    )
+    assert text.splitlines() == [
+        "demo: Kovalevskaya exponents (weights x=1,y=3)",
+        "the field is not weighted-homogeneous: its leading part is analysed,",
+        "    dx/dt = -x**2",
+        "    dy/dt = 5*x*y",
+        "balance 1: x = 1, y = 0",
+        "    exponents: -1, 8 (integers)",
+        "    resonance 8: condition fails: -f4**2 = 0",
+        "degrees (Yoshida): 8",
+        "Painlevé (ARS) test: fails",
+        "S.",
+        "0.25 s",
+    ]
+
+
+def test_a_family_lists_its_special_sets_and_completeness():
+    special = [
+        {"when": ["n = 2"], "kind": "integer", "exponents": [["-1", "0"]],
+         "painleve": {"passes": True}, "notes": []},
+        {"when": ["n = t**2"], "kind": "rational", "index": {"name": "t", "ranges": "t in Q"},
+         "members": [], "notes": []},
+    ]  # fmt: skip
+    text = exponents_text(
+        result(
+            {
+                "free": ["n"],
+                "balances": [],
+                "all_integer": None,
+                "special": special,
+                "complete": {"integer": True, "half_integer": False, "rational": True},
+                "coverage": ["half-integer: searched"],
+            }
+        )
+    )
+    assert "  integer: n = 2; Painlevé (ARS) test passes" in text
+    assert "      exponents -1, 0" in text
+    assert "  rational: n = t**2 (t in Q)" in text
+    assert "complete: integer yes, half-integer no, rational yes" in text
+    assert "  coverage: half-integer: searched" in text
+
+
+def test_an_undecided_analysis_says_why():
+    text = exponents_text(result({"decided": False, "reason": "too slow"}))
+    assert text.splitlines()[1:] == ["not decided: too slow", "S."]

@@ -1,0 +1,109 @@
+"""``registry exponents`` (docs/cli.md; its JSON: docs/json-output.md and the contract's
+section "Kovalevskaya exponents"): the document's keys and types, the text, a file
+analysed without a database, a stored case recorded and reused, a family on worker
+processes, and each user error as one ``Error:`` line naming the file, field and text."""
+
+from __future__ import annotations
+
+import json
+
+from click.testing import CliRunner
+
+from registry.cli import main
+from tests.helpers.samples import CLASSICAL, TEST_DATA
+
+KOVALEVSKAYA = str(CLASSICAL / "kovalevskaya-top.toml")
+EXPONENTS = TEST_DATA / "exponents"
+
+
+def run(*args: str):
+    return CliRunner().invoke(main, list(args))
+
+
+def test_the_json_has_the_contract_keys_with_their_types(tmp_path):
+    result = run("--db", str(tmp_path / "none.sqlite"), "exponents", KOVALEVSKAYA, "--json")
+    assert result.exit_code == 0, result.output
+    d = json.loads(result.stdout)
+    assert d["case"] == "test-kovalevskaya-top"
+    assert d["weights"] == {"M": 1, "gamma": 2}  # by vector, as --weights names them
+    assert d["homogeneous"] is True and d["free"] == []
+    first = d["balances"][0]
+    assert set(first["point"]) == {"M1", "M2", "M3", "gamma1", "gamma2", "gamma3"}
+    assert first["exponents"] == ["-1", "0", "1", "2", "3", "4"]
+    assert first["integer"] is True and first["rational"] is True
+    assert d["all_integer"] is True and d["degrees"] == [1, 2, 3, 4]
+    assert d["painleve"]["passes"] is True and d["painleve"]["conditions"] == []
+    assert "Yoshida" in d["statement"] and isinstance(d["seconds"], float)
+    assert not (tmp_path / "none.sqlite").exists()  # a file needs no database
+
+
+def test_the_text_names_each_balance_and_the_verdicts():
+    result = run("exponents", KOVALEVSKAYA)
+    assert result.exit_code == 0, result.output
+    lines = result.stdout.splitlines()
+    assert lines[0] == "test-kovalevskaya-top: Kovalevskaya exponents (weights M=1,gamma=2)"
+    assert "    exponents: -1, 0, 1, 2, 3, 4 (integers)" in lines
+    assert "degrees (Yoshida): 1, 2, 3, 4" in lines
+    assert "Painlevé (ARS) test: passes" in lines
+
+
+def test_a_logarithmic_branch_is_reported_with_its_condition():
+    path = str(EXPONENTS / "log-branch.toml")
+    result = run("exponents", path, "--weights", "x=1,y=3,z=2", "--json")
+    assert result.exit_code == 0, result.output
+    d = json.loads(result.stdout)
+    assert d["painleve"]["passes"] is False
+    assert d["painleve"]["conditions"][0]["condition"] == "-f4**2 = 0"
+
+
+def test_a_stored_case_is_recorded_then_reused(tmp_path):
+    db = str(tmp_path / "r.sqlite")
+    assert run("--db", db, "add", KOVALEVSKAYA).exit_code == 0
+    first = run("--db", db, "exponents", "test-kovalevskaya-top", "--record")
+    assert first.exit_code == 0, first.output
+    assert first.stdout.splitlines()[-1] == "recorded as analysis 1"
+    again = run("--db", db, "exponents", "test-kovalevskaya-top", "--json")
+    d = json.loads(again.stdout)
+    assert d["analysis"] == 1 and d["reused"] is True
+
+
+def test_a_family_runs_its_candidates_in_worker_processes():
+    path = str(TEST_DATA / "families" / "symmetric-top-n.toml")
+    result = run("exponents", path, "--free", "n", "--jobs", "2", "--json")
+    assert result.exit_code == 0, result.output
+    d = json.loads(result.stdout)
+    assert d["free"] == ["n"]
+    assert [s["when"] for s in d["special"]][:3] == [["n = 1"], ["n = 2"], ["n = 4"]]
+    assert d["complete"]["integer"] is True
+
+
+def test_user_errors_are_one_line_each_naming_file_field_and_text():
+    result = run("exponents", KOVALEVSKAYA, "--weights", "omega=1", "--free", "q")
+    assert result.exit_code == 1
+    assert result.stderr.splitlines() == [
+        f"Error: {KOVALEVSKAYA}: --weights: names a vector the case's state does not have "
+        "(its vectors: M, gamma): 'omega'",
+        f"Error: {KOVALEVSKAYA}: --free: names a parameter the case does not declare (its "
+        "parameters: c): 'q'",
+    ]
+    broken = str(EXPONENTS / "non-polynomial.toml")
+    result = run("exponents", broken)
+    assert result.exit_code == 1
+    assert [line.split(": ")[2] for line in result.stderr.splitlines()] == ["dM1/dt", "dM2/dt"]
+    result = run("exponents", KOVALEVSKAYA, "--weights", "M=one")
+    assert result.exit_code == 1
+    assert result.stderr.startswith("Error: Invalid value for --weights: 'M=one'")
+    result = run("exponents", KOVALEVSKAYA, "--jobs", "2", "--scheduler", "local:1")
+    assert result.exit_code == 1 and "not both" in result.stderr
+
+
+def test_the_text_fits_the_terminal():
+    result = CliRunner().invoke(
+        main, ["exponents", KOVALEVSKAYA], env={"COLUMNS": "60"}, catch_exceptions=False
+    )
+    assert result.exit_code == 0, result.output
+    lines = result.stdout.splitlines()
+    assert max(map(len, lines)) <= 60
+    assert "degrees (Yoshida): 1, 2, 3, 4" in lines
+    text = " ".join(line.strip() for line in lines)
+    assert "every compatibility condition holds): necessary for the Painlevé property" in text
