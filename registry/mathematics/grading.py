@@ -17,6 +17,7 @@ a field that has none is used (``weighted``).
 
 from __future__ import annotations
 
+import functools
 import itertools
 from collections.abc import Mapping, Sequence
 
@@ -58,10 +59,10 @@ def shift(
     state = list(variables) if variables is not None else [x for v in vectors for x in v.components]
     w = per_variable(weights, vectors, state)
     shifts: set[int] = set()
-    for wi, x in zip(w, field, strict=True):
-        numer, denom = sp.fraction(sp.together(sp.sympify(x).subs(dict(shorthands))))
-        degree = _degree(numer, w, state)
-        below = _degree(denom, w, state)
+    parts = _monomials(tuple(field), tuple(sorted(shorthands.items(), key=str)), tuple(state))
+    for wi, (numer, denom) in zip(w, parts, strict=True):
+        degree = _degree(numer, w)
+        below = _degree(denom, w)
         if degree is None or not below:  # not homogeneous (a denominator is never 0)
             return None
         if degree == ():  # the component is zero
@@ -72,17 +73,44 @@ def shift(
     return next(iter(shifts), 0)
 
 
-def _degree(expr: sp.Expr, w: Sequence[int], state: Sequence[sp.Symbol]) -> tuple[int, ...] | None:
-    """(weighted degree,) of a weighted-homogeneous polynomial in the state, () for 0,
-    None for anything else."""
+Monomials = tuple[tuple[int, ...], ...]
+
+
+@functools.lru_cache(maxsize=512)
+def _monomials(
+    field: tuple[sp.Expr, ...],
+    shorthands: tuple[tuple[sp.Symbol, sp.Expr], ...],
+    state: tuple[sp.Symbol, ...],
+) -> tuple[tuple[Monomials | None, Monomials | None], ...]:
+    """The exponents of the numerator's and the denominator's monomials in the state, per
+    component of the field (None for one that is no polynomial in the state): computed
+    once for every grading tried."""
+    out = []
+    for x in field:
+        numer, denom = sp.fraction(sp.together(sp.sympify(x).subs(dict(shorthands))))
+        out.append((_exponents(numer, state), _exponents(denom, state)))
+    return tuple(out)
+
+
+def _exponents(expr: sp.Expr, state: Sequence[sp.Symbol]) -> Monomials | None:
+    """The monomials of a polynomial in the state, () for 0, None for anything else."""
     expr = sp.expand(expr)
     if expr == 0:
         return ()
     try:
-        poly = sp.Poly(expr, *state)
+        return tuple(sp.Poly(expr, *state).monoms())
     except sp.PolynomialError:
         return None
-    degrees = {sum(a * b for a, b in zip(m, w, strict=True)) for m in poly.monoms()}
+
+
+def _degree(monomials: Monomials | None, w: Sequence[int]) -> tuple[int, ...] | None:
+    """(weighted degree,) of a weighted-homogeneous polynomial given by its
+    ``monomials``, () for 0, None for anything else."""
+    if monomials is None:
+        return None
+    if not monomials:
+        return ()
+    degrees = {sum(a * b for a, b in zip(m, w, strict=True)) for m in monomials}
     return (degrees.pop(),) if len(degrees) == 1 else None
 
 
