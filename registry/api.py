@@ -349,8 +349,9 @@ class Registry:
 
     def discoveries(self) -> pd.DataFrame:
         """One row per set of parameter values a recorded search found integrals on (the
-        generic values too): the equations, the integrals, their casimir verdicts, and
-        the case that holds them as claims."""
+        generic values too): the equations, the integrals, their casimir verdicts, the
+        catalog cases it is the same system as (``same_as``), and the case that holds
+        them as claims."""
         from .store import frames
 
         return frames.discoveries_frame(self.store)

@@ -515,7 +515,8 @@ class SearchOptions:
 @dataclass(frozen=True)
 class IntegralStatus:
     """Whether an integral a search found is ``new`` or a ``rediscovered`` claim of the
-    searched case: it then equals the claims ``equals`` modulo the known integrals
+    searched case or of a catalog case that is the same system (``equals`` then names it
+    ``case-id:label``): it equals the claims ``equals`` modulo the known integrals
     ``modulo`` (H, |gamma|^2, ...) and their products, by the exact identity
     ``relation`` (``F = K + 2*H**2``, checked in the system's ring)."""
 
@@ -527,6 +528,36 @@ class IntegralStatus:
     @property
     def new(self) -> bool:
         return self.status == "new"
+
+
+@dataclass(frozen=True)
+class SameSystem:
+    """A catalog case that a set of parameter values of a search (or a case) is the same
+    system as: the ``case`` id, the values of its parameters (text, in the set's own
+    parameters), the ``transformation`` (the case's variables and time as expressions of
+    the set's), and the labels of the case's claims the set's integrals equal."""
+
+    case: str
+    values: tuple[tuple[str, str], ...] = ()
+    transformation: tuple[tuple[str, str], ...] = ()
+    claims: tuple[str, ...] = ()
+
+    def as_dict(self) -> dict:
+        return {
+            "case": self.case,
+            "values": dict(self.values),
+            "transformation": dict(self.transformation),
+            "claims": list(self.claims),
+        }
+
+    @classmethod
+    def from_dict(cls, data: Mapping) -> SameSystem:
+        return cls(
+            str(data["case"]),
+            tuple((str(k), str(v)) for k, v in dict(data.get("values", {})).items()),
+            tuple((str(k), str(v)) for k, v in dict(data.get("transformation", {})).items()),
+            tuple(str(c) for c in data.get("claims", ())),
+        )
 
 
 @dataclass(frozen=True)
@@ -544,6 +575,8 @@ class IntegralSet:
     status: tuple[IntegralStatus, ...] = ()
     #: a search for relations: the cofactor K of these Darboux polynomials (dF/dt = K F)
     cofactor: str = ""
+    #: the catalog cases that are the same system here (``discovery.identification``)
+    same_as: tuple[SameSystem, ...] = ()
 
     @property
     def new(self) -> tuple[str, ...]:

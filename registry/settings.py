@@ -12,6 +12,7 @@ it is read.
 | ``REGISTRY_BUDGET`` | seconds allowed to each check | 5 |
 | ``REGISTRY_CORRECTIONS_BUDGET`` | seconds allowed to a case's corrections | 20 |
 | ``REGISTRY_LOCK_TIMEOUT`` | seconds to wait for another command's lock | 10 |
+| ``REGISTRY_CACHE`` | a folder for what is computed once per case version | ``~/.cache/registry`` |
 """
 
 from __future__ import annotations
@@ -28,6 +29,7 @@ SCHEDULER_ENV = "REGISTRY_SCHEDULER"
 BUDGET_ENV = "REGISTRY_BUDGET"
 CORRECTIONS_BUDGET_ENV = "REGISTRY_CORRECTIONS_BUDGET"
 LOCK_TIMEOUT_ENV = "REGISTRY_LOCK_TIMEOUT"
+CACHE_ENV = "REGISTRY_CACHE"
 
 #: Where the registry lives when neither --db nor $REGISTRY_DB says otherwise.
 DEFAULT_DB = Path("data") / "registry.sqlite"
@@ -96,6 +98,14 @@ def database(option: str | None = None, environ: Mapping[str, str] | None = None
     """The database a command uses: ``option`` (--db), else ``$REGISTRY_DB``, else
     ``data/registry.sqlite``."""
     return option or _value(DB_ENV, environ) or str(DEFAULT_DB)
+
+
+def cache_folder(environ: Mapping[str, str] | None = None) -> Path:
+    """Where what is computed once per case version is kept between commands (the
+    catalog's normal forms for identification): ``$REGISTRY_CACHE``, else
+    ``~/.cache/registry``. Deleting it loses nothing but time."""
+    given = _value(CACHE_ENV, environ)
+    return Path(given) if given else Path.home() / ".cache" / "registry"
 
 
 def scheduler(option: str | None = None, environ: Mapping[str, str] | None = None) -> str | None:

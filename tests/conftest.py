@@ -57,6 +57,10 @@ os.environ.setdefault("REGISTRY_CORRECTIONS_BUDGET", f"{PATIENT.corrections:g}")
 # Likewise a command waits for another's database lock longer than the 10 s default (a
 # whole catalog added on a loaded machine held it for over 30 s); tests of the wait set it.
 os.environ.setdefault("REGISTRY_LOCK_TIMEOUT", f"{HANG / 2:g}")
+# The catalog's normal forms for identification are kept between runs in a folder of the
+# system's temporary folder, never in the user's ~/.cache (entries are named by content
+# hash and written aside then renamed, so workers and runs may share it).
+os.environ.setdefault("REGISTRY_CACHE", str(Path(tempfile.gettempdir()) / "registry-test-cache"))
 # What the command line prints is wrapped to the terminal's width: the tests read it at
 # 80 columns (what a pipe gets) wherever they run, a terminal of another width included;
 # tests of the width set their own.

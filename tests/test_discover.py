@@ -252,3 +252,52 @@ def test_an_invariant_relation_is_recorded_and_its_claim_verified_by_the_audit(d
         assert list(verdict) == ["verified"]
         again = reg.discover(hess, degree=1, relations=True)
         assert again.reused and again.search.options.relations
+
+
+KOVALEVSKAYA = Path(__file__).resolve().parents[1] / "data" / "cases" / "heavy-top"
+
+
+def test_a_special_set_is_named_as_the_catalog_case_it_is_and_recorded_so(db_target):
+    # issue 33's example: Kovalevskaya's body with the torque (t1 g1, t2 g2, t3 g3)
+    family = FAMILIES / "kovalevskaya-diagonal-torque.toml"
+    with registry.open(db_target) as reg:
+        reg.add(KOVALEVSKAYA / "kovalevskaya-1889-heavy-top.toml")
+        report = reg.discover(family, degree=4, free=["t1", "t2", "t3"], record=True)
+        (point,) = report.search.special
+        (same,) = point.same_as
+        assert same.case == "kovalevskaya-1889-heavy-top" and same.claims == ("K",)
+        assert dict(same.values) == {"C": "1", "a": "1"}
+        assert point.new == () and point.status[0].equals == ("kovalevskaya-1889-heavy-top:K",)
+        again = reg.discover(
+            "family-kovalevskaya-diagonal-torque", degree=4, free=["t1", "t2", "t3"]
+        )
+        assert again.reused and again.search.special[0].same_as == point.same_as
+        found = reg.discoveries()
+        (row,) = found[found.case == "family-kovalevskaya-diagonal-torque"].same_as.iloc[1:]
+        assert [s["case"] for s in row] == ["kovalevskaya-1889-heavy-top"]
+
+
+def test_the_cli_names_the_catalog_case_in_its_json_and_statement(db_target):
+    family = FAMILIES / "kovalevskaya-diagonal-torque.toml"
+    runner = CliRunner()
+    added = runner.invoke(
+        main, ["--db", db_target, "add", str(KOVALEVSKAYA / "kovalevskaya-1889-heavy-top.toml")]
+    )
+    assert added.exit_code == 0, added.output
+    result = runner.invoke(
+        main,
+        ["--db", db_target, "discover", str(family), "--free", "t1,t2,t3", "--json"],
+    )
+    assert result.exit_code == 0, result.output
+    doc = json.loads(result.stdout)
+    (point,) = doc["special"]
+    assert point["when"] == ["t1 = 0", "t2 = 0", "t3 = 0"]
+    assert point["new"] == 0 and point["rediscovered"] == 1
+    assert [(s["case"], s["claims"]) for s in point["same_as"]] == [
+        ("kovalevskaya-1889-heavy-top", ["K"])
+    ]
+    assert point["same_as"][0]["transformation"]["t"] == "t"
+    text = runner.invoke(main, ["--db", db_target, "discover", str(family), "--free", "t1,t2,t3"])
+    said = " ".join(text.output.split())  # the text is wrapped to the terminal
+    assert "t1 = 0, t2 = 0, t3 = 0 (kovalevskaya-1889-heavy-top); no other values" in said
+    assert "same system as kovalevskaya-1889-heavy-top (C = 1, a = 1" in said

@@ -17,7 +17,7 @@ from ..language.printer import to_text
 from ..mathematics.case_mechanics import CaseMechanics
 from ..mathematics.families import recognise
 from ..mathematics.zero_test import decide
-from ..model import Case, ClaimKind, IntegralSet, Verdict
+from ..model import Case, ClaimKind, IntegralSet, IntegralStatus, Verdict
 from . import novelty
 from .ansatz import PolynomialSystem
 from .integrals import Generator
@@ -77,6 +77,32 @@ def named(
     fld = Field(QQ.frac_field(*params) if params else QQ, params, {}, system.inverses)
     status = novelty.statuses(system, fld, trivial, claims, exprs)
     return replace(found, status=tuple(status)), tuple(k.name for k in claims)
+
+
+def catalog_statuses(
+    m: CaseMechanics,
+    system: PolynomialSystem,
+    params: Sequence[sp.Symbol],
+    exprs: Sequence[sp.Expr],
+    carried: Sequence[tuple[str, str, sp.Expr]],
+) -> list[IntegralStatus | None]:
+    """For each integral: the claims of catalog cases (carried into this system's
+    variables, ``identification.claim_match``) it equals modulo the known integrals, as
+    a ``rediscovered`` status naming them ``case-id:label``; None where it equals none."""
+    trivial = [k for name, expr in known_integrals(m) if (k := novelty.known(system, name, expr))]
+    claims = []
+    for case_id, label, expr in carried:
+        name = f"{case_id}:{label}"
+        k = novelty.known(system, name, expr, claim=True, symbol=sp.Symbol(name))
+        if k is not None:
+            claims.append(k)
+    if not claims:
+        return [None] * len(exprs)
+    fld = Field(QQ.frac_field(*params) if params else QQ, params, {}, system.inverses)
+    out: list[IntegralStatus | None] = []
+    for status in novelty.statuses(system, fld, trivial, claims, exprs):
+        out.append(None if status.new else status)
+    return out
 
 
 def verified_claims(case: Case, system: PolynomialSystem) -> list[novelty.Known]:

@@ -35,9 +35,10 @@ def rational(value) -> Any:
 
 
 class Field:
-    """Where a search evaluates parameter polynomials: ``domain`` is QQ, GF(PRIME) or
-    QQ(q); ``point`` maps parameter indices to the rational values substituted for
-    them, and the other parameters are the symbols of the fraction field."""
+    """Where a search evaluates parameter polynomials: ``domain`` is QQ, GF(PRIME) (or
+    another prime, at a point of an algebraic set) or QQ(q); ``point`` maps parameter
+    indices to the rational values substituted for them, and the other parameters are
+    the symbols of the fraction field."""
 
     def __init__(
         self,
@@ -68,12 +69,12 @@ class Field:
 
     @property
     def exact(self) -> bool:
-        return self.domain != GF_PRIME
+        return not self.domain.is_FiniteField
 
     def number(self, value) -> Any:
         """A rational number as an element of the field."""
         q = rational(value)
-        if self.domain == GF_PRIME:
+        if self.domain.is_FiniteField:
             return self.domain(int(q.numerator)) / self.domain(int(q.denominator))
         return self.domain.convert(q)
 

@@ -8,8 +8,9 @@ where the assumptions hold (constants, monomials in positive or nonzero paramete
 and where there is none the branch splits on a factor (= 0, solved rationally for a
 free parameter, or != 0). Each candidate gives some free parameters as rational
 functions of the others (and of q); it is only a candidate, confirmed by an exact
-search there. What cannot be solved rationally is returned as ``undecided`` so that
-the search says it is not complete.
+search there. What cannot be solved rationally is returned as an algebraic set
+(``splitting.AlgebraicSet``), which the search decides at the points of its components
+(``components``).
 """
 
 from __future__ import annotations
@@ -23,7 +24,8 @@ from sympy import GF
 from sympy.polys.matrices import DomainMatrix
 from sympy.polys.rings import PolyElement
 
-from .splitting import Region, drop_sets
+from .components import Piece
+from .splitting import AlgebraicSet, Region, drop_sets
 
 Row = dict[int, PolyElement]
 
@@ -35,14 +37,19 @@ PRIMES = ((1 << 61) - 1, 2**31 - 1, 4294967291, 1000000007)
 class Locus:
     """Candidate sets of free-parameter values, each an assignment of some free
     parameters (sympy expressions in the others and the symbolic parameters, often
-    numbers); ``undecided`` are the equations of sets that could not be decided."""
+    numbers); ``algebraic`` are the candidate sets not solved rationally, ``undecided``
+    the equations of sets that could not be decided."""
 
     sets: list[dict[sp.Symbol, sp.Expr]] = field(default_factory=list)
     undecided: list[str] = field(default_factory=list)
+    algebraic: list[AlgebraicSet] = field(default_factory=list)
+    #: the components of the algebraic sets with no rational parametrisation
+    pieces: list[Piece] = field(default_factory=list)
 
     def merge(self, other: Locus) -> None:
         self.sets.extend(x for x in other.sets if x not in self.sets)
         self.undecided.extend(x for x in other.undecided if x not in self.undecided)
+        self.algebraic.extend(x for x in other.algebraic if x not in self.algebraic)
 
     def maximal(self) -> list[dict[sp.Symbol, sp.Expr]]:
         """The sets to search: one parametrisation of each set (one without denominators
@@ -152,4 +159,5 @@ def drop_locus(
     split = drop_sets(converted, rho, region, rnd)
     locus.sets = split.sets
     locus.undecided = split.undecided
+    locus.algebraic = split.algebraic
     return locus

@@ -13,7 +13,13 @@ free-parameter values where more appear.
    another is left to the search of that one.
 4. Each candidate is searched again as a case of its own with its values substituted
    (a point has no free parameter left, a larger set fewer); it is special when it
-   has more extra integrals than the family has generically.
+   has integrals that the known ones and those of the sets it lies in (the family's
+   generic ones, restricted to it, and so on down) do not generate. A set where only
+   the rank drops (the known integrals change form: the torque's Casimir s + phi
+   becomes s of lower degree, nothing new) is a candidate, never a special set. A
+   candidate set with no rational parametrisation is split into its components
+   (``components``); those still without one are decided at their points
+   (``algebraic_points``).
 5. Every integral reported is proven by the audit's own zero test (the ``integral``
    check; ``casimir`` is recorded for information), and only then reported.
 """
@@ -37,10 +43,11 @@ from ..execution.serving import Failure
 from ..execution.time_budget import BudgetExceeded, time_limit
 from ..language import forms
 from ..language.forms import with_values
-from ..language.parser import parse_equation
+from ..language.parser import parse_equation, parse_expression
 from ..language.printer import to_text
 from ..mathematics.case_mechanics import CaseMechanics
 from ..mathematics.grading import grading_note, per_variable
+from ..mathematics.scalings import covariant_weights
 from ..model import (
     Case,
     Claim,
@@ -48,19 +55,27 @@ from ..model import (
     Equation,
     Expression,
     IntegralSet,
+    IntegralStatus,
+    SameSystem,
     Search,
     SearchOptions,
     Verdict,
     Weights,
     as_weights,
 )
+from .algebraic_points import decide
 from .ansatz import PolynomialSystem
+from .components import resolve
 from .darboux import general_cofactor, proven_relations
+from .identification.catalog_index import CatalogIndex
+from .identification.claim_match import carried_claims
+from .identification.identify import identify
 from .integrals import Analysis, Generator, analyse, products
-from .known import known_generators, named
+from .known import catalog_statuses, known_generators, named
 from .linear import GF_PRIME, PRIME, Field
-from .locus import Locus, drop_locus, polynomial, same
+from .locus import Locus, contains, drop_locus, polynomial, same
 from .simplest_form import simplest
+from .splitting import AlgebraicSet
 
 #: What a search says of how it works (stored with every recorded search).
 METHOD = (
@@ -98,6 +113,10 @@ class _State:
     #: whether the ansatz is split along the field's symmetries, and what each set used
     symmetries: bool = True
     used: dict[tuple[str, ...], str] = field(default_factory=dict)
+    #: components without a rational parametrisation decided at their points
+    decided: list[str] = field(default_factory=list)
+    #: the free parameters' values of each special set (by its equations)
+    values_of: dict[tuple[str, ...], dict] = field(default_factory=dict)
 
     def rnd(self, when: tuple[str, ...]) -> random.Random:
         """A generator seeded by the search and the set searched, so that results do not
@@ -114,6 +133,7 @@ def discover(
     seed: int = 0,
     progress: Progress | None = None,
     symmetries: bool = True,
+    catalog: CatalogIndex | None = None,
 ) -> Search:
     """Search ``case`` for first integrals (module docstring).
 
@@ -126,6 +146,11 @@ def discover(
     failed) is named in the coverage, and the search is then not complete.
     ``symmetries`` false searches the whole ansatz without splitting it along the field's
     symmetries (``symmetry``), for comparison: the results are the same.
+
+    With a ``catalog`` (``identification.catalog_index``), each special set, and the
+    family itself where it has extra integrals for generic values, is identified with
+    the catalog's cases (``same_as``), and an integral is new only where it equals no
+    claim of the searched case nor of any case it is the same system as.
     """
     started = time.perf_counter()
     options = options or SearchOptions()
@@ -153,12 +178,23 @@ def discover(
         dynamics.field, options.weights, dynamics.vectors, dynamics.shorthands, dynamics.variables
     )
     executor = executor or InProcess()
+    identifying = False
     try:
         with time_limit(budget):
             _, state.found = _search(state, case, free, executor, timed(budget))
+            if catalog is not None and not options.relations:
+                identifying = True
+                for i, found in enumerate(state.found):  # each kept as soon as identified
+                    state.found[i] = _identified(state, case, found, catalog)
+                if state.generic is not None and state.generic.extra:
+                    state.generic = _identified(state, case, state.generic, catalog)
     except BudgetExceeded:
         state.undecided.append(
-            f"time budget exceeded ({budget:g} s) after {state.done} of the "
+            f"time budget exceeded ({budget:g} s) while identifying the sets found with "
+            "the catalog: a set not identified has no same_as, and its integrals are "
+            "compared only with the searched case's claims"
+            if identifying
+            else f"time budget exceeded ({budget:g} s) after {state.done} of the "
             f"{state.total} candidate sets found so far"
         )
     generic = state.generic or IntegralSet((), 0)
@@ -166,6 +202,10 @@ def discover(
     coverage = tuple(state.undecided) or (
         "every parameter value: the generic values and every point and component of the "
         "rank-drop locus",
+        *(
+            f"decided at its points (no rational parametrisation): {d}"
+            for d in dict.fromkeys(state.decided)
+        ),
     )
     return Search(
         case=case.id,
@@ -235,26 +275,154 @@ def _search(
     The candidate sets are searched level by level: those of the family's locus, then
     those within them, and so on, each level's sets by ``executor`` (each call killed
     past ``seconds``). A set reached on two paths is searched once (the searched sets are
-    kept here, for every level), and a set is special when it has more integrals of some
-    degree than the set it was found in."""
-    found, kernel, candidates = _step(state, case, free, (), {})
-    queue = [(c, kernel) for c in _fresh(state, candidates)]
-    special: list[IntegralSet] = []
+    kept here, for every level), and a set is special when it has integrals beyond those
+    of the sets it lies in (``_more``)."""
+    found, level, candidates = _step(state, case, free, (), {})
+    queue = [(c, level) for c in _fresh(state, candidates)]
+    special: list[tuple[IntegralSet, tuple]] = []
     while queue:
         state.total += len(queue)
         results = _each(state, [c for c, _ in queue], executor, seconds)
-        following: list[tuple[Any, dict[int, int]]] = []
-        for (_, parent), (g, dimensions, inner, undecided, cofactors, used) in zip(
+        following: list[tuple[Any, _Level]] = []
+        for (candidate, reference), (g, level, inner, undecided, cofactors, used, decided) in zip(
             queue, results, strict=True
         ):
             state.undecided.extend(u for u in undecided if u not in state.undecided)
             state.cofactors.update(cofactors)
             state.used.update(used)
-            if any(dimensions.get(d, 0) > k for d, k in parent.items()):
-                special.append(g)
-            following.extend((c, dimensions) for c in _fresh(state, inner))
+            state.decided.extend(decided)
+            if _more(state, g, level, reference):
+                special.append((g, candidate))
+                state.values_of[g.when] = candidate[3]
+            following.extend((c, level) for c in _fresh(state, inner))
         queue = following
-    return found, special
+    if state.options.relations:
+        return found, [g for g, _ in special]
+    return found, _beyond_enclosing(state, case, free, special)
+
+
+def _identified(
+    state: _State, case: Case, found: IntegralSet, catalog: CatalogIndex
+) -> IntegralSet:
+    """A set with the catalog cases it is the same system as, and each integral's
+    status decided against their claims too (``identification``)."""
+    values = state.values_of.get(found.when, {})
+    sub = with_values(case, values) if values else case
+    if sub is None:
+        return found
+    result = identify(sub.dynamics, catalog, exclude=(case.id,))
+    if result.skipped:
+        where = ", ".join(found.when) or "the generic values"
+        state.undecided.append(
+            f"identification of {where} stopped after {result.seconds:.0f} s: "
+            f"{len(result.skipped)} catalog cases not compared (an integral there is said "
+            "new only against the others)"
+        )
+    if result.failed:
+        where = ", ".join(found.when) or "the generic values"
+        names = ", ".join(f"{case_id} ({error})" for case_id, error in result.failed)
+        state.undecided.append(
+            f"identification of {where} could not compare {len(result.failed)} catalog "
+            f"cases: {names} (an integral there is said new only against the others)"
+        )
+    status = list(found.status) or [IntegralStatus("new") for _ in found.integrals]
+    if not result.same or result.form is None:
+        return replace(found, status=tuple(status))
+    carried = carried_claims(result.same, result.form, catalog) if found.integrals else []
+    equal: dict[str, set[str]] = {}
+    if carried and any(st.new for st in status):
+        rest = [p for p in (case.parameters[f] for f in state.options.free) if p not in values]
+        m = CaseMechanics(sub)
+        system, params = _system(state.options, m, rest, None, values, state.symmetries)
+        ns = forms.namespace(case)
+        exprs = [parse_expression(text, ns).xreplace(values) for text in found.integrals]
+        for source in dict.fromkeys(c for c, _, _ in carried):  # case by case
+            named = catalog_statuses(
+                m, system, params, exprs, [c for c in carried if c[0] == source]
+            )
+            for i, rediscovered in enumerate(named):
+                if rediscovered is None:
+                    continue
+                equal.setdefault(source, set()).update(
+                    label.split(":", 1)[1] for label in rediscovered.equals if ":" in label
+                )
+                if status[i].new:
+                    status[i] = rediscovered
+    same = tuple(
+        SameSystem(
+            s.case,
+            tuple(s.values.items()),
+            tuple(s.transformation.items()),
+            tuple(sorted(equal.get(s.case, ()))),
+        )
+        for s in sorted(result.same, key=lambda s: (not equal.get(s.case), not s.identity))
+    )
+    return replace(found, status=tuple(status), same_as=same)
+
+
+def _beyond_enclosing(state: _State, case: Case, free: list[sp.Symbol], special) -> list:
+    """The special sets whose integrals the known ones and those of the special sets
+    they lie in (on other paths than the one that found them: the meeting of two
+    Lagrange lines, where M1 and M3 are each one's) do not generate, larger sets first.
+    A count modulo a prime bounds what is new from above, so 0 proves nothing is."""
+    kept: list[tuple[IntegralSet, dict, tuple]] = []
+    ns = forms.namespace(case)
+    for g, candidate in sorted(special, key=lambda item: len(item[1][3])):
+        values, inherited = candidate[3], candidate[4]
+        enclosing = [(h, v) for h, v, _ in kept if contains(v, values)]
+        if enclosing:
+            more = [
+                sp.sympify(parse_expression(text, ns)).xreplace(values)
+                for h, _ in enclosing
+                for text in h.integrals
+            ]
+            rest = [p for p in free if p not in values]
+            count = _fresh_count(
+                state, candidate[0], rest, candidate[2], values, [*inherited, *more]
+            )
+            if not count:
+                continue
+        kept.append((g, values, inherited))
+    return [g for g, _, _ in kept]
+
+
+def _fresh_count(
+    state: _State, case: Case, free: list[sp.Symbol], when, values, integrals: Sequence[sp.Expr]
+) -> int:
+    """How many extra integrals of ``case`` the known ones and ``integrals`` do not
+    generate, counted modulo a prime at a random point (an upper bound)."""
+    m = CaseMechanics(case)
+    system, params = _system(state.options, m, free, None, values, state.symmetries)
+    known, _ = known_generators(m, system)
+    rnd = state.rnd((*when, "beyond"))
+    point = {i: rnd.randrange(1, PRIME) for i in range(len(params))}
+    modular = Field(GF_PRIME, params, point, system.inverses)
+    return analyse(system, [*known, *_generators(system, integrals)], modular).extra
+
+
+@dataclass(frozen=True)
+class _Level:
+    """What one searched set holds at its generic point: the kernel's dimension per
+    weighted degree (integrals of degree <= d, trivial ones included), its number of
+    extra integrals, and how many of them the integrals of the sets it lies in do not
+    generate (``fresh``; exact: counted over Q(p), or 0 modulo a prime, which bounds
+    it)."""
+
+    kernel: dict[int, int]
+    extra: int
+    fresh: int = 0
+
+
+def _more(state: _State, g: IntegralSet, level: _Level, parent: _Level) -> bool:
+    """Whether a searched set is special: some of its integrals are not generated by
+    the known ones and those of the sets it lies in (restricted to it), and every extra
+    integral it has is proven (one that is not is not reported, and the search is then
+    not complete). A kernel that only grows because the known integrals change form
+    (the rank drops, nothing new) is not more. For invariant relations every new
+    Darboux polynomial counts: the kernel grows."""
+    if state.options.relations:
+        return any(level.kernel.get(d, 0) > k for d, k in parent.kernel.items())
+    return level.fresh > 0 and g.extra == level.extra
 
 
 def _symmetry_note(state: _State) -> str:
@@ -293,25 +461,43 @@ def _step(
     free: list[sp.Symbol],
     when: tuple[str, ...],
     values: dict[sp.Symbol, sp.Expr],
+    inherited: Sequence[sp.Expr] = (),
 ):
-    """One set searched: (its integrals for generic values of ``free``, the dimensions
-    of its integrals of each degree, the candidate sets within it). ``values`` are the
-    family's free parameters' values that give this case."""
+    """One set searched: (its integrals for generic values of ``free``, its ``_Level``,
+    the candidate sets within it). ``values`` are the family's free parameters' values
+    that give this case, ``inherited`` the extra integrals of the sets it lies in,
+    restricted to it."""
     rnd = state.rnd(when)
     m = CaseMechanics(case)
     cofactor = state.cofactors.get(when, state.cofactor)
-    system, params = _system(state.options, m, free, cofactor, values, state.symmetries)
+    try:
+        system, params = _system(state.options, m, free, cofactor, values, state.symmetries)
+    except DiscoveryError as err:
+        if not when:
+            raise
+        # a set at algebraic values where the members' field is not rational
+        state.undecided.append(f"{', '.join(when)} not searched: {err}")
+        return IntegralSet(when, 0), _Level({}, 0), []
     state.used[when] = system.symmetry_note
     _check_invariant(system, state.options)
     known, names = known_generators(m, system)
     if cofactor is not None and cofactor != 0:  # Darboux polynomials: nothing is known
         known = []
+    before = _generators(system, inherited)
     point = {i: rnd.randrange(1, PRIME) for i in range(len(params))}
-    generic = analyse(system, known, Field(GF_PRIME, params, point, system.inverses))
+    modular = Field(GF_PRIME, params, point, system.inverses)
+    generic = analyse(system, known, modular)
+    fresh = analyse(system, [*known, *before], modular).extra if before else generic.extra
     integrals: list[sp.Expr] = []
     if generic.extra:  # extra integrals for generic values (or an unlucky point)
         fld = Field(QQ.frac_field(*params) if params else QQ, params, {}, system.inverses)
         generic = analyse(system, known, fld, to_poly=lambda v: _ring_poly(system, v, fld))
+        if not before or not fresh:
+            fresh = min(fresh, generic.extra)
+        else:  # what the sets it lies in do not generate, exactly
+            fresh = analyse(
+                system, [*known, *before], fld, to_poly=lambda v: _ring_poly(system, v, fld)
+            ).extra
         columns = [e for e, _ in system.columns]
         integrals = [
             _expression(system, simplest(v, generic.trivial[d], columns, fld.domain), fld)
@@ -324,10 +510,11 @@ def _step(
     if not when and found.integrals:  # new, or the case's own claims again
         kept = [e for e in integrals if to_text(e) in found.integrals]
         found, state.claims = named(case, m, system, params, found, kept)
-    kernel = {d: counts[0] for d, counts in generic.counts.items()}
+    kernel = _Level({d: c[0] for d, c in generic.counts.items()}, generic.extra, fresh)
+    inside = (*inherited, *integrals)  # what the sets within are compared with
     if not when:  # the generic values are decided, whatever happens to the locus
         state.known, state.counts, state.generic = tuple(names), generic.counts, found
-    divided = _divided(state, case, system, when, values)
+    divided = _divided(state, case, system, when, values, inside)
     if not free:
         return found, kernel, divided
     if system.divided_by:
@@ -344,6 +531,21 @@ def _step(
     general = m.dynamics.from_bracket or m.kappa != 0 or m.dynamics.torque is None
     locus = _locus(state, system, params, len(free), generic, known, extras, rnd, general)
     candidates = divided
+    pieces = list(locus.pieces)
+    weights = None
+    while pieces:  # components with no rational parametrisation: decided at their points
+        if weights is None:
+            weights = _scalings(m, system, known, params, state.options)
+        force = [*known, *before, *extras]  # the integrals in force on this set
+        decision = decide(pieces.pop(), system, force, 0, weights, rnd)
+        state.undecided.extend(u for u in decision.undecided if u not in state.undecided)
+        state.decided.extend(decision.decided)
+        locus.sets.extend(x for x in decision.points if x not in locus.sets)
+        for smaller in decision.further:
+            resolved = resolve(smaller, params[: len(free)], params[len(free) :])
+            state.undecided.extend(u for u in resolved.undecided if u not in state.undecided)
+            locus.sets.extend(x for x in resolved.sets if x not in locus.sets)
+            pieces.extend(resolved.pieces)
     for assignment in locus.maximal():
         sub = with_values(case, assignment)
         if sub is None:
@@ -351,10 +553,48 @@ def _step(
         composed = _composed(values, assignment)
         rest = [p for p in free if p not in assignment]
         sub_when = _when(state, composed)
-        candidates.append((sub, rest, sub_when, composed))
+        candidates.append((sub, rest, sub_when, composed, _restricted(inside, assignment)))
         if cofactor is not None:
             state.cofactors[sub_when] = sp.expand(cofactor.xreplace(assignment))
     return found, kernel, candidates
+
+
+def _restricted(integrals: Sequence[sp.Expr], assignment) -> tuple[sp.Expr, ...]:
+    """Integrals of a set, restricted to a set within it (its parameter values put in;
+    one whose coefficients have a pole there is left out)."""
+    out = []
+    for e in integrals:
+        try:
+            value = sp.cancel(sp.sympify(e).xreplace(assignment))
+        except (ZeroDivisionError, sp.PolynomialError):
+            continue
+        if value.has(sp.zoo, sp.nan, sp.oo) or value == 0:
+            continue
+        out.append(value)
+    return tuple(out)
+
+
+def _generators(system: PolynomialSystem, integrals: Sequence[sp.Expr]) -> list[Generator]:
+    """Integrals of the sets a set lies in as generators of the trivial ones there (those
+    outside the system's ring, or constant there, generate nothing)."""
+    out = []
+    for e in integrals:
+        try:
+            poly = system.polynomial(e, what="integral of an enclosing set")
+        except DiscoveryError:
+            continue
+        if poly and system.weight(poly):
+            out.append(Generator(poly, system.weight(poly)))
+    return out
+
+
+def _scalings(m: CaseMechanics, system: PolynomialSystem, known, params, options):
+    """The family's scalings (``mathematics.scalings``) that also keep the level set and
+    the known integrals homogeneous: the parameters' weights."""
+    field = [m.dynamics.expanded(f) for f in m.field]
+    invariant = [sp.sympify(eq.expr) for eq in options.on]
+    invariant += [system.expression(g.poly) for g in known]
+    return covariant_weights(field, m.dynamics.variables, params, invariant)
 
 
 def _composed(values: dict, assignment: dict) -> dict[sp.Symbol, sp.Expr]:
@@ -373,19 +613,20 @@ def _when(state: _State, values: dict[sp.Symbol, sp.Expr]) -> tuple[str, ...]:
 
 def _each(state: _State, candidates, executor: Executor, seconds: float | None):
     """Search each candidate set (``_step``), here or by ``executor``: (integrals,
-    dimensions, sets within, undecided, cofactors of the sets within), in the candidates'
+    its ``_Level``, sets within, undecided, cofactors of the sets within), in the candidates'
     order in every case. A single set, or an executor that runs in this process, is
     searched here (with the search's state shared); sets elsewhere each get a copy."""
     if not candidates:
         return
     if executor.local and (executor.workers <= 1 or len(candidates) <= 1):
-        for sub, rest, when, values in candidates:
+        for sub, rest, when, values, inherited in candidates:
             if state.progress is not None:
                 state.progress(state.done, state.total, ", ".join(when))
             before = list(state.undecided)
-            g, dimensions, inner = _step(state, sub, rest, when, values)
+            g, level, inner = _step(state, sub, rest, when, values, inherited)
             state.done += 1
-            yield g, dimensions, inner, [u for u in state.undecided if u not in before], {}, {}
+            new = [u for u in state.undecided if u not in before]
+            yield g, level, inner, new, {}, {}, []
         return
     yield from _each_elsewhere(state, candidates, executor, seconds)
 
@@ -393,7 +634,7 @@ def _each(state: _State, candidates, executor: Executor, seconds: float | None):
 def _each_elsewhere(state: _State, candidates, executor: Executor, seconds: float | None):
     """``_each`` by an executor, in the candidates' order; a candidate set it could not
     search is undecided."""
-    bare = replace(state, progress=None, found=[], undecided=[], searched=[], used={})
+    bare = replace(state, progress=None, found=[], undecided=[], searched=[], used={}, decided=[])
     work = [(bare, *candidate) for candidate in candidates]
     calls = executor.map(_step_apart, work, deadline=seconds, label=_label, name="registry-search")
     for index, value in in_order(calls, len(work)):
@@ -407,7 +648,7 @@ def _each_elsewhere(state: _State, candidates, executor: Executor, seconds: floa
                 f"candidate set {', '.join(when)} not searched "
                 f"({value.kind}{where}: {value.reason})"
             )
-            yield IntegralSet(when, 0), {}, [], [why], {}, {}
+            yield IntegralSet(when, 0), _Level({}, 0), [], [why], {}, {}, []
         else:
             yield value
 
@@ -420,10 +661,10 @@ def _label(work) -> str:
 def _step_apart(work):
     """``_step`` in a worker process, with what it could not decide and the cofactors
     of the sets within (the worker's state is a copy)."""
-    state, case, free, when, values = work
-    g, dimensions, inner = _step(state, case, free, when, values)
+    state, case, free, when, values, inherited = work
+    g, level, inner = _step(state, case, free, when, values, inherited)
     cofactors = {c[2]: state.cofactors[c[2]] for c in inner if c[2] in state.cofactors}
-    return g, dimensions, inner, state.undecided, cofactors, state.used
+    return g, level, inner, state.undecided, cofactors, state.used, state.decided
 
 
 def _system(
@@ -460,7 +701,7 @@ def _system(
     return system, list(system.params)
 
 
-def _divided(state: _State, case: Case, system: PolynomialSystem, when, values) -> list:
+def _divided(state: _State, case: Case, system: PolynomialSystem, when, values, inside=()) -> list:
     """Where the level set's basis divides by c(p), the search above holds for c != 0;
     c = 0 is a candidate set of its own (where the assumptions allow it), searched at
     the next level and special when it has more integrals. A c that no parameter can
@@ -487,7 +728,7 @@ def _divided(state: _State, case: Case, system: PolynomialSystem, when, values) 
             base = state.cofactors.get(when, state.cofactor)
             state.cofactors[sub_when] = sp.expand(base.xreplace(solved))
         free = [f for f in _free_symbols(state, case) if f not in solved]
-        candidates.append((sub, free, sub_when, composed))
+        candidates.append((sub, free, sub_when, composed, _restricted(inside, solved)))
     return candidates
 
 
@@ -543,6 +784,16 @@ def _locus(
         drops(rows, generic.counts[system.degree][1])
     back = dict(zip(ring.symbols, params, strict=True))
     locus.sets = [{back[s]: e.xreplace(back) for s, e in p.items()} for p in locus.sets]
+    for found in locus.algebraic:  # its components: rational ones, and pieces to decide
+        mapped = AlgebraicSet(
+            {back[s]: e.xreplace(back) for s, e in found.values.items()},
+            tuple(e.xreplace(back) for e in found.equations),
+            tuple(e.xreplace(back) for e in found.units),
+        )
+        resolved = resolve(mapped, params[:free], params[free:])
+        locus.undecided.extend(u for u in resolved.undecided if u not in locus.undecided)
+        locus.sets.extend(x for x in resolved.sets if x not in locus.sets)
+        locus.pieces.extend(resolved.pieces)
     state.undecided.extend(u for u in locus.undecided if u not in state.undecided)
     return locus
 

@@ -17,24 +17,32 @@ classification by hand (or CRACK) proceeds:
   so that every branch is a rational parametrisation of its points. A parameter that
   may vanish (z0 real) is split on in the same way: z0 = 0 or z0 != 0, and each point
   of parameter space lies in exactly one branch;
+* an irreducible h nonlinear in every free parameter is kept as an equation of the
+  branch (*pending*), with the others met on the way: the branch then lives on the
+  variety they define, entries divisible by one of them are zero there, and a factor
+  split on that is one of them is met again as zero;
 * a branch whose rank falls short of ``need`` (fewer rows than needed, or a rank
   modulo a prime at a random point of it below it) is a *candidate set*: the values
-  of the solved parameters as rational functions of the others. A branch whose rank
+  of the solved parameters as rational functions of the others, and, where equations
+  are pending, those equations (an ``AlgebraicSet``, decomposed into its components
+  by ``components``). A branch whose rank
   modulo a prime reaches ``need`` has that generic rank exactly (a modular rank at a
   point bounds the rank over Q(p, q) from below), so its independent parts (connected
   components of the rest) are split on separately, each with its own rank.
 
 The candidate sets hold every point where the rank drops (their union is the rank-drop
 locus, closed under taking closures); they are candidates only, each confirmed by an
-exact search. What cannot be solved rationally (an equation of degree >= 2 in every
-free parameter that remains after the others are solved) is returned as an undecided
-set, named by its equations, unless it has no real point.
+exact search. What the splitting cannot solve rationally (equations of degree >= 2 in
+every free parameter that remains after the others are solved) is returned as an
+algebraic set: its solved parameters, its equations and the factors assumed nonzero
+on it, decided by the search at the points of its components; only a matrix that needs
+more than ``MAX_BRANCHES`` branches is left undecided.
 """
 
 from __future__ import annotations
 
 import random
-from collections.abc import Iterable, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
 from typing import Any, cast
 
@@ -86,23 +94,43 @@ class Step:
 class Branch:
     """A part of parameter space and the matrix on it: the rows left after the pivots
     taken, the rank still ``need``-ed there, the factors assumed nonzero, the solved
-    parameters (in order), and an equation kept unsolved (nonlinear in every free one)."""
+    parameters (in order), and the equations kept unsolved (each irreducible and
+    nonlinear in every free one): the branch lies on their common zeros."""
 
     rows: list[Row]
     need: int
     units: dict[str, Poly] = field(default_factory=dict)
     steps: tuple[Step, ...] = ()
-    pending: Poly | None = None
+    pending: tuple[Poly, ...] = ()
+
+
+@dataclass(frozen=True)
+class AlgebraicSet:
+    """A candidate set the splitting could not solve rationally: the solved parameters'
+    ``values`` (rational functions of the others), the ``equations`` (= 0) the others
+    satisfy there, and the ``units``: polynomials assumed nonzero on it (a component on
+    which one vanishes lies in another branch)."""
+
+    values: dict[sp.Symbol, sp.Expr]
+    equations: tuple[sp.Expr, ...]
+    units: tuple[sp.Expr, ...] = ()
+
+    def text(self) -> str:
+        """Its equations as a search states them: ``y0 = 0, 3*x0**2 - c = 0``."""
+        parts = [f"{s} = {sp.sstr(e)}" for s, e in self.values.items()]
+        return ", ".join(parts + [f"{sp.sstr(e)} = 0" for e in self.equations])
 
 
 @dataclass
 class Split:
     """The outcome: candidate sets (each the solved parameters' values as sympy
-    expressions in the others) and undecided sets (their equations, as text)."""
+    expressions in the others), algebraic candidate sets (``AlgebraicSet``), and
+    undecided sets (their equations, as text)."""
 
     sets: list[dict[sp.Symbol, sp.Expr]] = field(default_factory=list)
     undecided: list[str] = field(default_factory=list)
     branches: int = 0
+    algebraic: list[AlgebraicSet] = field(default_factory=list)
 
 
 class _Splitter:
@@ -178,13 +206,15 @@ class _Splitter:
     # ---------------------------------------------------------------- matrices
 
     def normalise(self, branch: Branch) -> None:
-        """Zero entries dropped (multiples of the pending equation too), each row
+        """Zero entries dropped (multiples of a pending equation too), each row
         divided by the units its entries share, empty rows dropped."""
         rows = []
         for row in branch.rows:
             row = {k: v for k, v in row.items() if not v.is_zero()}
-            if branch.pending is not None:
-                row = {k: v for k, v in row.items() if not _divides(branch.pending, v)}
+            if branch.pending:
+                row = {
+                    k: v for k, v in row.items() if not any(_divides(h, v) for h in branch.pending)
+                }
             if not row:
                 continue
             first, *others = row.values()
@@ -278,7 +308,7 @@ class _Splitter:
             if pivot is None:
                 break
             self.eliminate(branch, *pivot)
-        if branch.pending is None:
+        if not branch.pending:
             if self.rank_mod(branch.rows) < branch.need:
                 self.emit(branch)
                 return []
@@ -336,15 +366,14 @@ class _Splitter:
         degrees = h.degrees()
         linear = [v for v in range(free) if degrees[v] == 1]
         if not linear:
-            if branch.pending is None or _divides(branch.pending, h):
-                if branch.pending is None:
-                    branch.pending = h
+            if any(_divides(g, h) for g in branch.pending):  # implied already
                 return self.impose(branch, rest)
-            if not self._inconsistent(branch, branch.pending, h) and not self._full_at_points(
-                branch, [branch.pending, h]
-            ):
-                self.out.undecided.append(self.describe(branch, [branch.pending, h]))
-            return []
+            if any(self._inconsistent(branch, g, h) for g in branch.pending):
+                return []
+            if len(branch.pending) == 1 and self._full_at_points(branch, [*branch.pending, h]):
+                return []
+            branch.pending = (*branch.pending, h)
+            return self.impose(branch, rest)
         options = []
         for v in linear:
             parts = _coefficients(h, v)
@@ -388,10 +417,10 @@ class _Splitter:
         for g in self.factor(denom):
             units[str(g)] = g
         new = Branch(rows, branch.need, units, (*branch.steps, Step(v, numer, denom)))
-        if branch.pending is None:
+        if not branch.pending:
             return [new]
-        value = _put(branch.pending, v, numer, denom, branch.pending.degrees()[v])
-        return self.impose(new, [value])
+        values = [_put(h, v, numer, denom, h.degrees()[v]) for h in branch.pending]
+        return self.impose(new, values)
 
     def _may_be_positive(self, numer: Poly, denom: Poly) -> bool:
         """False when numer/denom is negative (or zero) wherever the assumptions hold."""
@@ -423,9 +452,16 @@ class _Splitter:
     # ------------------------------------------------------------------ output
 
     def emit(self, branch: Branch) -> None:
-        """A candidate set: the solved parameters' values (or undecided)."""
-        if branch.pending is not None:
-            self.out.undecided.append(self.describe(branch, [branch.pending]))
+        """A candidate set: the solved parameters' values (and the pending equations,
+        as an algebraic set)."""
+        if branch.pending:
+            found = AlgebraicSet(
+                self.values(branch),
+                tuple(self.expr(h) for h in branch.pending),
+                tuple(self.expr(u) for u in branch.units.values()),
+            )
+            if found not in self.out.algebraic:
+                self.out.algebraic.append(found)
             return
         values = self.values(branch)
         if values not in self.out.sets:
@@ -447,12 +483,6 @@ class _Splitter:
                 for exps, c in poly.terms()
             )
         )
-
-    def describe(self, branch: Branch, equations: Iterable[Poly]) -> str:
-        values = self.values(branch)
-        parts = [f"{s} = {sp.sstr(e)}" for s, e in values.items()]
-        parts += [f"{sp.sstr(self.expr(e))} = 0" for e in equations]
-        return ", ".join(parts) + " (not solvable rationally for a free parameter)"
 
     def _inconsistent(self, branch: Branch, h: Poly, g: Poly) -> bool:
         """Whether h = g = 0 has no point allowed by the assumptions, shown by their

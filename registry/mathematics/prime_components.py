@@ -133,7 +133,7 @@ def components(
 ) -> tuple[Component, ...]:
     """The irreducible components of ``equations = 0`` on which the ``origin`` variables
     (default: all) are not all zero, none contained in another, largest dimension first
-    (module doc for the method).
+    (module doc for the method); ``origin=()`` keeps every component.
 
     >>> x, y = sp.symbols("x y")
     >>> [(c.free, c.minimal.as_expr()) for c in components([x * (x**2 - 2), x * y], [x, y])]
@@ -142,7 +142,7 @@ def components(
     decomposition = _Decomposition(tuple(variables), tuple(parameters), random.Random(seed))
     found = decomposition.run([sp.expand(e) for e in equations])
     zero = tuple(variables) if origin is None else tuple(origin)
-    return _maximal([c for c in found if not all(c.vanishes(x) for x in zero)])
+    return _maximal([c for c in found if not zero or not all(c.vanishes(x) for x in zero)])
 
 
 @dataclass(frozen=True)

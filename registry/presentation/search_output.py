@@ -4,7 +4,7 @@ and a measure search in plain text."""
 
 from __future__ import annotations
 
-from ..model import IntegralSet, IntegralStatus, MeasureSearch, Search, SearchOptions
+from ..model import IntegralSet, IntegralStatus, MeasureSearch, SameSystem, Search, SearchOptions
 from .text_table import wrapped
 
 
@@ -39,11 +39,22 @@ def statement(search: Search) -> str:
         text = f"No extra integral {ansatz} exists for generic {values}"
     if search.special:
         text += "; more exist exactly where " + "; or ".join(
-            ", ".join(s.when) for s in search.special
+            ", ".join(s.when) + _known_as(s) for s in search.special
         )
     if search.complete:
         return text + ("" if not o.free else "; no other values carry more") + "."
     return text + " (the search is not complete: see its coverage)."
+
+
+def _known_as(entry: IntegralSet) -> str:
+    """`` (kovalevskaya-1889-heavy-top)`` where the set is a catalog case whose claims its
+    integrals are, `` (new)`` where an integral there is no claim of any case it is."""
+    named = [s.case for s in entry.same_as if s.claims]
+    if entry.status and entry.new:
+        return " (new" + (f"; the system of {named[0]}" if named else "") + ")"
+    if named:
+        return f" ({named[0]})"
+    return ""
 
 
 def _relations_statement(search: Search, ansatz: str) -> str:
@@ -61,6 +72,16 @@ def _relations_statement(search: Search, ansatz: str) -> str:
     if search.complete:
         return text + "; no other cofactor carries one."
     return text + " (the search is not complete: see its coverage)."
+
+
+def same_text(same: SameSystem) -> str:
+    """``kovalevskaya-1889-heavy-top (C = 1, a = 1; claims K)``: a case the set is."""
+    values = ", ".join(f"{k} = {v}" for k, v in same.values)
+    moved = [f"{k} -> {v}" for k, v in same.transformation if k != v]
+    parts = [p for p in (values, "; ".join(moved)) if p]
+    if same.claims:
+        parts.append(f"its integrals are {', '.join(same.claims)}")
+    return same.case + (f" ({'; '.join(parts)})" if parts else "")
 
 
 def ansatz_text(options: SearchOptions) -> str:
@@ -132,6 +153,7 @@ def _set(entry: IntegralSet) -> dict:
         ]
     out["new"] = len(entry.new)
     out["rediscovered"] = len(entry.integrals) - len(entry.new)
+    out["same_as"] = [s.as_dict() for s in entry.same_as]
     return out
 
 
@@ -201,6 +223,7 @@ def search_text(search: Search, width: int | None = None) -> str:
             what = f"; {status_text(st)}" if st is not None else ""
             bracket = f"; casimir {casimir}" if casimir is not None else ""
             lines.append(f"    {text}    (integral verified{bracket}{what})")
+        lines.extend(f"    same system as {same_text(s)}" for s in entry.same_as)
 
     if search.decided:
         describe(search.generic, "generic")

@@ -16,6 +16,7 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 
 from ..discovery.every_degree import bounded, every_degree, summary
+from ..discovery.identification.catalog_index import CatalogIndex
 from ..discovery.search import discover, search_options
 from ..discovery.survey import searched, stated_options
 from ..errors import UnknownCaseError
@@ -101,8 +102,9 @@ class SearchRequest:
     """What an integral search is asked to find: the ansatz (``degree``, ``weights`` by
     vector, the level set ``on``), the parameters whose special values are sought
     (``free``), Darboux polynomials instead of integrals (``relations``), the seconds
-    the whole search may take; and whether to store it (``record``) or search again
-    instead of reusing a stored search (``fresh``)."""
+    the whole search may take; whether to store it (``record``) or search again
+    instead of reusing a stored search (``fresh``); and whether to identify what it
+    finds with the registry's cases (``identify``)."""
 
     degree: int = 4
     weights: Weights | Mapping[str, int] | tuple[int, int] | None = None
@@ -112,6 +114,8 @@ class SearchRequest:
     budget: float | None = DEFAULT_SEARCH_SECONDS
     record: bool = False
     fresh: bool = False
+    #: identify the special sets with the cases the registry holds (``same_as``)
+    identify: bool = True
 
     def options(self, case: Case) -> SearchOptions:
         """The options for searching ``case`` (level sets parsed in its names)."""
@@ -147,7 +151,15 @@ def search_run(
         reused = _reused_search(store, case, stored, options)
     if reused is not None:
         return replace(reused, exponents=beside_search(store, stored, case, options, executor))
-    search = discover(case, options, budget=request.budget, executor=executor, progress=progress)
+    catalog = catalog_index(store) if store is not None and request.identify else None
+    search = discover(
+        case,
+        options,
+        budget=request.budget,
+        executor=executor,
+        progress=progress,
+        catalog=catalog,
+    )
     events = tuple(executor.events)
     if not request.record or store is None:
         found = beside_search(store, stored, case, options, executor)
@@ -191,6 +203,12 @@ def survey_run(
         reports[i] = _recorded(store, planned[i][0], planned[i][1], search)
     found = beside_searches(store, planned, executor)
     return [replace(reports[i], exponents=found[i]) for i in range(len(planned))]
+
+
+def catalog_index(store: Store) -> CatalogIndex:
+    """The identification index of the latest version of every case the registry holds
+    (``discovery.identification.catalog_index``; each case's forms are computed once)."""
+    return CatalogIndex.of(stored.parse() for stored in store.case_versions())
 
 
 def recorded_searches(store: Store, case_id: str | None = None) -> list[tuple[int, int, Search]]:

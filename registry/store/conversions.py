@@ -28,6 +28,7 @@ from ..model import (
     FamilyRecord,
     IntegralSet,
     IntegralStatus,
+    SameSystem,
     Search,
     SearchOptions,
     Source,
@@ -167,6 +168,7 @@ def discovery_rows(search_id: int, search: Search, derived: dict[int, int]) -> l
             casimir=[verdict_text(v) for v in s.casimir],
             status=[status_data(t) for t in s.status],
             derived_case_pk=derived.get(i - 1) if i else None,
+            same_as=[same.as_dict() for same in s.same_as],
         )
         for i, s in enumerate(sets)
     ]
@@ -182,6 +184,7 @@ def search(row: SearchRow, case_id: str, content_hash: str, rows, on) -> Search:
             tuple(r.integrals),
             tuple(verdict_of(v) for v in r.casimir),
             tuple(integral_status(d) for d in (r.status or [])),
+            same_as=tuple(SameSystem.from_dict(d) for d in (r.same_as or [])),
         )
         for r in sorted(rows, key=lambda r: r.position)
     ]

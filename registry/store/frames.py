@@ -390,8 +390,9 @@ def searches_frame(store: Store) -> pd.DataFrame:
 def discoveries_frame(store: Store) -> pd.DataFrame:
     """One row per set of parameter values a search found integrals on (``when`` empty:
     the generic values): the search, the case, the equations, how many extra integrals,
-    a basis of them, their casimir verdicts, and the case version where they were added
-    as claims (the searched case for generic values, a derived case otherwise)."""
+    a basis of them, their casimir verdicts, the catalog cases it is the same system as
+    (``same_as``), and the case version where they were added as claims (the searched
+    case for generic values, a derived case otherwise)."""
     derived = CaseRow.__table__.alias("derived")
     stmt = (
         select(
@@ -402,6 +403,7 @@ def discoveries_frame(store: Store) -> pd.DataFrame:
             DiscoveryRow.integrals,
             DiscoveryRow.casimir,
             DiscoveryRow.status,
+            DiscoveryRow.same_as,
             derived.c.case_id.label("derived_case"),
             derived.c.version.label("derived_version"),
         )

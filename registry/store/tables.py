@@ -32,7 +32,7 @@ from sqlalchemy.orm import DeclarativeBase, Mapped, mapped_column
 from sqlalchemy.types import TypeDecorator
 
 #: Version of the table layout, kept in the ``meta`` table (the Alembic revision, as a number).
-SCHEMA_VERSION = 9
+SCHEMA_VERSION = 10
 
 #: The states of an audit run; every run starts as ``running``.
 RUN_STATUSES = ("running", "complete", "failed", "interrupted")
@@ -312,6 +312,8 @@ class DiscoveryRow(Base):
     # per integral: {"status": "new" | "rediscovered", "equals", "modulo", "relation"}
     status: Mapped[list[dict[str, Any]]] = mapped_column(JSON, default=list, server_default="[]")
     derived_case_pk: Mapped[int | None] = mapped_column(ForeignKey("cases.id"))
+    # the catalog cases it is the same system as (``model.SameSystem.as_dict``)
+    same_as: Mapped[list[dict[str, Any]]] = mapped_column(JSON, default=list, server_default="[]")
 
 
 class ExponentRow(Base):

@@ -70,12 +70,14 @@ def test_a_component_solved_for_a_parameter_it_is_linear_in():
     assert one in sets and {lam: 0} in sets and len(sets) == 2
 
 
-def test_a_nonlinear_component_is_undecided_and_named():
+def test_a_nonlinear_component_is_returned_as_an_algebraic_set():
     locus = drop_locus([{0: L**2 + Z**2 - 2}], 1, 2, random.Random(6))
-    assert locus.sets == [] and locus.undecided
-    assert "l**2 + z**2 - 2 = 0" in locus.undecided[0]
+    assert locus.sets == [] and locus.undecided == []
+    (found,) = locus.algebraic
+    assert found.text() == "l**2 + z**2 - 2 = 0"
     # one that has no real point is no special set at all
-    assert drop_locus([{0: L1**2 + 2}], 1, 1, random.Random(6)).undecided == []
+    none = drop_locus([{0: L1**2 + 2}], 1, 1, random.Random(6))
+    assert none.undecided == [] and none.algebraic == []
 
 
 def test_isolated_irrational_points_where_the_rank_holds_are_decided_exactly():
@@ -83,11 +85,14 @@ def test_isolated_irrational_points_where_the_rank_holds_are_decided_exactly():
     # where the third does not: rank 1 everywhere
     matrix = [{0: L**2 - 2}, {0: Z**2 - L * Z - 1}, {0: L**2 + Z**2 + 7}]
     locus = drop_locus(matrix, 1, 2, random.Random(7))
-    assert locus.sets == [] and locus.undecided == []
-    # where it does vanish there too, the points are named (irrational: not searched)
+    assert locus.sets == [] and locus.undecided == [] and locus.algebraic == []
+    # where it does vanish there too, the points are an algebraic set (decided by the
+    # search at its points, over their number field)
     matrix[2] = {0: (L**2 - 2) * Z}
     locus = drop_locus(matrix, 1, 2, random.Random(7))
-    assert locus.sets == [] and len(locus.undecided) == 1
+    assert locus.sets == [] and locus.undecided == []
+    (found,) = locus.algebraic
+    assert found.text() == "l = (z**2 - 1)/z, z**4 - 4*z**2 + 1 = 0" and found.units == (z,)
 
 
 def test_a_set_inside_another_is_left_to_its_search():

@@ -22,6 +22,7 @@ from pathlib import Path
 import pytest
 import sympy as sp
 
+from registry.discovery.identification.catalog_index import CatalogIndex
 from registry.discovery.locus import same
 from registry.discovery.search import discover, search_options
 from registry.errors import DiscoveryError
@@ -32,6 +33,8 @@ from registry.language.forms import with_values as substituted
 from registry.language.parser import Namespace, parse_expression
 from registry.mathematics import mechanics as mech
 from registry.model import Verdict
+from registry.presentation.search_output import statement
+from tests.helpers.catalog import catalog_cases, catalog_index
 from tests.helpers.samples import FAMILIES, family
 
 
@@ -422,7 +425,7 @@ def test_a_cofactor_with_no_real_value_is_ruled_out_and_the_search_is_complete()
     whose discriminant -4 A^2 C^2 (A - C)^2 is negative for generic A, C (a product of
     one-signed factors and even powers): no real cofactor, nothing undecided. Asymmetric
     moments have real irrational cofactors (the planes through the separatrices), which
-    stay named as not solvable rationally."""
+    stay named: not decided over their number field."""
     root = Path(__file__).resolve().parents[2] / "data/cases/free-rigid-body"
     symmetric = load_case(root / "euler-1765-free-rigid-body-symmetric.toml")
     search = discover(symmetric, search_options(symmetric, degree=2, relations=True))
@@ -430,7 +433,7 @@ def test_a_cofactor_with_no_real_value_is_ruled_out_and_the_search_is_complete()
     asymmetric = load_case(root / "euler-1765-free-rigid-body.toml")
     search = discover(asymmetric, search_options(asymmetric, degree=2, relations=True))
     assert not search.complete
-    assert any("not solvable rationally" in c for c in search.coverage)
+    assert any("not decided over its number field" in c for c in search.coverage)
 
 
 def test_relations_for_weights_that_leave_the_field_inhomogeneous_say_which_weights_do_not():
@@ -447,3 +450,169 @@ def test_relations_for_weights_that_leave_the_field_inhomogeneous_say_which_weig
     assert any("search with --weights M=1,gamma=1" in c for c in search.coverage)
     search = discover(case, search_options(case, degree=2, weights=(1, 1), relations=True))
     assert search.decided and not any("weight below" in c for c in search.coverage)
+
+
+# --- statements that mean what they say (issue 33) -----------------------------------
+
+
+def test_a_set_where_only_the_rank_drops_is_searched_but_never_called_special():
+    # mu = grad phi with phi = (t1 gamma1^2 + t2 gamma2^2 + t3 gamma3^2)/2: the Casimir
+    # s + phi becomes s (lower weighted degree) where t1 = t2 = t3, so the kernel of degree
+    # 3 grows there; no integral beyond the known ones exists on that line
+    case = family("kovalevskaya-diagonal-torque")
+    searched: list[str] = []
+    found = discover(
+        case,
+        search_options(case, degree=4, free=("t1", "t2", "t3")),
+        budget=120,
+        progress=lambda done, total, what: searched.append(what),
+    )
+    assert "t1 = t3, t2 = t3" in searched  # the rank drops there: a candidate
+    assert found.complete
+    assert [s.when for s in found.special] == [("t1 = 0", "t2 = 0", "t3 = 0")]
+    assert all(s.extra > found.generic.extra for s in found.special)
+    assert "t1 = t3" not in statement(found)
+
+
+# --- every component decided (issue 33) -----------------------------------------------
+
+
+def test_an_algebraic_special_point_is_searched_exactly_at_its_value():
+    found = search("heavy-top-u-squared", degree=4, free=("u",))
+    assert found.complete
+    assert set(where(found)) == {("u = 2",), ("u = sqrt(2)",)}
+    (kovalevskaya,) = where(found)[("u = sqrt(2)",)]
+    assert "M1**4" in kovalevskaya
+
+
+FIVE = {
+    ("b = 1", "c = 1"),
+    ("b = 1", "x0 = 0", "y0 = 0"),
+    ("b = c", "y0 = 0", "z0 = 0"),
+    ("c = 1", "x0 = 0", "z0 = 0"),
+    ("x0 = 0", "y0 = 0", "z0 = 0"),
+}
+
+
+@pytest.mark.slow  # about 12 s of computing (half a minute when the machine is busy)
+def test_five_free_parameters_of_the_heavy_top_are_complete_at_degree_four():
+    # components such as 49 x0^2 = 30 z0^2 (lines over Q(sqrt(30))) and sums of squares
+    # are decided at their points; Euler, Lagrange, Kovalevskaya about each axis and the
+    # spherical top, and nothing else (Husson 1906)
+    found = search("heavy-top-five", degree=4, free=("b", "c", "x0", "y0", "z0"), budget=600)
+    assert found.complete, found.coverage
+    kovalevskaya = {
+        ("b = 1", "c = 1/2", "z0 = 0"),
+        ("b = 1/2", "c = 1", "y0 = 0"),
+        ("b = 2", "c = 2", "x0 = 0"),
+    }
+    assert set(where(found)) == FIVE | kovalevskaya
+    all_conserved("heavy-top-five", found)
+
+
+def test_five_free_parameters_of_the_heavy_top_on_s_zero_are_complete_at_degree_three():
+    found = search(
+        "heavy-top-five", degree=3, on=("s = 0",), free=("b", "c", "x0", "y0", "z0"), budget=600
+    )
+    assert found.complete, found.coverage
+    chaplygin = {
+        ("b = 1", "c = 1/4", "z0 = 0"),
+        ("b = 1/4", "c = 1", "y0 = 0"),
+        ("b = 4", "c = 4", "x0 = 0"),
+    }
+    assert set(where(found)) == FIVE | chaplygin
+
+
+# --- identification with the catalog (issue 33) ----------------------------------------
+
+
+def test_the_diagonal_torques_kovalevskaya_point_is_kovalevskayas_case_not_new():
+    case = family("kovalevskaya-diagonal-torque")
+    found = discover(
+        case,
+        search_options(case, degree=4, free=("t1", "t2", "t3")),
+        budget=600,
+        catalog=catalog_index(),
+    )
+    (point,) = found.special
+    assert point.when == ("t1 = 0", "t2 = 0", "t3 = 0")
+    same = {s.case: s for s in point.same_as}
+    kovalevskaya = same["kovalevskaya-1889-heavy-top"]
+    assert dict(kovalevskaya.values) == {"C": "1", "a": "1"}
+    assert kovalevskaya.claims == ("K",)
+    assert point.new == () and point.status[0].status == "rediscovered"
+    said = statement(found)
+    assert "kovalevskaya" in said and "(new" not in said
+    # the rank-drop-only set t1 = t2 = t3 (s + t|gamma|^2/2 changes form) is not special
+    assert "t1 = t3" not in said and "t1 - t3" not in said
+    assert said.endswith("no other values carry more.")
+
+
+def test_a_planted_integrable_member_the_catalog_does_not_hold_is_reported_new():
+    # the same family against a catalog without Kovalevskaya's top: its integral is new
+    case = family("kovalevskaya-diagonal-torque")
+    others = CatalogIndex.of(
+        c
+        for c in catalog_cases()
+        if c.id in ("lagrange-1788-heavy-top", "euler-1765-free-rigid-body")
+    )
+    found = discover(
+        case, search_options(case, degree=4, free=("t1", "t2", "t3")), budget=600, catalog=others
+    )
+    (point,) = found.special
+    assert point.same_as == () and len(point.new) == 1
+    assert "(new)" in statement(found)
+
+
+def test_a_generated_familys_special_set_is_the_catalog_case_it_was_made_from():
+    case = family("kovalevskaya-transformed")
+    found = discover(case, search_options(case, degree=4, free=("c",)), catalog=catalog_index())
+    (point,) = found.special
+    assert point.when == ("c = 1",)
+    same = {s.case: s for s in point.same_as}
+    assert "K" in same["kovalevskaya-1889-heavy-top"].claims
+    moved = dict(same["kovalevskaya-1889-heavy-top"].transformation)
+    assert moved["M1"].lstrip("-") == "M3"  # the axes 1 and 3 exchanged, as generated
+
+
+def test_a_failed_identification_is_in_the_coverage_and_the_search_is_not_complete(
+    monkeypatch,
+):
+    from registry.discovery.identification import identify as module
+
+    def failing(*args, **options):
+        raise ArithmeticError("planted")
+
+    monkeypatch.setattr(module, "match", failing)
+    case = family("kovalevskaya-diagonal-torque")
+    only = CatalogIndex.of(c for c in catalog_cases() if c.id == "kovalevskaya-1889-heavy-top")
+    found = discover(
+        case, search_options(case, degree=4, free=("t1", "t2", "t3")), budget=600, catalog=only
+    )
+    (point,) = found.special
+    assert point.same_as == ()
+    assert not found.complete
+    assert any(
+        "could not compare 1 catalog cases: kovalevskaya-1889-heavy-top" in line
+        for line in found.coverage
+    )
+
+
+def test_a_budget_spent_identifying_keeps_the_sets_found_and_says_where_it_ran_out(monkeypatch):
+    import time
+
+    from registry.discovery.identification import identify as module
+
+    def slow(*args, **options):
+        time.sleep(120)
+
+    monkeypatch.setattr(module, "match", slow)
+    case = family("kovalevskaya-diagonal-torque")
+    only = CatalogIndex.of(c for c in catalog_cases() if c.id == "kovalevskaya-1889-heavy-top")
+    found = discover(
+        case, search_options(case, degree=4, free=("t1", "t2", "t3")), budget=20, catalog=only
+    )
+    (point,) = found.special
+    assert point.when == ("t1 = 0", "t2 = 0", "t3 = 0") and point.same_as == ()
+    assert not found.complete
+    assert "while identifying the sets found with the catalog" in found.coverage[0]

@@ -75,14 +75,15 @@ def test_pivots_keep_the_rank_at_every_point_of_the_branch():
     assert branch.need == 1
 
 
-def test_too_many_nonlinear_equations_are_undecided_not_dropped():
+def test_several_nonlinear_equations_are_kept_together_as_an_algebraic_set():
     region = Region(("b", "c", "z"), 3)
     ctx = region.context
     b_, c_, z_ = ctx.gens()
     rows = [{0: b_**2 + c_**2 - z_**2 - 1}, {0: b_**2 - c_**2 - z_**3}]
     split = drop_sets(rows, 1, region, random.Random(4))
-    assert split.undecided and not split.sets
-    assert "= 0" in split.undecided[0]
+    assert not split.sets and not split.undecided
+    (found,) = split.algebraic
+    assert len(found.equations) == 2 and found.text().endswith("= 0")
 
 
 def test_real_roots_where_the_assumptions_allow_them():

@@ -1,0 +1,31 @@
+"""The normal form identification compares: dgamma/dt = gamma x A L after the shift
+L = M + A^-1 g(gamma)."""
+
+from __future__ import annotations
+
+import sympy as sp
+
+from registry.discovery.identification.field_form import L_STATE, field_form
+from tests.helpers.catalog import catalog_case
+
+
+def test_a_torque_form_needs_no_shift_and_reads_its_inverse_inertia():
+    form = field_form(catalog_case("kovalevskaya-1889-heavy-top").dynamics)
+    c = sp.Symbol("C", positive=True)
+    assert form.kinetic == sp.diag(1 / (2 * c), 1 / (2 * c), 1 / c)
+    assert form.shift == (0, 0, 0)
+
+
+def test_a_hamiltonian_with_m_gamma_terms_is_shifted_to_the_normal_form():
+    form = field_form(catalog_case("wolf-2003-e3-goryachev-chaplygin").dynamics)
+    assert form.shifted and any(form.shift)
+    # in normal form dgamma/dt has no term free of L
+    for f in form.field[3:]:
+        assert all(
+            sum(m[:3]) == 1
+            for m in sp.Poly(f, *L_STATE, *sp.symbols("gamma1:4", real=True)).monoms()
+        )
+
+
+def test_a_field_that_is_not_polynomial_has_no_form():
+    assert field_form(catalog_case("yehia-2003-kovalevskaya-b").dynamics) is None
