@@ -832,7 +832,8 @@ def _proven(state: _State, case: Case, when, integrals: Sequence[sp.Expr]) -> In
     audit = audit_case(
         replace(case, claims=claims), checks=["integral", "casimir"], corrections=False, budget=None
     )
-    kept, casimirs = [], []
+    kept: list[str] = []
+    casimirs: list[Verdict] = []
     for claim in claims:
         result = audit.result("integral", claim.label)
         if result.verdict is not Verdict.VERIFIED:
