@@ -20,10 +20,12 @@ def test_cases_and_claims_frames(store, sample_case, other_case, case_factory):
     cases = frames.cases_frame(store)
     assert list(cases.columns) == [
         "case", "version", "title", "citation", "locator", "doi", "content_hash", "n_claims",
-        "added_at", "topic", "inertia", "potential", "torque", "hamiltonian", "kappa",
-        "authors", "year", "source_title", "journal", "booktitle", "publisher", "volume",
-        "issue", "pages", "url", "aliases",
+        "added_at", "topic", "inertia", "potential", "torque", "form", "variables",
+        "hamiltonian", "kappa", "authors", "year", "source_title", "journal", "booktitle",
+        "publisher", "volume", "issue", "pages", "url", "aliases",
     ]  # fmt: skip
+    assert set(cases["form"]) <= {"inertia", "hamiltonian"}
+    assert all(v == [] for v in cases["variables"])
     assert cases.set_index("case")["version"].to_dict() == {other_case.id: 1, sample_case.id: 2}
     assert cases.set_index("case")["n_claims"].to_dict() == {other_case.id: 0, sample_case.id: 2}
 
