@@ -79,6 +79,11 @@ def test_a_search_through_the_scheduler_file_over_tls_is_the_local_one(
     for document in (mine, theirs):
         document.pop("seconds")
         document.pop("events", None)
+        # the Kovalevskaya analysis beside the search has a short wall-clock budget of its
+        # own (settings.BESIDE_SEARCH_EXPONENT_SECONDS): on a loaded machine one of the two
+        # may run out; the search is what runs on the cluster
+        document.pop("exponents", None)
+        document.pop("every_degree", None)
     assert theirs == mine
     assert [s["when"] for s in mine["special"]] == [["lam = 1"], ["lam = 2"]]
 

@@ -33,6 +33,7 @@ def test_the_document_has_the_contracts_keys_and_values(kovalevskaya):
         "casimir": [],
         "new": 0,
         "rediscovered": 0,
+        "same_as": [],
     }
     assert [s["when"] for s in doc["special"]] == [["lam = 1"], ["lam = 2"]]
     assert doc["special"][0]["integrals"] == ["M1"] and doc["special"][0]["extra"] == 1
