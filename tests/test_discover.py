@@ -66,6 +66,19 @@ def test_an_identical_search_reuses_the_stored_one_unless_fresh(db_target):
         assert not fresh.reused
 
 
+def test_a_search_that_ran_out_of_time_is_reused_only_for_no_more_time(tmp_path):
+    with registry.open(tmp_path / "r.sqlite") as reg:
+        short = reg.discover(HEAVY, degree=4, free=["lam"], record=True, budget=0.01)
+        assert not short.search.complete
+        assert short.search.coverage[0].startswith("time budget exceeded (0.01 s)")
+        again = reg.discover("family-heavy-top-lam", degree=4, free=["lam"], budget=0.01)
+        assert again.reused and again.number == short.number
+        longer = reg.discover("family-heavy-top-lam", degree=4, free=["lam"], record=True)
+        assert not longer.reused and longer.search.complete
+        assert [s.when for s in longer.search.special] == [("lam = 1",), ("lam = 2",)]
+        assert reg.discover("family-heavy-top-lam", degree=4, free=["lam"]).reused
+
+
 def test_searches_and_discoveries_frames_hold_negative_results_too(db_target):
     with registry.open(db_target) as reg:
         reg.discover(FAMILIES / "asymmetric-heavy-top.toml", degree=4, record=True)

@@ -148,7 +148,7 @@ def search_run(
     options = request.options(case)
     reused = None
     if store is not None and not request.fresh:
-        reused = _reused_search(store, case, stored, options)
+        reused = _reused_search(store, case, stored, options, request.budget)
     if reused is not None:
         return replace(reused, exponents=beside_search(store, stored, case, options, executor))
     catalog = catalog_index(store) if store is not None and request.identify else None
@@ -191,7 +191,7 @@ def survey_run(
     ]
     reports: dict[int, SearchReport] = {}
     for i, (stored, case, options) in enumerate(planned):
-        reused = None if fresh else _reused_search(store, case, stored, options)
+        reused = None if fresh else _reused_search(store, case, stored, options, budget)
         if reused is not None:
             reports[i] = reused
     todo = [i for i in range(len(planned)) if i not in reports]
@@ -229,10 +229,15 @@ def recorded_searches(store: Store, case_id: str | None = None) -> list[tuple[in
 
 
 def _reused_search(
-    store: Store, case: Case, stored: StoredCase | None, options: SearchOptions
+    store: Store,
+    case: Case,
+    stored: StoredCase | None,
+    options: SearchOptions,
+    budget: float | None,
 ) -> SearchReport | None:
     """The stored search of this case version with these options by this code
-    version, or None."""
+    version, or None; not one that ran out of time where ``budget`` gives more time than
+    it had (a survey's short search does not stand in for a longer one asked for)."""
     if stored is None:
         return None
     found = store.stored_search(stored.pk, options, code_version())
@@ -240,7 +245,14 @@ def _reused_search(
         return None
     number, row, rows = found
     search = conversions.search(row, case.id, case.content_hash, rows, options.on)
+    if _ran_out(search) and (budget is None or budget > search.seconds):
+        return None
     return SearchReport(search, number, reused=True)
+
+
+def _ran_out(search: Search) -> bool:
+    """Whether the search stopped at its time budget (its coverage says so)."""
+    return any(part.startswith("time budget exceeded") for part in search.coverage)
 
 
 def _recorded(store: Store, stored: StoredCase, case: Case, search: Search) -> SearchReport:
