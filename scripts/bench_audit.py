@@ -17,7 +17,8 @@
 
 Usage: python scripts/bench_audit.py [--sizes 10 100 1000] [--baseline-sample 20]
 
-With ``--profile`` (nothing else runs): the catalog (data/cases, sub-folders included)
+With ``--profile`` (nothing else runs): the catalog (data/cases, sub-folders included;
+``--seed``: the seed catalog, data/cases/*.toml)
 audited fresh in this process, one case after another as a worker audits its batches,
 and where the time went, sorted, largest first: per check kind, per correction search
 (the torque's family, the corrected Casimir, the corrected torque), per condition
@@ -330,9 +331,15 @@ SECTIONS = {
 }
 
 
-def profile(numeric: bool, top: int, functions: int) -> None:
-    """Audit the catalog fresh in this process and print where the time went."""
-    cases = [registry.load_case(p) for p in sorted((ROOT / "data" / "cases").rglob("*.toml"))]
+def profile(numeric: bool, top: int, functions: int, seed: bool = False) -> None:
+    """Audit the catalog (``seed``: the seed catalog, data/cases/*.toml) fresh in this
+    process and print where the time went."""
+    files = (
+        (ROOT / "data" / "cases").glob("*.toml")
+        if seed
+        else (ROOT / "data" / "cases").rglob("*.toml")
+    )
+    cases = [registry.load_case(p) for p in sorted(files)]
     order = [case for group in batches(cases) for _, case in group]
     timings = Timings()
     per_case: list[tuple[float, str]] = []
@@ -468,13 +475,14 @@ def main() -> None:
         help="only where a fresh audit of the catalog spends its time, in this process",
     )
     parser.add_argument("--numeric", action="store_true", help="profile: numeric evidence too")
+    parser.add_argument("--seed", action="store_true", help="profile: the seed catalog only")
     parser.add_argument("--top", type=int, default=15, help="profile: instances listed")
     parser.add_argument(
         "--functions", type=int, default=0, help="profile: cProfile's N costliest functions"
     )
     args = parser.parse_args()
     if args.profile:
-        profile(args.numeric, args.top, args.functions)
+        profile(args.numeric, args.top, args.functions, args.seed)
         return
 
     # first, while this process is cold: each side forks its processes from it; the
