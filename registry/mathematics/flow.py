@@ -95,12 +95,8 @@ def jacobiator(
     if pi is None:
         raise ValueError("the system has no bracket")
     n = pi.shape[0]
-    if gradient_of is None:
-
-        def gradient_of(expr: sp.Expr) -> Sequence[sp.Expr]:
-            return gradient(dynamics, expr)
-
-    grads = {(a, b): gradient_of(pi[a, b]) for a in range(n) for b in range(n) if pi[a, b] != 0}
+    grad_of = gradient_of or (lambda expr: gradient(dynamics, expr))
+    grads = {(a, b): grad_of(pi[a, b]) for a in range(n) for b in range(n) if pi[a, b] != 0}
     zero = (sp.Integer(0),) * n
 
     def term(i: int, j: int, k: int) -> sp.Expr:
