@@ -1,7 +1,8 @@
 """Benchmark of the audit, with ratios measured side by side in the same run.
 
 1. The literature catalog (data/cases, sub-folders included, and the Hamiltonian-form
-   cases of tests/data/hamiltonian), audited fresh in worker
+   cases of tests/data/hamiltonian; the systems on the paper's state M, gamma, which the
+   lean verifier writes out), audited fresh in worker
    processes (all checks and corrections) and decided by a lean independent verifier (exact
    values at random points, expanded numerators, Groebner reduction on level sets; no
    corrections) in as many processes, both forked from this process before anything warms
@@ -15,22 +16,39 @@
    grows, with peak memory.
 
 Usage: python scripts/bench_audit.py [--sizes 10 100 1000] [--baseline-sample 20]
+
+With ``--profile`` (nothing else runs): the catalog (data/cases, sub-folders included;
+``--seed``: the seed catalog, data/cases/*.toml)
+audited fresh in this process, one case after another as a worker audits its batches,
+and where the time went, sorted, largest first: per check kind, per correction search
+(the torque's family, the corrected Casimir, the corrected torque), per condition
+search, per numeric evidence (the drift curves of refuted claims; with ``--numeric``,
+every claim's evidence) and per case. The timing wraps the audit's functions from here
+(monkeypatched for this process only); the package has no timing code of its own.
+``--functions N`` adds cProfile's N most expensive functions (cumulative time; the
+profiler slows the audit down about twofold).
+
 Nothing here is asserted by the tests: machines are shared and noisy.
 """
 
 from __future__ import annotations
 
 import argparse
+import contextlib
 import random
 import resource
 import time
+from collections import defaultdict
+from collections.abc import Callable, Iterator
+from dataclasses import replace
 from pathlib import Path
 
 import sympy as sp
 
 import registry
+from registry.audit import case_audit, checks, corrections, numeric_evidence
 from registry.audit.case_audit import audit_case
-from registry.audit.parallel import audit_cases
+from registry.audit.parallel import audit_cases, batches
 from registry.execution.executor import LocalPool
 from registry.execution.local import default_jobs
 from registry.execution.time_budget import TimeBudget
@@ -220,6 +238,166 @@ def lean_audit(cases, jobs: int) -> tuple[float, dict]:
     return time.perf_counter() - started, verdicts
 
 
+# --- the profile: where one fresh audit of the catalog spends its time --------------
+
+
+class Timings:
+    """Wall time per (section, kind) and per instance (case, item), collected by wrapping
+    functions of the audit (``patched``); nested calls count in each section they reach
+    (a check that a correction re-runs counts under the correction, not the check)."""
+
+    def __init__(self) -> None:
+        self.case = ""
+        self.by_kind: dict[tuple[str, str], list[float]] = defaultdict(list)
+        self.instances: dict[str, list[tuple[float, str, str]]] = defaultdict(list)
+
+    def timed(self, section: str, fn: Callable, label: Callable[..., tuple[str, str]]):
+        """``fn`` recording its time under ``section``, its kind and item from ``label``."""
+
+        def wrapper(*args, **kwargs):
+            started = time.perf_counter()
+            try:
+                return fn(*args, **kwargs)
+            finally:
+                seconds = time.perf_counter() - started
+                kind, item = label(*args, **kwargs)
+                self.by_kind[(section, kind)].append(seconds)
+                self.instances[section].append((seconds, self.case, item))
+
+        return wrapper
+
+    @contextlib.contextmanager
+    def patched(self) -> Iterator[None]:
+        """The audit's timing points wrapped, for the duration of the block."""
+        saved: list[tuple[object, str, object]] = []
+
+        def wrap(owner, name: str, section: str, label) -> None:
+            original = getattr(owner, name)
+            saved.append((owner, name, original))
+            setattr(owner, name, self.timed(section, original, label))
+
+        def claim_label(m, claim=None, *_, **__):
+            return "", "" if claim is None else claim.label
+
+        specs = dict(checks.CHECKS)
+        for name, spec in specs.items():
+            run = self.timed(
+                "check", spec.run, lambda m, claim=None, _n=name: (_n, claim_label(m, claim)[1])
+            )
+            checks.CHECKS[name] = replace(spec, run=run)
+        wrap(checks, "readable", "check", lambda *a, **k: ("(of which: residual shown)", ""))
+        wrap(corrections, "recognise", "correction", lambda mu, d: ("torque family", ""))
+        wrap(
+            corrections,
+            "corrected_casimir",
+            "correction",
+            lambda m, family, claim=None: ("corrected Casimir", family.name),
+        )
+        wrap(
+            corrections,
+            "corrected_torque",
+            "correction",
+            lambda m, claim: ("corrected torque", claim.label),
+        )
+        wrap(
+            corrections,
+            "holds_when",
+            "condition",
+            lambda residuals, m, target, domain=None: (
+                "jacobi" if target == "jacobi" else "claim",
+                target,
+            ),
+        )
+        wrap(case_audit, "drift_curve", "numeric", lambda m, label, *a, **k: ("drift curve", label))
+        wrap(
+            numeric_evidence,
+            "claim_drift",
+            "numeric",
+            lambda m, claim, *a, **k: ("evidence", claim.label),
+        )
+        try:
+            yield
+        finally:
+            checks.CHECKS.update(specs)
+            for owner, name, original in reversed(saved):
+                setattr(owner, name, original)
+
+
+SECTIONS = {
+    "check": "per check kind",
+    "correction": "per correction search",
+    "condition": "per condition search (parameter conditions of a failed identity)",
+    "numeric": "per numeric evidence (trajectories integrated)",
+}
+
+
+def profile(numeric: bool, top: int, functions: int, seed: bool = False) -> None:
+    """Audit the catalog (``seed``: the seed catalog, data/cases/*.toml) fresh in this
+    process and print where the time went."""
+    files = (
+        (ROOT / "data" / "cases").glob("*.toml")
+        if seed
+        else (ROOT / "data" / "cases").rglob("*.toml")
+    )
+    cases = [registry.load_case(p) for p in sorted(files)]
+    order = [case for group in batches(cases) for _, case in group]
+    timings = Timings()
+    per_case: list[tuple[float, str]] = []
+    profiler = None
+    if functions:
+        import cProfile
+
+        profiler = cProfile.Profile()
+    started, cpu = time.perf_counter(), time.process_time()
+    with timings.patched():
+        for case in order:
+            timings.case = case.id
+            at = time.perf_counter()
+            if profiler is not None:
+                profiler.enable()
+            audit_case(case, numeric=numeric)
+            if profiler is not None:
+                profiler.disable()
+            per_case.append((time.perf_counter() - at, case.id))
+    wall, cpu = time.perf_counter() - started, time.process_time() - cpu
+    print(
+        f"== profile: fresh audit of {len(cases)} cases in this process "
+        f"(all checks and corrections{', numeric evidence' if numeric else ''}): {wall:.2f} s "
+        f"wall, {cpu:.2f} s processor time"
+    )
+    for section, title in SECTIONS.items():
+        kinds = sorted(
+            (
+                (sum(t), len(t), max(t), kind)
+                for (sec, kind), t in timings.by_kind.items()
+                if sec == section
+            ),
+            reverse=True,
+        )
+        if not kinds:
+            continue
+        # a kind in parentheses runs inside the others (a refuted check showing its residual)
+        total = sum(k[0] for k in kinds if not k[3].startswith("("))
+        print(f"-- {title}: {total:.2f} s")
+        print(f"   {'kind':34s} {'total s':>8s} {'calls':>6s} {'mean ms':>8s} {'max ms':>8s}")
+        for total, calls, largest, kind in kinds:
+            print(
+                f"   {kind:34s} {total:8.2f} {calls:6d} {1000 * total / calls:8.1f} "
+                f"{1000 * largest:8.1f}"
+            )
+        print(f"   largest {top}:")
+        for seconds, case_id, item in sorted(timings.instances[section], reverse=True)[:top]:
+            print(f"   {1000 * seconds:9.1f} ms  {case_id}  {item}")
+    print(f"-- per case: {sum(t for t, _ in per_case):.2f} s; largest {top}:")
+    for seconds, case_id in sorted(per_case, reverse=True)[:top]:
+        print(f"   {1000 * seconds:9.1f} ms  {case_id}")
+    if profiler is not None:
+        import pstats
+
+        print(f"-- cProfile, {functions} functions by cumulative time (profiled run):")
+        pstats.Stats(profiler).sort_stats("cumulative").print_stats(functions)
+
+
 # --- the stress catalog ----------------------------------------------------------
 
 
@@ -291,7 +469,21 @@ def main() -> None:
     parser.add_argument(
         "--only-catalog", action="store_true", help="only the literature catalog (1.)"
     )
+    parser.add_argument(
+        "--profile",
+        action="store_true",
+        help="only where a fresh audit of the catalog spends its time, in this process",
+    )
+    parser.add_argument("--numeric", action="store_true", help="profile: numeric evidence too")
+    parser.add_argument("--seed", action="store_true", help="profile: the seed catalog only")
+    parser.add_argument("--top", type=int, default=15, help="profile: instances listed")
+    parser.add_argument(
+        "--functions", type=int, default=0, help="profile: cProfile's N costliest functions"
+    )
     args = parser.parse_args()
+    if args.profile:
+        profile(args.numeric, args.top, args.functions, args.seed)
+        return
 
     # first, while this process is cold: each side forks its processes from it; the
     # catalog with the Hamiltonian-form test cases (so(4), so(3,1), Kirchhoff as printed)
@@ -299,11 +491,16 @@ def main() -> None:
     catalog += [
         registry.load_case(p) for p in sorted((ROOT / "tests" / "data" / "hamiltonian").glob("*"))
     ]
+    # the lean verifier writes out the paper's state (M, gamma) only: a system on a state
+    # of its own (its equations, or H with its own bracket) is left out on both sides
+    others = [c for c in catalog if c.system.form not in ("inertia", "hamiltonian")]
+    catalog = [c for c in catalog if c.system.form in ("inertia", "hamiltonian")]
     new_form = sum(c.system.hamiltonian is not None or c.system.kappa_expr != 0 for c in catalog)
     claims = sum(len(c.claims) for c in catalog)
     print(
         f"== literature catalog: {len(catalog)} cases ({new_form} in the Hamiltonian form or "
-        f"on so(4), so(3,1)), {claims} claims, {args.jobs} workers"
+        f"on so(4), so(3,1)), {claims} claims, {args.jobs} workers; {len(others)} cases on a "
+        "state of their own left out (the lean verifier writes out M, gamma only)"
     )
     started = time.perf_counter()
     full = dict(audit_cases(catalog, LocalPool(args.jobs), TimeBudget()))

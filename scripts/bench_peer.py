@@ -3,10 +3,14 @@
 Same inputs, same run: for each case of the seed catalog without arbitrary
 functions, Pi_mu is handed to ``PoissonGeometry(6).is_poisson_bivector`` and
 each claim to ``is_casimir``; ours are the ``jacobi`` and ``casimir`` checks.
-Prints both times, their ratio, and any disagreement of the verdicts.
+Prints both times, their ratio, and any disagreement of the verdicts. Then, in the same
+run, the seed audit end to end (``bench_startup.fresh_audit``: the 16 seed files added
+to a new database and ``registry audit`` on it, whole processes, start-up, every check
+and correction included), best of ``--audit-repeat``, and the peer's total time for its
+checks as a ratio to it.
 
 Install the peer first: python -m pip install -e '.[peer]'
-Usage: python scripts/bench_peer.py [--cap SECONDS]
+Usage: python scripts/bench_peer.py [--cap SECONDS] [--audit-repeat N]
 
 The peer simplifies every Jacobiator component; where one call exceeds the cap
 (default 120 s) it is stopped and counted at the cap, so the ratio printed is
@@ -63,7 +67,9 @@ def capped(call, cap: float):
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--cap", type=float, default=120.0)
-    cap = parser.parse_args().cap
+    parser.add_argument("--audit-repeat", type=int, default=2)
+    args = parser.parse_args()
+    cap = args.cap
     cases = [
         c
         for c in (registry.load_case(p) for p in sorted((ROOT / "data" / "cases").glob("*.toml")))
@@ -99,6 +105,16 @@ def main() -> None:
     print(f"disagreements: {len(disagreements)}")
     for d in disagreements:
         print("  ", d)
+    from bench_startup import fresh_audit  # scripts/ is on the path of a script it runs
+
+    add, audit, n = fresh_audit(args.audit_repeat)
+    end_to_end = add + audit
+    print(
+        f"seed audit end to end ({n} files, registry add + registry audit, fresh database, "
+        f"best of {args.audit_repeat}): {end_to_end:.2f} s (add {add:.2f} s, audit "
+        f"{audit:.2f} s); poissongeometry's checks / it: {theirs_total / end_to_end:.1f}x "
+        "(target >= 20x)"
+    )
 
 
 if __name__ == "__main__":

@@ -9,6 +9,7 @@ A new check is one more decorated function here (``@check``).
 
 from __future__ import annotations
 
+import functools
 import time
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, replace
@@ -138,7 +139,15 @@ COMBINE_LIMIT = 3000
 
 def readable(expr: sp.Expr, shorthands=mech.SHORTHANDS) -> sp.Expr:
     """A residual in a form a person can read: shorthands (s) written out, combined and
-    factored."""
+    factored (a pure function of its arguments, remembered for the residuals refuted
+    again: a correction re-checked, a variant of a case with the same residual)."""
+    return _readable(expr, tuple(dict(shorthands).items()), symengine_bridge.ENABLED)
+
+
+@functools.lru_cache(maxsize=256)
+def _readable(
+    expr: sp.Expr, shorthands: tuple[tuple[sp.Symbol, sp.Expr], ...], symengine: bool
+) -> sp.Expr:
     expanded = symengine_bridge.expand(expr.subs(dict(shorthands)))
     size = sp.count_ops(expanded)
     if size > COMBINE_LIMIT:
@@ -193,9 +202,8 @@ def hamiltonian(m: CaseMechanics) -> CheckResult:
     """System (2.2) is Hamiltonian for Pi: its vector field equals Pi grad H."""
     started = time.perf_counter()
     dynamics = m.dynamics
-    generated = flow.hamiltonian_field(
-        dynamics.bracket, dynamics.hamiltonian, dynamics.variables, dynamics.shorthands
-    )
+    # Pi grad H (``flow.hamiltonian_field``) from the gradient of H that energy computed
+    generated = flow.apply_bivector(dynamics.bracket, m.gradient(dynamics.hamiltonian))
     residuals = {
         f"X-Pi grad H[{v}]": x - y
         for v, x, y in zip(dynamics.variables, m.field, generated, strict=True)

@@ -35,6 +35,7 @@ class CaseMechanics:
         self.dynamics: Dynamics = case.dynamics
         self._memo: dict[tuple, CheckResult] = {}
         self._residuals: dict[tuple[str, sp.Expr], Residuals] = {}
+        self._gradients: dict[sp.Expr, tuple[sp.Expr, ...]] = {}
 
     # the system's parts, as the checks name them
 
@@ -76,12 +77,21 @@ class CaseMechanics:
         names = [str(v) for v in self.dynamics.variables]
         return {
             f"J[{names[i]},{names[j]},{names[k]}]": value
-            for (i, j, k), value in flow.jacobiator(self.dynamics).items()
+            for (i, j, k), value in flow.jacobiator(self.dynamics, self.gradient).items()
         }
 
+    def gradient(self, expr: sp.Expr) -> tuple[sp.Expr, ...]:
+        """(d expr/d x_i) over the state (computed once per expression of this case: dI/dt
+        and Pi grad I of a claim, dH/dt and Pi grad H read the same one)."""
+        key = sp.sympify(expr)
+        found = self._gradients.get(key)
+        if found is None:
+            found = self._gradients[key] = flow.gradient(self.dynamics, key)
+        return found
+
     def time_derivative(self, expr: sp.Expr) -> sp.Expr:
-        """d expr/dt along the flow."""
-        return flow.time_derivative(self.dynamics, expr)
+        """d expr/dt along the flow (``flow.time_derivative``)."""
+        return flow.along(self.dynamics.field, self.gradient(expr))
 
     def claim_domain(self, claim: Claim) -> Domain:
         """Where a claim is decided: the case's domain on the claim's level set (its ``on``
@@ -99,7 +109,9 @@ class CaseMechanics:
         """Pi grad f, by component (row of Pi; computed once per expression)."""
 
         def compute() -> dict[str, sp.Expr]:
-            values = flow.bracket_gradient(self.dynamics, expr)
+            if self.dynamics.bracket is None:
+                raise ValueError("the system has no bracket")
+            values = flow.apply_bivector(self.dynamics.bracket, self.gradient(expr))
             return {f"Pi grad[{v}]": values[i] for i, v in enumerate(self.dynamics.variables)}
 
         return self._residual("casimir", expr, compute)

@@ -9,7 +9,7 @@ is differentiated by the chain rule, so an expression may keep it.
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from itertools import combinations
 
 import sympy as sp
@@ -23,17 +23,31 @@ def total_diff(
 ) -> sp.Expr:
     """d expr / d var on the state space, each shorthand k = value differentiated by the
     chain rule (d/dvar picks up dvalue/dvar times d/dk)."""
+    return total_gradient(expr, (var,), shorthands)[0]
+
+
+def total_gradient(
+    expr: sp.Expr,
+    variables: Sequence[sp.Symbol],
+    shorthands: Mapping[sp.Symbol, sp.Expr] | None = None,
+) -> tuple[sp.Expr, ...]:
+    """(``total_diff(expr, x, shorthands)`` for x in ``variables``): ``expr`` converted to
+    symengine once, and its derivative by each shorthand taken once for all of them."""
     expr = sp.sympify(expr)
-    d = symengine_bridge.diff(expr, var)
-    for symbol, value in (shorthands or {}).items():
-        if expr.has(symbol):
-            d += sp.diff(value, var) * symengine_bridge.diff(expr, symbol)
-    return d
+    used = [(k, v) for k, v in (shorthands or {}).items() if expr.has(k)]
+    derivatives = symengine_bridge.partials(expr, [*variables, *(k for k, _ in used)])
+    by_shorthand = derivatives[len(variables) :]
+    out = []
+    for var, d in zip(variables, derivatives, strict=False):
+        for (_, value), dk in zip(used, by_shorthand, strict=True):
+            d += sp.diff(value, var) * dk
+        out.append(d)
+    return tuple(out)
 
 
 def gradient(dynamics: Dynamics, expr: sp.Expr) -> tuple[sp.Expr, ...]:
     """(d expr / d x_i) over the state variables."""
-    return tuple(total_diff(expr, x, dynamics.shorthands) for x in dynamics.variables)
+    return total_gradient(expr, dynamics.variables, dynamics.shorthands)
 
 
 def along(field: Sequence[sp.Expr], grad: Sequence[sp.Expr]) -> sp.Expr:
@@ -66,22 +80,23 @@ def hamiltonian_field(
     pi: sp.MatrixBase, h: sp.Expr, variables: Sequence[sp.Symbol], shorthands=None
 ) -> tuple[sp.Expr, ...]:
     """Pi grad H: the vector field the bracket generates from H (dx_i/dt = {x_i, H})."""
-    grad = [total_diff(h, x, shorthands) for x in variables]
-    return apply_bivector(pi, grad)
+    return apply_bivector(pi, total_gradient(h, variables, shorthands))
 
 
-def jacobiator(dynamics: Dynamics) -> dict[tuple[int, int, int], sp.Expr]:
+def jacobiator(
+    dynamics: Dynamics, gradient_of: Callable[[sp.Expr], Sequence[sp.Expr]] | None = None
+) -> dict[tuple[int, int, int], sp.Expr]:
     """The components i < j < k of the Jacobi identity of the bracket Pi:
     Pi^{li} d_l Pi^{jk} + Pi^{lj} d_l Pi^{ki} + Pi^{lk} d_l Pi^{ij}, summed over l. All
     vanish exactly when Pi is a Poisson tensor; for the six variables of e(3) this is the
-    reference paper's Sec. 3 (20 components)."""
+    reference paper's Sec. 3 (20 components). ``gradient_of`` gives the gradient of an
+    entry (default ``gradient``; a case's memo shares the gradients of equal entries)."""
     pi = dynamics.bracket
     if pi is None:
         raise ValueError("the system has no bracket")
     n = pi.shape[0]
-    grads = {
-        (a, b): gradient(dynamics, pi[a, b]) for a in range(n) for b in range(n) if pi[a, b] != 0
-    }
+    grad_of = gradient_of or (lambda expr: gradient(dynamics, expr))
+    grads = {(a, b): grad_of(pi[a, b]) for a in range(n) for b in range(n) if pi[a, b] != 0}
     zero = (sp.Integer(0),) * n
 
     def term(i: int, j: int, k: int) -> sp.Expr:

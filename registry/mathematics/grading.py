@@ -17,7 +17,6 @@ a field that has none is used (``weighted``).
 
 from __future__ import annotations
 
-import functools
 import itertools
 from collections.abc import Mapping, Sequence
 
@@ -57,60 +56,67 @@ def shift(
     the state). ``field`` lists dx/dt for ``variables`` (default: those of ``vectors``,
     vector by vector), in their order."""
     state = list(variables) if variables is not None else [x for v in vectors for x in v.components]
-    w = per_variable(weights, vectors, state)
-    shifts: set[int] = set()
-    parts = _monomials(tuple(field), tuple(sorted(shorthands.items(), key=str)), tuple(state))
-    for wi, (numer, denom) in zip(w, parts, strict=True):
-        degree = _degree(numer, w)
-        below = _degree(denom, w)
-        if degree is None or not below:  # not homogeneous (a denominator is never 0)
-            return None
-        if degree == ():  # the component is zero
-            continue
-        shifts.add(degree[0] - below[0] - wi)
-        if len(shifts) > 1:
-            return None
-    return next(iter(shifts), 0)
+    return _Monomials(field, shorthands, state).shift(per_variable(weights, vectors, state))
 
 
-Monomials = tuple[tuple[int, ...], ...]
+class _Monomials:
+    """The monomials in the state of the numerator and denominator of each component of a
+    field, computed once (on first use) for every weighting ``shift`` tries: the weights
+    change only how the monomials are summed."""
+
+    def __init__(
+        self, field: Sequence[sp.Expr], shorthands: Mapping[sp.Symbol, sp.Expr], state: list
+    ):
+        self.field = list(field)
+        self.shorthands = dict(shorthands)
+        self.state = state
+        self._parts: dict[int, tuple] = {}
+
+    def parts(self, i: int) -> tuple:
+        """(numerator's monomials, denominator's) of component i: each a list of exponent
+        tuples, () for 0, None for no polynomial in the state."""
+        found = self._parts.get(i)
+        if found is None:
+            x = self.field[i]
+            numer, denom = sp.fraction(sp.together(sp.sympify(x).subs(self.shorthands)))
+            found = self._parts[i] = (_monoms(numer, self.state), _monoms(denom, self.state))
+        return found
+
+    def shift(self, w: Sequence[int]) -> int | None:
+        shifts: set[int] = set()
+        for i, (wi, _) in enumerate(zip(w, self.field, strict=True)):
+            numer, denom = self.parts(i)
+            degree = _degree(numer, w)
+            below = _degree(denom, w)
+            if degree is None or not below:  # not homogeneous (a denominator is never 0)
+                return None
+            if degree == ():  # the component is zero
+                continue
+            shifts.add(degree[0] - below[0] - wi)
+            if len(shifts) > 1:
+                return None
+        return next(iter(shifts), 0)
 
 
-@functools.lru_cache(maxsize=512)
-def _monomials(
-    field: tuple[sp.Expr, ...],
-    shorthands: tuple[tuple[sp.Symbol, sp.Expr], ...],
-    state: tuple[sp.Symbol, ...],
-) -> tuple[tuple[Monomials | None, Monomials | None], ...]:
-    """The exponents of the numerator's and the denominator's monomials in the state, per
-    component of the field (None for one that is no polynomial in the state): computed
-    once for every grading tried."""
-    out = []
-    for x in field:
-        numer, denom = sp.fraction(sp.together(sp.sympify(x).subs(dict(shorthands))))
-        out.append((_exponents(numer, state), _exponents(denom, state)))
-    return tuple(out)
-
-
-def _exponents(expr: sp.Expr, state: Sequence[sp.Symbol]) -> Monomials | None:
+def _monoms(expr: sp.Expr, state: Sequence[sp.Symbol]) -> list | tuple | None:
     """The monomials of a polynomial in the state, () for 0, None for anything else."""
     expr = sp.expand(expr)
     if expr == 0:
         return ()
     try:
-        return tuple(sp.Poly(expr, *state).monoms())
+        return sp.Poly(expr, *state).monoms()
     except sp.PolynomialError:
         return None
 
 
-def _degree(monomials: Monomials | None, w: Sequence[int]) -> tuple[int, ...] | None:
-    """(weighted degree,) of a weighted-homogeneous polynomial given by its
-    ``monomials``, () for 0, None for anything else."""
-    if monomials is None:
+def _degree(monoms: list | tuple | None, w: Sequence[int]) -> tuple[int, ...] | None:
+    """(weighted degree,) of a weighted-homogeneous polynomial given by its monomials,
+    () for 0, None for anything else."""
+    if monoms is None:
         return None
-    if not monomials:
+    if monoms == ():
         return ()
-    degrees = {sum(a * b for a, b in zip(m, w, strict=True)) for m in monomials}
+    degrees = {sum(a * b for a, b in zip(m, w, strict=True)) for m in monoms}
     return (degrees.pop(),) if len(degrees) == 1 else None
 
 
@@ -132,11 +138,13 @@ def homogeneous_weights(
 ) -> Weights | None:
     """The first of the ``candidates`` under which ``field`` is weighted-homogeneous, or
     None."""
+    state = list(variables) if variables is not None else [x for v in vectors for x in v.components]
+    monomials = _Monomials(field, shorthands, state)  # shared by the candidates
     return next(
         (
             w
             for w in candidates(vectors)
-            if shift(field, w, vectors, shorthands, variables) is not None
+            if monomials.shift(per_variable(w, vectors, state)) is not None
         ),
         None,
     )

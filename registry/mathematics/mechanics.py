@@ -59,8 +59,15 @@ def total_diff(expr: sp.Expr, var: sp.Symbol) -> sp.Expr:
 
 
 def gradient(expr: sp.Expr) -> tuple[sp.Expr, ...]:
-    """(d/dM, d/dgamma) of ``expr``: the 6-vector nabla f."""
-    return tuple(total_diff(expr, v) for v in STATE)
+    """(d/dM, d/dgamma) of ``expr``: the 6-vector nabla f (``total_diff`` by each state
+    variable, with ``expr`` converted to symengine once)."""
+    expr = sp.sympify(expr)
+    through_s = expr.has(s)
+    derivatives = symengine_bridge.partials(expr, [*STATE, *([s] if through_s else [])])
+    if not through_s:
+        return derivatives
+    ds = derivatives[-1]
+    return tuple(d + sp.diff(S_VALUE, v) * ds for v, d in zip(STATE, derivatives, strict=False))
 
 
 def cross(a: Sequence[sp.Expr], b: Sequence[sp.Expr]) -> Vector3:

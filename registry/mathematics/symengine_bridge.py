@@ -10,6 +10,8 @@ False to use sympy alone (the tests run both ways).
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 import sympy as sp
 from sympy.core.function import AppliedUndef
 
@@ -33,15 +35,35 @@ def _back(result, expr: sp.Expr) -> sp.Expr:
     return back.xreplace({s: names[s.name] for s in back.free_symbols if s.name in names})
 
 
+#: What a failed symengine conversion or derivative raises (sympy then does the work).
+_FAILURES = (RuntimeError, TypeError, ValueError, NotImplementedError, AttributeError)
+
+
 def diff(expr: sp.Expr, var: sp.Symbol) -> sp.Expr:
     """d expr / d var (partial derivative)."""
+    return partials(expr, (var,))[0]
+
+
+def partials(expr: sp.Expr, variables: Sequence[sp.Symbol]) -> tuple[sp.Expr, ...]:
+    """(d expr / d var for each of ``variables``), the same as ``diff`` one by one, with
+    ``expr`` converted to symengine once (the conversions cost more than the derivatives)."""
     expr = sp.sympify(expr)
+    converted = None
     if _usable(expr):
         try:
-            return _back(se.sympify(expr).diff(se.Symbol(var.name)), expr)
-        except (RuntimeError, TypeError, ValueError, NotImplementedError, AttributeError):
-            pass
-    return sp.diff(expr, var)
+            converted = se.sympify(expr)
+        except _FAILURES:
+            converted = None
+    out = []
+    for var in variables:
+        if converted is not None:
+            try:
+                out.append(_back(converted.diff(se.Symbol(var.name)), expr))
+                continue
+            except _FAILURES:
+                pass
+        out.append(sp.diff(expr, var))
+    return tuple(out)
 
 
 def expand(expr: sp.Expr) -> sp.Expr:
@@ -50,6 +72,6 @@ def expand(expr: sp.Expr) -> sp.Expr:
     if _usable(expr):
         try:
             return _back(se.expand(se.sympify(expr)), expr)
-        except (RuntimeError, TypeError, ValueError, NotImplementedError, AttributeError):
+        except _FAILURES:
             pass
     return sp.expand(expr)

@@ -18,6 +18,7 @@ The decision is made in stages, cheapest first, and the stage is recorded:
 
 from __future__ import annotations
 
+import functools
 import random
 from collections.abc import Mapping
 from dataclasses import dataclass
@@ -67,8 +68,8 @@ def decide(
         return probe
     methods = set()
     for label, expr in live.items():
-        method = prove_zero(
-            expr, domain.on, domain.shorthands, domain.state
+        method = _proven(
+            expr, tuple(domain.on), tuple(domain.shorthands.items()), domain.state
         ) or _simplified_to_zero(expr, domain)
         if method is None:
             more = _probe(live, domain, probes - 1, rng) if probes > 1 else None
@@ -82,6 +83,19 @@ def decide(
             )
         methods.add(method)
     return ZeroTest(Verdict.VERIFIED, max(methods, key=_METHOD_ORDER.index))
+
+
+@functools.lru_cache(maxsize=512)
+def _proven(
+    expr: sp.Expr,
+    on: tuple[sp.Expr, ...],
+    shorthands: tuple[tuple[sp.Symbol, sp.Expr], ...],
+    state: tuple[sp.Symbol, ...],
+) -> str | None:
+    """``prove_zero``, remembered: a pure function of the residual, the level set, the
+    shorthands and the state (the cases of one torque prove the same Jacobi identity, a
+    correction's re-check the residual its check proved)."""
+    return prove_zero(expr, on, dict(shorthands), state)
 
 
 _METHOD_ORDER = ["rational normal form", "algebraic normal form", "level-set reduction", "simplify"]

@@ -76,3 +76,15 @@ def test_the_invariance_of_a_level_set_applies_only_to_claims_on_one():
 
 def test_residuals_are_shown_with_s_expanded_and_factored():
     assert checks.readable(s * gamma1 - M1 * gamma1**2) == gamma1 * (M2 * gamma2 + M3 * gamma3)
+
+
+def test_a_remembered_residual_is_shown_for_its_own_shorthands_only():
+    """``readable`` remembers its results by expression and shorthands: the same residual
+    under another case's shorthands (s standing for another expression) is shown anew."""
+    residual = s * gamma1
+    paper = checks.readable(residual)
+    assert checks.readable(residual) is paper  # remembered
+    other = checks.readable(residual, {s: M1})
+    assert other == M1 * gamma1
+    assert paper == checks.readable(residual, {s: M1 * gamma1 + M2 * gamma2 + M3 * gamma3})
+    assert paper != other

@@ -87,3 +87,22 @@ def test_the_corrections_of_a_refuted_integral_reuse_its_residual(asked):
     assert audit.result("integral", claim.label).verdict is Verdict.REFUTED
     assert [c for c in audit.conditions if c.target == claim.label]
     assert asked_of(asked, "integral", expr) == [True, False]
+
+
+def test_gradients_are_shared_by_the_checks_of_a_case_and_not_across_cases():
+    """dI/dt and Pi grad I of a claim read one gradient, computed once per case; another
+    case (another field, the same expression) computes its own, and its time derivative is
+    along its own field."""
+    case = load_case(case_file(ZHUKOVSKY))
+    m = CaseMechanics(case)
+    expr = case.claims[0].expression.expr
+    assert m.gradient(expr) is m.gradient(expr)
+    assert m.gradient(expr) == mechanics.gradient(expr)
+    m.integral_residual(expr), m.casimir_residual(expr)
+    assert list(m._gradients) == [expr]  # one gradient for both residuals
+    other = CaseMechanics(load_case(case_file(YEHIA_B)))
+    assert other.gradient(expr) is not m.gradient(expr)
+    (mine,) = m.integral_residual(expr).values()
+    (theirs,) = other.integral_residual(expr).values()
+    assert sp.expand(theirs - mechanics.time_derivative(expr, other.field)) == 0
+    assert sp.expand(mine - theirs) != 0  # each case's own field

@@ -41,3 +41,15 @@ def test_kovalevskaya_on_so4_has_no_grading_and_the_note_says_what_the_ansatz_me
 def test_linear_terms_in_m_break_homogeneity_and_radicals_are_not_graded():
     assert homogeneous_weights(field(CLEBSCH + M3)) is None
     assert homogeneous_weights(field(M1**2 + sp.sqrt(1 + g1**2))) is None
+
+
+def test_every_weighting_reads_the_same_monomials_as_shift_one_by_one():
+    """homogeneous_weights computes each component's monomials once for every candidate;
+    its answer is the first candidate that ``shift`` (monomials computed afresh) accepts."""
+    for f in (field(KOVALEVSKAYA), field(CLEBSCH, kappa), field(KOVALEVSKAYA, kappa)):
+        first = next(
+            (w for w in ((1, 2), (1, 1), (2, 1)) if shift(f, w) is not None),
+            None,
+        )
+        found = homogeneous_weights(f)
+        assert found == (None if first is None else (("M", first[0]), ("gamma", first[1])))

@@ -89,3 +89,13 @@ def test_verdicts_do_not_depend_on_the_backend(backend, case_id):
     assert audit.result("casimir", claim).verdict is expected
     assert audit.result("energy").verdict is Verdict.VERIFIED
     backend.assert_used()
+
+
+def test_partials_are_diff_one_variable_at_a_time(backend):
+    """One conversion for every variable gives exactly what ``diff`` gives for each."""
+    expr = C * g1 * sp.sqrt(g1**2 + g2**2) * mech.s + sp.atan(g3 / g1)
+    variables = (g1, g2, g3, mech.s, C)
+    assert symengine_bridge.partials(expr, variables) == tuple(
+        symengine_bridge.diff(expr, v) for v in variables
+    )
+    backend.assert_used()

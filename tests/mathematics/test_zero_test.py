@@ -123,3 +123,26 @@ def test_families_are_refuted_with_concrete_functions():
     # and a true family identity (mixed partials commute) is proven
     ok = sp.diff(phi(*AXIS), gamma1, gamma2) - sp.diff(phi(*AXIS), gamma2, gamma1)
     assert decide({"r": ok}, domain).verdict is Verdict.VERIFIED
+
+
+def test_a_remembered_proof_holds_only_on_its_own_level_set():
+    """Proofs are remembered by residual, level set, shorthands and state: a residual
+    proven zero on the sphere is not taken as proven off it (nor with s another name)."""
+    zero_test._proven.cache_clear()
+    r = (gamma1**2 + gamma2**2 + gamma3**2) * M1 - M1
+    on_sphere = decide({"r": r}, DOMAIN.restricted([SPHERE]))
+    assert on_sphere.verdict is Verdict.VERIFIED
+    assert on_sphere.method == "level-set reduction"
+    assert decide({"r": r}, DOMAIN).verdict is Verdict.REFUTED
+    again = decide({"r": r}, DOMAIN.restricted([SPHERE]), seed=7)
+    assert (again.verdict, again.method) == (Verdict.VERIFIED, "level-set reduction")
+    assert zero_test._proven.cache_info().hits >= 1  # the second proof was remembered
+    # asked directly (the probes above refute before any proof is sought off the sphere)
+    shorthands, state = tuple(DOMAIN.shorthands.items()), DOMAIN.state
+    assert zero_test._proven(r, (SPHERE,), shorthands, state) == "level-set reduction"
+    assert zero_test._proven(r, (), shorthands, state) is None
+    # the same residual in s: proven with s = M . gamma, not with s standing for M1
+    t = s - S_VALUE
+    assert decide({"t": t}, DOMAIN).verdict is Verdict.VERIFIED
+    other = Domain(parameters=(k,), shorthands={s: M1})
+    assert decide({"t": t}, other).verdict is Verdict.REFUTED
