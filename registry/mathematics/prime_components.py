@@ -401,6 +401,8 @@ def _cyclic_fraction_free(times: list[list], columns: list[list], k, u: sp.Symbo
         last = powers[-1]
         powers.append([sum((a * b for a, b in zip(row, last, strict=True)), ctx.from_dict({}))
                        for row in matrix])  # fmt: skip
+    if not _spans_somewhere(powers[:size], ctx.nvars()):
+        return None
     rows = [
         [powers[j][i] for j in range(size)] + [powers[size][i]] + [t[i] for t, _ in targets]
         for i in range(size)
@@ -436,6 +438,25 @@ def _cyclic_fraction_free(times: list[list], columns: list[list], k, u: sp.Symbo
         for i, (x, (_, t)) in enumerate(zip(gens, targets, strict=True))
     }
     return eliminant, found
+
+
+def _spans_somewhere(columns: list[list], nvars: int, tries: int = 2) -> bool:
+    """Whether the columns (polynomials over Z in the parameters) are independent at one
+    of a few fixed pseudo-random integer points: then they are over Q(p) (a minor that
+    is not zero at a point is not zero). False means that they are dependent at every
+    point tried, so over Q(p) too but for a chance smaller than deg/range per point;
+    the caller then takes another linear form, or splits the system, which finds the
+    same components (the exact elimination it saves fails on every dependent form)."""
+    rng = random.Random(len(columns))  # fixed: the same answer on every run
+    size = len(columns)
+    for _ in range(tries):
+        point = [rng.randint(-(10**12), 10**12) for _ in range(nvars)]
+        matrix = flint.fmpz_mat(
+            [[int(columns[j][i](*point)) for j in range(size)] for i in range(size)]
+        )
+        if matrix.rank() == size:
+            return True
+    return False
 
 
 def _integral(ctx, numer, denom) -> tuple[flint.fmpz_mpoly, flint.fmpz_mpoly]:
