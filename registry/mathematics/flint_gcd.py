@@ -36,7 +36,7 @@ def _flint_gcd_ZZ(f: PolyElement, g: PolyElement):  # noqa: N802 - sympy's name
     ff, gg = ctx.from_dict(dict(f)), ctx.from_dict(dict(g))
     h = ff.gcd(gg)
     cff, cfg = ff / h, gg / h  # exact divisions
-    back = (ring.from_dict(p.to_dict()) for p in (h, cff, cfg))
+    back = (ring.from_dict(dict(zip(p.monoms(), p.coeffs(), strict=True))) for p in (h, cff, cfg))
     h_, cff_, cfg_ = back
     if h_.LC < 0:  # sympy's sign: a positive leading coefficient in the ring's order
         return -h_, -cff_, -cfg_
