@@ -9,16 +9,31 @@ times, their ratio, the balances each found, and whether the exponents agree on 
 balances both found (families compared at a generic point). Times are CPU seconds of
 this process (the machine's cores are shared); the baseline's time limit is wall clock.
 
+With ``--catalog``: every case of data/cases (recursively) analysed as the survey's main
+job analyses it beside its search on the whole phase space (``runs.exponents_run``:
+``_options`` of the first of ``stated_options``), each in a fresh process under a
+generous budget (``--budget``, default 120 s; of CPU time with ``--cpu``, for a loaded
+machine, else wall clock as in the survey), printed sorted by CPU time with the
+result's summary (decided, balances, exponents, Painlevé test), and how many were
+decided within ``--within`` seconds (default ``BESIDE_SEARCH_EXPONENT_SECONDS``).
+
 Usage: python scripts/bench_exponents.py [--timeout 120] [--repeat 3]
+       python scripts/bench_exponents.py --catalog [--budget 120] [--cpu] [--jobs 1] [--only TEXT]
+                                         [--save FILE.json]
 Nothing here is asserted by the tests: machines are shared and noisy.
 """
 
 from __future__ import annotations
 
 import argparse
+import contextlib
+import json
+import multiprocessing
 import signal
+import statistics
 import time
 from collections import Counter
+from pathlib import Path
 
 import sympy as sp
 from sympy.core.cache import clear_cache
@@ -110,11 +125,123 @@ def same(spectrum: Counter, others: list[Counter]) -> bool:
     return any(key(spectrum) == key(o) for o in others)
 
 
+CATALOG = Path(__file__).resolve().parent.parent / "data" / "cases"
+
+
+@contextlib.contextmanager
+def cpu_time_limit(seconds: float | None):
+    """``time_budget.time_limit`` counting this process's CPU seconds (ITIMER_PROF)."""
+    from registry.execution.time_budget import BudgetExceeded
+
+    def expire(signum, frame):
+        raise BudgetExceeded
+
+    if not seconds:
+        yield
+        return
+    previous = signal.signal(signal.SIGPROF, expire)
+    signal.setitimer(signal.ITIMER_PROF, seconds)
+    try:
+        yield
+    finally:
+        signal.setitimer(signal.ITIMER_PROF, 0)
+        signal.signal(signal.SIGPROF, previous)
+
+
+def catalog_case(work: tuple[str, float, bool]) -> tuple[str, float, float, str, dict | None]:
+    """One catalog case analysed as beside the survey's search: (file, CPU seconds, wall
+    seconds, summary, the result's document without its seconds)."""
+    from registry.discovery.exponents import analyse_case
+    from registry.discovery.survey import stated_options
+    from registry.errors import ExponentError
+    from registry.language.casefile import load_case
+    from registry.runs.exponents_run import _options
+
+    path, budget, cpu_budget = work
+    if cpu_budget:  # the budget in CPU seconds: the machine's load does not eat it
+        import registry.discovery.exponents as module
+
+        module.time_limit = cpu_time_limit
+    cpu, wall = time.process_time(), time.perf_counter()
+    document = None
+    try:
+        case = load_case(path)
+        options = _options(case, stated_options(case)[0])
+        if options is None:
+            summary = "no options (weights name a vector the case lacks)"
+        else:
+            document = dict(analyse_case(case, options, budget=budget).document)
+            document.pop("seconds", None)
+            summary = summarise(document)
+    except ExponentError as err:
+        summary = "refused: " + " ".join(str(err).split())[:150]
+    return path, time.process_time() - cpu, time.perf_counter() - wall, summary, document
+
+
+def summarise(document: dict) -> str:
+    """decided, balances (with their exponents), the Painlevé verdict, in one line."""
+    if not document.get("decided"):
+        return "undecided: " + document.get("reason", "")
+    parts = [f"decided; {len(document['balances'])} balances"]
+    for b in document["balances"]:
+        along = f" dim {b['dimension']}" if b.get("dimension") else ""
+        parts.append(f"[{', '.join(b['exponents'])}]{along}")
+    pain = document["painleve"]
+    parts.append(
+        f"degrees {document['degrees']}; painleve passes={pain['passes']} "
+        f"compatible={pain['compatible']} conditions={len(pain['conditions'])}"
+    )
+    return "; ".join(parts)
+
+
+def catalog(args) -> None:
+    from registry.settings import BESIDE_SEARCH_EXPONENT_SECONDS
+
+    files = sorted(str(p) for p in CATALOG.rglob("*.toml"))
+    if args.only:
+        files = [f for f in files if args.only in f]
+    within = args.within or BESIDE_SEARCH_EXPONENT_SECONDS
+    with multiprocessing.get_context("fork").Pool(args.jobs, maxtasksperchild=1) as pool:
+        rows = []
+        for row in pool.imap_unordered(catalog_case, [(f, args.budget, args.cpu) for f in files]):
+            rows.append(row)
+            print(f"  {row[1]:8.2f} {Path(row[0]).stem}", flush=True)
+    rows.sort(key=lambda r: r[1])
+    if args.save:
+        documents = {str(Path(r[0]).relative_to(CATALOG)): r[4] for r in rows}
+        Path(args.save).write_text(json.dumps(documents, indent=1, sort_keys=True))
+    print(f"\n{'cpu s':>8} {'wall s':>8}  case: result")
+    for path, cpu, wall, summary, _ in rows:
+        print(f"{cpu:8.2f} {wall:8.2f}  {Path(path).relative_to(CATALOG)}: {summary}")
+    decided = [r for r in rows if r[3].startswith("decided")]
+    quick = [r for r in decided if r[1] <= within]
+    times = [r[1] for r in rows]
+    print(
+        f"\n{len(rows)} cases; decided within {args.budget:g} s: {len(decided)}; decided "
+        f"within {within:g} s (CPU): {len(quick)}; refused: "
+        f"{sum(r[3].startswith(('refused', 'no options')) for r in rows)}; CPU seconds: "
+        f"median {statistics.median(times):.2f}, max {max(times):.2f}, "
+        f"total {sum(times):.1f}; under 2 s: {sum(t < 2 for t in times)}"
+    )
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--timeout", type=float, default=120.0)
     parser.add_argument("--repeat", type=int, default=3)
+    parser.add_argument("--catalog", action="store_true", help="every case of data/cases")
+    parser.add_argument("--budget", type=float, default=120.0, help="--catalog: seconds each")
+    parser.add_argument("--within", type=float, default=None, help="--catalog: the survey's")
+    parser.add_argument("--jobs", type=int, default=1, help="--catalog: processes")
+    parser.add_argument("--only", default="", help="--catalog: files whose path has this")
+    parser.add_argument(
+        "--cpu", action="store_true", help="--catalog: the budget in CPU seconds, not wall clock"
+    )
+    parser.add_argument("--save", default="", help="--catalog: the documents to this JSON file")
     args = parser.parse_args()
+    if args.catalog:
+        catalog(args)
+        return
     header = (
         f"{'case':46} {'ours':>7} {'+ARS':>7} {'sympy':>8} {'ratio':>7} "
         f"{'balances':>10} {'agree':>6}"

@@ -27,6 +27,7 @@ import sympy as sp
 
 from .balances import Balance, balances
 from .factoring import factor
+from .flint_gcd import flint_gcd
 from .kovalevskaya import (
     LAMBDA,
     Exponents,
@@ -189,8 +190,13 @@ def exponents(
 def analyse(
     split: WeightedField, *, painleve: bool = True, seed: int = 0, start: float | None = None
 ) -> ExponentAnalysis:
-    """``exponents`` for a field already split."""
+    """``exponents`` for a field already split (sympy's gcds by FLINT: ``flint_gcd``)."""
     start = time.perf_counter() if start is None else start
+    with flint_gcd():
+        return _analyse(split, painleve, seed, start)
+
+
+def _analyse(split: WeightedField, painleve: bool, seed: int, start: float) -> ExponentAnalysis:
     matrix = kovalevskaya_matrix(split)
     results: list[BalanceResult] = []
     per_component: dict[int, tuple] = {}

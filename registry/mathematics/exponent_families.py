@@ -50,6 +50,7 @@ from . import algebraic
 from .balances import balance_equations
 from .exponent_analysis import ExponentAnalysis, analyse
 from .factoring import factor_list
+from .flint_gcd import flint_gcd
 from .integrality import Candidates, integer_candidates, rational_candidates
 from .kovalevskaya import LAMBDA, characteristic_polynomial, kovalevskaya_matrix
 from .prime_components import Component, components
@@ -170,7 +171,12 @@ def exponent_family(
     one after the other); ``grid`` gives, for several free parameters, the values tried
     for each (default ``GRID``); ``generic`` False skips, for several free parameters, the
     analysis over Q(free) (costly for many parameters): every grid point is then
-    analysed."""
+    analysed. sympy's gcds are FLINT's meanwhile (``flint_gcd``)."""
+    with flint_gcd():
+        return _exponent_family(variables, field, weights, free, seed, mapper, grid, generic)
+
+
+def _exponent_family(variables, field, weights, free, seed, mapper, grid, generic):
     start = time.perf_counter()
     free = tuple(free)
     split = split_field(variables, field, weights, parameters=free)

@@ -30,7 +30,6 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 import sympy as sp
-from sympy.polys.matrices import DomainMatrix
 
 from . import algebraic
 from .balances import Balance
@@ -109,15 +108,16 @@ def characteristic_polynomial(component: Component, matrix: sp.Matrix) -> Compon
     """det(lambda - K) over the component's field, split as in the module doc."""
     ext = algebraic.Extension(component.symbol, component.minimal)
     n, k, u = matrix.rows, ext.domain, component.symbol
-    ring = k[u]  # Berkowitz's division-free algorithm over k[u], reduced modulo g after
+    ring = k[u].ring  # Berkowitz's division-free algorithm in k[u]/(g): reduced at each step
+    g = ring.from_dict(dict(component.minimal.as_dict(native=True)))
     rows = [
-        [ring.ring.from_dict(dict(component.evaluate(matrix[i, j]).as_dict(native=True)))
+        [ring.from_dict(dict(component.evaluate(matrix[i, j]).as_dict(native=True)))
          for j in range(n)]
         for i in range(n)
     ]  # fmt: skip
     charpoly = [  # the coefficients of lambda^n, ..., lambda^0
-        ext.reduce(sp.Poly.from_dict(dict(c.items()) or {(0,): k.zero}, u, domain=k))
-        for c in DomainMatrix(rows, (n, n), ring).charpoly()
+        sp.Poly.from_dict(dict(c.items()) or {(0,): k.zero}, u, domain=k)
+        for c in berkowitz(rows, ring, lambda a: a.rem(g))
     ]
     # coords[i][j]: the coefficient of u^j in the coefficient of lambda^(n-i)
     coords = [ext.coordinates(c) for c in charpoly]
@@ -142,6 +142,32 @@ def characteristic_polynomial(component: Component, matrix: sp.Matrix) -> Compon
         resultant = sp.resultant(component.minimal.as_expr(), rest, u)
         norm = tuple(f for f, _ in factor_list(resultant, [LAMBDA]))
     return ComponentPolynomial(factors, rest, varying, norm)
+
+
+def berkowitz(matrix: list[list], ring, reduce) -> list:
+    """The coefficients of det(lambda - M) (of lambda^n first) for a square matrix over a
+    commutative ring, by Berkowitz's division-free algorithm, every sum of products
+    passed through ``reduce`` (the remainder modulo g: the matrix's entries then lie in
+    k[u]/(g) and the degrees in u stay below g's, where over k[u] they would grow with n)."""
+    n = len(matrix)
+    if n == 0:
+        return [ring.one]
+    a, row = matrix[0][0], matrix[0][1:]
+    column = [r[0] for r in matrix[1:]]
+    rest = [r[1:] for r in matrix[1:]]
+    inner = berkowitz(rest, ring, reduce)  # det(lambda - rest), n coefficients
+    # the first column of the Toeplitz matrix: 1, -a, -R C, -R A C, -R A^2 C, ...
+    toeplitz = [ring.one, -a]
+    power = column
+    for i in range(n - 1):
+        if i:
+            power = [reduce(sum((x * y for x, y in zip(r, power, strict=True)), ring.zero))
+                     for r in rest]  # fmt: skip
+        toeplitz.append(-reduce(sum((x * y for x, y in zip(row, power, strict=True)), ring.zero)))
+    return [
+        reduce(sum((toeplitz[i - j] * inner[j] for j in range(min(i, n - 1) + 1)), ring.zero))
+        for i in range(n + 1)
+    ]
 
 
 def _divide(dividend: list[sp.Poly], divisor: sp.Poly, ext) -> list[sp.Poly]:

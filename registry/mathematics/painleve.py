@@ -23,6 +23,7 @@ condition is zero exactly when it is zero in F.
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Mapping
 from dataclasses import dataclass
 
@@ -76,10 +77,20 @@ class Resonance:
 @dataclass(frozen=True)
 class LaurentSeries:
     """The series of a component's balances to the last resonance: the coefficients
-    a_k (k = 0, 1, ...; each a tuple over the variables) and the resonances' steps."""
+    a_k (k = 0, 1, ...; each a tuple over the variables) and the resonances' steps.
+    The coefficients are written as expressions when first asked for (the test itself
+    needs only the resonances)."""
 
-    coefficients: tuple[tuple[sp.Expr, ...], ...]
+    elements: tuple[tuple[PolyElement, ...], ...]
+    names: Mapping[sp.Symbol, sp.Symbol]
     resonances: tuple[Resonance, ...]
+
+    @functools.cached_property
+    def coefficients(self) -> tuple[tuple[sp.Expr, ...], ...]:
+        return tuple(
+            tuple(sp.expand(a.as_expr()).xreplace(self.names) for a in order)
+            for order in self.elements
+        )
 
     @property
     def compatible(self) -> bool:
@@ -173,10 +184,7 @@ class _Recursion:
                 failing = tuple(sp.expand(c.as_expr()) for c in conditions if not c.is_zero)
                 steps.append(Resonance(k, self.resonances[k], tuple(free), failing))
         names = self._names()
-        coefficients = tuple(
-            tuple(sp.expand(self.a[i][k].as_expr()).xreplace(names) for i in range(n))
-            for k in range(last + 1)
-        )
+        elements = tuple(tuple(self.a[i][k] for i in range(n)) for k in range(last + 1))
         steps = [
             Resonance(
                 s.order,
@@ -186,7 +194,7 @@ class _Recursion:
             )
             for s in steps
         ]
-        return LaurentSeries(coefficients, tuple(steps))
+        return LaurentSeries(elements, names, tuple(steps))
 
     def _names(self) -> dict[sp.Symbol, sp.Symbol]:
         """f{r} for the one free coefficient of a simple resonance (f{r}_j otherwise)."""

@@ -28,6 +28,7 @@ import random
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
+import flint
 import sympy as sp
 from sympy.polys.matrices import DomainMatrix
 from sympy.polys.orderings import grevlex
@@ -343,6 +344,15 @@ class _Algebra:
             c = form.coeff_monomial(x)
             if c:
                 times += self.times[i] * k.convert(c)
+        unit = [tuple(int(j == i) for j in range(len(self.gens))) for i in range(len(self.gens))]
+        if k.is_FractionField and k.domain.is_QQ:
+            return _cyclic_fraction_free(
+                times.to_list(),
+                [self._coordinates(m) for m in [(0,) * len(self.gens), *unit]],
+                k,
+                u,
+                self.gens,
+            )
         vector = DomainMatrix([[c] for c in self._coordinates((0,) * len(self.gens))], (size, 1), k)
         powers = [vector]
         for _ in range(size):
@@ -350,7 +360,6 @@ class _Algebra:
         square = DomainMatrix.hstack(*powers[:size])
         if square.rank() < size:
             return None
-        unit = [tuple(int(j == i) for j in range(len(self.gens))) for i in range(len(self.gens))]
         targets = [powers[size]] + [
             DomainMatrix([[c] for c in self._coordinates(m)], (size, 1), k) for m in unit
         ]
@@ -363,6 +372,136 @@ class _Algebra:
             for j, x in enumerate(self.gens)
         }
         return eliminant, solved
+
+
+def _cyclic_fraction_free(times: list[list], columns: list[list], k, u: sp.Symbol, gens):
+    """``_Algebra.cyclic`` over k = Q(p), the same (g, {x: h_x}), without a gcd on the
+    way: the multiplication matrix T = N/d and the coordinates of 1 and of the variables
+    with common denominators, the powers N^j w of the unit's numerator w in Z[p] and the
+    system [w, N w, ..., N^(D-1) w] y = (N^D w, the variables) solved by fraction-free
+    (Bareiss) elimination, all in FLINT's multivariate polynomials; the solution brought
+    back to k once (T^j (w/e) = N^j w / (d^j e)). None when the powers do not span."""
+    ring = k.field.ring
+    ctx = flint.fmpz_mpoly_ctx.get(tuple(f"p{i}" for i in range(ring.ngens)), "lex")
+
+    def numerators(entries: list) -> tuple[list, flint.fmpz_mpoly]:
+        """Numerators over one common denominator (the lcm), and that denominator."""
+        parts = [_integral(ctx, e.numer, e.denom) for e in entries]
+        common = ctx.from_dict({(0,) * ring.ngens: 1})
+        for _, den in parts:
+            common = common * den / common.gcd(den)
+        return [num * (common / den) for num, den in parts], common
+
+    size = len(times)
+    flat, d = numerators([e for row in times for e in row])
+    matrix = [flat[i * size : (i + 1) * size] for i in range(size)]
+    (w, e), *targets = (numerators(c) for c in columns)
+    powers = [w]
+    for _ in range(size):
+        last = powers[-1]
+        powers.append([sum((a * b for a, b in zip(row, last, strict=True)), ctx.from_dict({}))
+                       for row in matrix])  # fmt: skip
+    if not _spans_somewhere(powers[:size], ctx.nvars()):
+        return None
+    rows = [
+        [powers[j][i] for j in range(size)] + [powers[size][i]] + [t[i] for t, _ in targets]
+        for i in range(size)
+    ]
+    solved = _bareiss(rows, size)
+    if solved is None:
+        return None
+    numerators_, det = solved
+
+    def element(num, den):
+        return k.field.new(ring.from_dict(num.to_dict()), ring.from_dict(den.to_dict()))
+
+    d_powers = [ctx.from_dict({(0,) * ring.ngens: 1})]
+    for _ in range(size):
+        d_powers.append(d_powers[-1] * d)
+    # T^D (w/e) = sum_j x_j T^j (w/e): x_j = y_j d^j / d^D for N^D w = sum_j y_j N^j w
+    eliminant = sp.Poly.from_list(
+        [k.one, *(-element(numerators_[0][j], det * d_powers[size - j])
+                  for j in reversed(range(size)))],
+        u,
+        domain=k,
+    )  # fmt: skip
+    # c/t = sum_j x_j T^j (w/e): x_j = y_j d^j e / t
+    found = {
+        x: sp.Poly.from_list(
+            [
+                element(numerators_[i + 1][j] * d_powers[j] * e, det * t)
+                for j in reversed(range(size))
+            ],
+            u,
+            domain=k,
+        )  # fmt: skip
+        for i, (x, (_, t)) in enumerate(zip(gens, targets, strict=True))
+    }
+    return eliminant, found
+
+
+def _spans_somewhere(columns: list[list], nvars: int, tries: int = 2) -> bool:
+    """Whether the columns (polynomials over Z in the parameters) are independent at one
+    of a few fixed pseudo-random integer points: then they are over Q(p) (a minor that
+    is not zero at a point is not zero). False means that they are dependent at every
+    point tried, so over Q(p) too but for a chance smaller than deg/range per point;
+    the caller then takes another linear form, or splits the system, which finds the
+    same components (the exact elimination it saves fails on every dependent form)."""
+    rng = random.Random(len(columns))  # fixed: the same answer on every run
+    size = len(columns)
+    for _ in range(tries):
+        point = [rng.randint(-(10**12), 10**12) for _ in range(nvars)]
+        matrix = flint.fmpz_mat(
+            [[int(columns[j][i](*point)) for j in range(size)] for i in range(size)]
+        )
+        if matrix.rank() == size:
+            return True
+    return False
+
+
+def _integral(ctx, numer, denom) -> tuple[flint.fmpz_mpoly, flint.fmpz_mpoly]:
+    """numer/denom (over Q) as a quotient of polynomials over Z in FLINT."""
+    n_scale, numer = numer.clear_denoms()
+    d_scale, denom = denom.clear_denoms()
+    n_scale, d_scale = flint.fmpq(n_scale), flint.fmpq(d_scale)  # integers: both are lcms
+
+    def poly(p, scale):
+        return ctx.from_dict({m: int(flint.fmpq(c).p) * scale for m, c in p.items()})
+
+    return poly(numer, int(d_scale.p)), poly(denom, int(n_scale.p))
+
+
+def _bareiss(rows: list[list], size: int) -> tuple[list[list], object] | None:
+    """The solutions of A y = b for the augmented rows [A | b_1 ... b_m] (A square, of
+    ``size``, entries in an integral domain with exact division): per right side, the
+    numerators of y over the common denominator det, by fraction-free elimination with
+    fraction-free back substitution; None when A is singular."""
+    previous = None
+    for col in range(size):
+        pivot = next((i for i in range(col, size) if not rows[i][col].is_zero()), None)
+        if pivot is None:
+            return None
+        rows[col], rows[pivot] = rows[pivot], rows[col]
+        top = rows[col]
+        for i in range(col + 1, size):
+            row = rows[i]
+            factor = row[col]
+            row[col] = top[col] * 0
+            for j in range(col + 1, len(row)):
+                value = top[col] * row[j] - factor * top[j]
+                row[j] = value if previous is None else value / previous
+        previous = top[col]
+    det = rows[size - 1][size - 1]
+    found = []
+    for b in range(size, len(rows[0])):
+        y = [None] * size
+        for i in reversed(range(size)):
+            value = det * rows[i][b]
+            for j in range(i + 1, size):
+                value -= rows[i][j] * y[j]
+            y[i] = value / rows[i][i]
+        found.append(y)
+    return found, det
 
 
 def _standard_monomials(basis: sp.GroebnerBasis, gens) -> list[tuple[int, ...]]:
