@@ -163,7 +163,7 @@ class Client:
 
 
 def op_add(reg, c: Client) -> dict[str, Any]:
-    from registry.language.casefile import content_hash
+    from registry.language.toml_input import content_hash
 
     path = c.altered(c.rng.choice(c.catalog))
     expected = content_hash(path.read_text(encoding="utf-8"))

@@ -54,6 +54,10 @@ class Field:
         self.zero = domain.zero
         self.one = domain.one
         self._cache: dict[tuple, object] = {}
+        # the parameters that are the fraction field's own symbols (not numbers, inverses)
+        self._plain = frozenset(
+            i for i in self.symbolic if i not in (inverses or {}) and domain.is_FractionField
+        )
         # a parameter that stands for 1/c(p) (a level set divided by c) takes that value
         for i, c in (inverses or {}).items():
             value = self.one / self.evaluate(sp.Poly(c, *self.params).as_dict())
@@ -62,10 +66,6 @@ class Field:
             else:
                 self.symbolic[i] = value
         self._cache.clear()
-        # the parameters that are the fraction field's own symbols (not numbers, inverses)
-        self._plain = frozenset(
-            i for i in self.symbolic if i not in (inverses or {}) and domain.is_FractionField
-        )
 
     @property
     def exact(self) -> bool:

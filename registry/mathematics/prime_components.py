@@ -27,6 +27,7 @@ import itertools
 import random
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import flint
 import sympy as sp
@@ -471,7 +472,7 @@ def _integral(ctx, numer, denom) -> tuple[flint.fmpz_mpoly, flint.fmpz_mpoly]:
     return poly(numer, int(d_scale.p)), poly(denom, int(n_scale.p))
 
 
-def _bareiss(rows: list[list], size: int) -> tuple[list[list], object] | None:
+def _bareiss(rows: list[list], size: int) -> tuple[list[list], Any] | None:
     """The solutions of A y = b for the augmented rows [A | b_1 ... b_m] (A square, of
     ``size``, entries in an integral domain with exact division): per right side, the
     numerators of y over the common denominator det, by fraction-free elimination with
