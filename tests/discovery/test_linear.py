@@ -80,3 +80,17 @@ def test_kernels_over_q_of_p_are_the_reduced_echelon_basis_of_sympy():
             [x / next(y for y in reversed(v) if y) for x in v] for v in matrix.nullspace().to_list()
         ]
         assert basis == expected
+
+
+def test_a_parameter_standing_for_an_inverse_evaluates_to_it_over_q_of_p():
+    """iota = 1/(a + 1): a parameter polynomial with iota is a fraction of Q(a); summed in
+    Q[a] first and then divided, it equals the same sum taken term by term in Q(a)."""
+    a, b, iota = sp.symbols("a b iota")
+    domain = QQ.frac_field(a, b, iota)
+    fld = Field(domain, [a, b, iota], {}, {2: a + 1})
+    poly = sp.Poly(3 * a**2 * iota**2 - b * iota + a * b + 7, a, b, iota).as_dict()
+    expected = sp.cancel(3 * a**2 / (a + 1) ** 2 - b / (a + 1) + a * b + 7)
+    assert domain.to_sympy(fld.evaluate(poly)) == expected
+    # a value for b: the rest stays symbolic
+    at = Field(domain, [a, b, iota], {1: 2}, {2: a + 1})
+    assert domain.to_sympy(at.evaluate(poly)) == sp.cancel(expected.subs(b, 2))
