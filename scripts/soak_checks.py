@@ -255,12 +255,16 @@ class Snapshot:
         return found
 
     def search_result(self, search: int) -> tuple:
-        """What a search established, with its derived cases named by content."""
+        """What a search established, with its derived cases named by content; not what
+        it was identified with (each integral new, a claim again, the same system as a
+        case: its statement and its findings' status), which depends on the cases the
+        registry held when it ran, and so on the order of the work."""
         rows = tuple(
-            (*row[:-1], None if row[-1] is None else self.version_hash(row[-1]))
+            (*row[:5], None if row[-1] is None else self.version_hash(row[-1]))
             for row in self.discoveries.get(search, [])
         )
-        return (self.searches[search][3], rows)
+        found = self.searches[search][3]
+        return (found[:5] + found[6:], rows)
 
 
 #: What is compared of a verdict: verdict, method, reason, witness, residual.
@@ -552,7 +556,6 @@ def describe_difference(mine: tuple, others: list[tuple]) -> str:
         "known",
         "dimensions",
         "method",
-        "statement",
         "claims",
         "claims_complete",
     )
