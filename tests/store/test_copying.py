@@ -343,6 +343,7 @@ def test_a_copy_killed_at_any_point_leaves_its_target_empty_or_complete(
     )
     assert whole.returncode == 0, whole.stderr
     lifetime = time.monotonic() - started
+    run(0.0, triggered=True)  # as soon as its transaction is seen open: before the commit
     for _ in range(RANDOM_KILLS):
         run(chance.uniform(0, 1.1 * lifetime), triggered=False)
     for _ in range(TRIGGERED_KILLS):
