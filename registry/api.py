@@ -22,7 +22,12 @@ from . import settings
 from .errors import CaseFormatError, RegistryError
 from .execution.executor import check_options, open_executor
 from .execution.time_budget import TimeBudget, default_budget
-from .settings import DEFAULT_EXPONENT_SECONDS, DEFAULT_SEARCH_SECONDS, DEFAULT_SURVEY_SECONDS
+from .settings import (
+    BESIDE_SEARCH_EXPONENT_SECONDS,
+    DEFAULT_EXPONENT_SECONDS,
+    DEFAULT_SEARCH_SECONDS,
+    DEFAULT_SURVEY_SECONDS,
+)
 
 # The facade is imported by ``registry --help`` and ``--version``, which must stay quick:
 # sympy, SQLAlchemy and pandas are imported by the methods that use them, not here.
@@ -297,6 +302,7 @@ class Registry:
         jobs: int | None = None,
         progress: Callable[[int, int, str], None] | None = None,
         scheduler: str | Client | None = None,
+        exponent_budget: float = BESIDE_SEARCH_EXPONENT_SECONDS,
     ) -> list[SearchReport]:
         """Record the stated searches (``registry.discovery.survey.stated_options``) of
         the latest version of every case, or of the named ones: what each system has, and
@@ -305,12 +311,21 @@ class Registry:
         as not searched, with the reason. ``jobs`` processes search (default: one per
         core), or the Dask cluster of ``scheduler`` (as for ``audit``), one task per
         search; each search is stored as it finishes, and only this process writes.
+        Each case's Kovalevskaya analysis is made beside its search within
+        ``exponent_budget`` seconds (recorded; one that ran out of a smaller budget is
+        made again).
         """
         from .runs.search_run import survey_run
 
         with open_executor(jobs, scheduler) as executor:
             return survey_run(
-                self.store, case_ids, executor, fresh=fresh, budget=budget, progress=progress
+                self.store,
+                case_ids,
+                executor,
+                fresh=fresh,
+                budget=budget,
+                progress=progress,
+                exponent_budget=exponent_budget,
             )
 
     def searches(self) -> pd.DataFrame:

@@ -4,6 +4,9 @@ Before the audit every case gets its recorded search (``Registry.survey``: which
 polynomial integrals it has up to the degree its claims reach) and its Kovalevskaya
 analysis under the same weights; what a search finds that is not one of the case's claims
 again is a claim that this audit decides. Stored audits, searches and analyses are reused.
+The main job is a first look: each search has SURVEY_SECONDS and each analysis
+EXPONENT_SECONDS, and what runs out says so in its record (``registry survey`` and
+``registry exponents ID`` take longer, and make again what ran out of a smaller budget).
 
 Usage: python scripts/audit.py [--db PATH|URL] [--json] [--no-survey]
 """
@@ -19,6 +22,9 @@ import registry
 from registry.presentation.text_table import wrapped
 
 ROOT = Path(__file__).resolve().parents[1]
+#: Seconds for each search and each Kovalevskaya analysis of the main job.
+SURVEY_SECONDS = 20.0
+EXPONENT_SECONDS = 2.0
 
 
 def survey_line(searches: list) -> str:
@@ -67,7 +73,11 @@ def main(argv: list[str] | None = None) -> int:
         for r in refused:
             for line in str(r.error).splitlines():
                 print(f"Error: {line}", file=sys.stderr)
-        surveyed = [] if args.no_survey else reg.survey()
+        surveyed = (
+            []
+            if args.no_survey
+            else reg.survey(budget=SURVEY_SECONDS, exponent_budget=EXPONENT_SECONDS)
+        )
         report = reg.audit()
         if args.json:
             print(json.dumps(report.document(), indent=2))

@@ -314,3 +314,19 @@ def test_the_cli_names_the_catalog_case_in_its_json_and_statement(db_target):
     said = " ".join(text.output.split())  # the text is wrapped to the terminal
     assert "t1 = 0, t2 = 0, t3 = 0 (kovalevskaya-1889-heavy-top); no other values" in said
     assert "same system as kovalevskaya-1889-heavy-top (C = 1, a = 1" in said
+
+
+def test_a_survey_s_analysis_that_ran_out_is_made_again_with_more_time(tmp_path):
+    """The main job gives each Kovalevskaya analysis a short budget; a later survey with
+    more time makes again the analyses that ran out (and reuses the searches)."""
+    lagrange = SURVEYED[1]
+    with registry.open(tmp_path / "r.sqlite") as reg:
+        reg.add(lagrange)
+        (short,) = reg.survey(jobs=1, exponent_budget=1e-3)
+        assert short.exponents is not None and not short.exponents.decided
+        (again,) = reg.survey(jobs=1)
+        assert again.reused and again.number == short.number
+        assert again.exponents is not None and again.exponents.decided
+        assert again.exponents.all_integer and again.exponents.passes
+        (kept,) = reg.survey(jobs=1, exponent_budget=1e-3)  # decided: kept, not redone
+        assert kept.exponents.decided

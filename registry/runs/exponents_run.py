@@ -159,9 +159,11 @@ def beside_searches(
     store: Store,
     work: Sequence[tuple[StoredCase, Case, SearchOptions]],
     executor: Executor,
+    budget: float = BESIDE_SEARCH_EXPONENT_SECONDS,
 ) -> list[ExponentResult | None]:
     """``beside_search`` for the survey's searches, in order: each case version analysed
-    once (the stored analysis reused), the new ones by ``executor`` and recorded."""
+    once within ``budget`` seconds (a stored analysis reused, unless it ran out of a
+    smaller budget), the new ones by ``executor`` and recorded."""
     wanted: dict[tuple[int, str], tuple[StoredCase, Case, ExponentOptions]] = {}
     keys: list[tuple[int, str] | None] = []
     for stored, case, search in work:
@@ -174,14 +176,14 @@ def beside_searches(
     todo = []
     for key, (stored, _, options) in wanted.items():
         kept = store.stored_exponents(stored.pk, options, code_version())
-        if kept is not None:
+        if kept is not None and not _outgrown(kept[1], budget):
             found[key] = kept[1]
         else:
             todo.append(key)
     work_items = [(wanted[k][1], wanted[k][2]) for k in todo]
     for key, result in zip(
         todo,
-        analysed(work_items, budget=BESIDE_SEARCH_EXPONENT_SECONDS, executor=executor),
+        analysed(work_items, budget=budget, executor=executor),
         strict=True,
     ):
         store.record_exponents(wanted[key][0].pk, result, code_version())

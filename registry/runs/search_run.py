@@ -28,7 +28,11 @@ from ..model import Case, Equation, ExponentResult, Search, SearchOptions, Weigh
 from ..presentation.search_output import search_document, search_text, statement
 from ..presentation.terminal import terminal_width
 from ..presentation.text_table import wrapped
-from ..settings import DEFAULT_SEARCH_SECONDS, DEFAULT_SURVEY_SECONDS
+from ..settings import (
+    BESIDE_SEARCH_EXPONENT_SECONDS,
+    DEFAULT_SEARCH_SECONDS,
+    DEFAULT_SURVEY_SECONDS,
+)
 from ..store import conversions
 from ..store.database import Store, StoredCase
 from ..version import code_version
@@ -179,9 +183,11 @@ def survey_run(
     fresh: bool = False,
     budget: float | None = DEFAULT_SURVEY_SECONDS,
     progress: Callable[[int, int, str], None] | None = None,
+    exponent_budget: float = BESIDE_SEARCH_EXPONENT_SECONDS,
 ) -> list[SearchReport]:
     """``Registry.survey``: the stated searches of every case (or the named ones),
-    reused where recorded before, each recorded as it finishes."""
+    reused where recorded before, each recorded as it finishes; each case's Kovalevskaya
+    analysis beside them within ``exponent_budget`` seconds."""
     store.require_writer("record the survey's searches")
     planned = [
         (stored, case, options)
@@ -201,7 +207,7 @@ def survey_run(
         if progress is not None:
             progress(done + 1, len(todo), search.case)
         reports[i] = _recorded(store, planned[i][0], planned[i][1], search)
-    found = beside_searches(store, planned, executor)
+    found = beside_searches(store, planned, executor, exponent_budget)
     return [replace(reports[i], exponents=found[i]) for i in range(len(planned))]
 
 
