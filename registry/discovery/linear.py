@@ -194,8 +194,17 @@ def _nullspace_flint(matrix: DomainMatrix, cols: int, field: Field) -> list[list
     fraction = field.domain.field
     target = fraction.ring
 
+    def plain(poly) -> object:
+        # Python integers: FLINT's do not convert under sympy's pure-Python ground types
+        return target.from_dict(
+            {
+                tuple(int(e) for e in m): target.domain.convert(int(c))
+                for m, c in poly.to_dict().items()
+            }
+        )
+
     def element(numer, denom) -> object:
-        return fraction.new(target.from_dict(numer.to_dict()), target.from_dict(denom.to_dict()))
+        return fraction.new(plain(numer), plain(denom))
 
     basis = []
     for f in free:

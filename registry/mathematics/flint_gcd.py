@@ -33,10 +33,20 @@ def _flint_gcd_ZZ(f: PolyElement, g: PolyElement):  # noqa: N802 - sympy's name
     """(h, f/h, g/h) with h = gcd(f, g) in Z[x] normalised as sympy's ``heugcd`` does."""
     ring = f.ring
     ctx = flint.fmpz_mpoly_ctx.get(tuple(f"x{i}" for i in range(ring.ngens)), "lex")
-    ff, gg = ctx.from_dict(dict(f)), ctx.from_dict(dict(g))
+    # Python integers both ways: sympy's elements and FLINT's do not convert into each
+    # other under sympy's pure-Python ground types
+    ff, gg = (ctx.from_dict({m: int(c) for m, c in p.items()}) for p in (f, g))
     h = ff.gcd(gg)
     cff, cfg = ff / h, gg / h  # exact divisions
-    back = (ring.from_dict(dict(zip(p.monoms(), p.coeffs(), strict=True))) for p in (h, cff, cfg))
+    back = (
+        ring.from_dict(
+            {
+                tuple(int(e) for e in m): ring.domain.convert(int(c))
+                for m, c in zip(p.monoms(), p.coeffs(), strict=True)
+            }
+        )
+        for p in (h, cff, cfg)
+    )
     h_, cff_, cfg_ = back
     if h_.LC < 0:  # sympy's sign: a positive leading coefficient in the ring's order
         return -h_, -cff_, -cfg_

@@ -414,7 +414,7 @@ def _cyclic_fraction_free(times: list[list], columns: list[list], k, u: sp.Symbo
     numerators_, det = solved
 
     def element(num, den):
-        return k.field.new(ring.from_dict(num.to_dict()), ring.from_dict(den.to_dict()))
+        return k.field.new(_plain(ring, num), _plain(ring, den))
 
     d_powers = [ctx.from_dict({(0,) * ring.ngens: 1})]
     for _ in range(size):
@@ -464,12 +464,15 @@ def _integral(ctx, numer, denom) -> tuple[flint.fmpz_mpoly, flint.fmpz_mpoly]:
     """numer/denom (over Q) as a quotient of polynomials over Z in FLINT."""
     n_scale, numer = numer.clear_denoms()
     d_scale, denom = denom.clear_denoms()
-    n_scale, d_scale = flint.fmpq(n_scale), flint.fmpq(d_scale)  # integers: both are lcms
+
+    def whole(q) -> int:
+        # an integer of QQ, whatever sympy's ground types (gmpy, flint or pure Python)
+        return int(sp.QQ.numer(q))
 
     def poly(p, scale):
-        return ctx.from_dict({m: int(flint.fmpq(c).p) * scale for m, c in p.items()})
+        return ctx.from_dict({m: whole(c) * scale for m, c in p.items()})
 
-    return poly(numer, int(d_scale.p)), poly(denom, int(n_scale.p))
+    return poly(numer, whole(d_scale)), poly(denom, whole(n_scale))
 
 
 def _bareiss(rows: list[list], size: int) -> tuple[list[list], Any] | None:
@@ -565,3 +568,11 @@ def _maximal(found: list[Component]) -> tuple[Component, ...]:
         if not any(all(c.vanishes(q) for q in other.equations()) for other in kept):
             kept.append(c)
     return tuple(kept)
+
+
+def _plain(ring: PolyRing, poly: flint.fmpz_mpoly):
+    """A FLINT polynomial over Z in ``ring``, its exponents and coefficients made Python
+    integers (FLINT's own would not convert under sympy's pure-Python ground types)."""
+    return ring.from_dict(
+        {tuple(int(e) for e in m): ring.domain.convert(int(c)) for m, c in poly.to_dict().items()}
+    )
