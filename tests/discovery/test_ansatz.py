@@ -87,3 +87,40 @@ def test_a_square_root_and_a_denominator_become_variables_of_the_ring():
 def test_the_size_limit_is_checked_before_the_system_is_built():
     with pytest.raises(DiscoveryError, match="more than the limit of 1,000"):
         PolynomialSystem(FIELD, [LAM], WEIGHTS, 6, max_size=1000)
+
+
+def test_the_normal_form_is_the_remainder_sympy_gives():
+    """``normal_form`` (a heap, each monomial placed once) leaves the same remainder as
+    ``PolyElement.rem`` by a monic basis, in grevlex and in the product order the search
+    uses when a parameter stands for an inverse."""
+    import random
+
+    from sympy import QQ
+    from sympy.polys.orderings import ProductOrder, grevlex
+    from sympy.polys.rings import PolyRing
+
+    from registry.discovery.ansatz import normal_form
+
+    rnd = random.Random(1)
+    n = 4
+    for product in (False, True):
+        order = ProductOrder((grevlex, lambda m: m[:n]), (grevlex, lambda m: m[n:]))
+        ring = PolyRing("x1 x2 x3 u p q".split(), QQ, order if product else grevlex)
+        x1, x2, x3, u, p, q = ring.gens
+        basis = [u * (x1**2 + p * x2**2 + x3) - 1, x1 * x2 * x3 - q * x2 - 1]
+        basis = [g if g.LC == 1 else g.monic() for g in basis]
+        for _ in range(40):
+            f = sum(
+                (
+                    rnd.randint(-3, 3)
+                    * x1 ** rnd.randint(0, 3)
+                    * x2 ** rnd.randint(0, 3)
+                    * x3 ** rnd.randint(0, 2)
+                    * u ** rnd.randint(0, 2)
+                    * p ** rnd.randint(0, 2)
+                    * q ** rnd.randint(0, 1)
+                    for _ in range(12)
+                ),
+                ring.zero,
+            )
+            assert normal_form(f, basis, n, product) == f.rem(basis)
