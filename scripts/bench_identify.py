@@ -8,8 +8,8 @@ the whole catalog in under 1 s).
    (tests/data/families/kovalevskaya-diagonal-torque.toml) identified against every
    case of the index: the cases it is (with the claims' carrying not counted);
 3. the same for the Lagrange body with a linear potential and no torque, and for a
-   body that is no catalog case (asymmetric-heavy-top at its values), where every
-   case must be ruled out or fail to match.
+   heavy top with moments 1, 2, 3 (asymmetric-heavy-top), a member of the catalog's
+   general heavy-top cases only: the special cases must be ruled out or fail to match.
 
 CPU seconds (process time) are printed beside wall seconds: the machine is shared.
 Usage: python scripts/bench_identify.py [--repeat 3]
@@ -72,7 +72,7 @@ def run(repeat: int) -> None:
     for name, dynamics, exclude in (
         ("Kovalevskaya point of the diagonal torque", point.dynamics, ()),
         ("lagrange-1788-heavy-top", lagrange.dynamics, (lagrange.id,)),
-        ("asymmetric heavy top (no catalog case)", asymmetric.dynamics, ()),
+        ("asymmetric heavy top (general cases only)", asymmetric.dynamics, ()),
     ):
         best = None
         for _ in range(repeat):

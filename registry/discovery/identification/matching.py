@@ -300,16 +300,16 @@ def _equations(setting: _Setting, mine, theirs, transformation) -> list[PolyElem
     primed = ring.gens[n + 6 : n + 12]
     substitution = list(zip(primed, (*images_l, *images_g), strict=True))
     out: dict = {}
-    for k in range(6):
-        image = images_l[k] if k < 3 else images_g[k - 3]
+    for component in range(6):
+        image = images_l[component] if component < 3 else images_g[component - 3]
         pushed = ring.zero
         for j in range(6):
             derivative = image.diff(n + j)
             if derivative:
                 pushed += derivative * mine_field[j]
-        pulled = numerators[k].compose(substitution)
+        pulled = numerators[component].compose(substitution)
         for monom, c in (scale * pushed - pulled).iterterms():
-            key = monom[n:]
+            key = (component, monom[n:])  # one equation per component and state monomial
             out.setdefault(key, {})
             out[key][monom[:n]] = out[key].get(monom[:n], ring.domain.zero) + c
     target = setting.unknown_ring
