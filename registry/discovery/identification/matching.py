@@ -276,25 +276,41 @@ def _shift(setting: _Setting, theirs: FieldForm, matrix: sp.Matrix):
 
 
 def _equations(setting: _Setting, mine, theirs, transformation) -> list[PolyElement] | None:
-    """The coefficients, in the state, of D tau dPhi F - N(Phi), with the case's field
-    F' = N / D (D its common denominator in its parameters)."""
-    ring = setting.ring
+    """The coefficients, in the state, of D_m (D tau dPhi F - N(Phi)), with the case's
+    field F' = N / D (D its common denominator in its parameters) and D_m the common
+    denominator of the first system's field in its own parameters p: every product is
+    then taken over Q with p as generators (sympy's arithmetic in Q(p) cancels a gcd at
+    each step), and only the equations are brought into K[unknowns], K = Q(p)."""
     n = setting.n
+    own = list(mine.parameters)
+    names = [str(u) for u in (*setting.unknowns, *STATE, *PRIMED, *own)]
+    ring = PolyRing(names, sp.QQ)
     prepared = prepare(theirs)
     denominator, polys = prepared.denominator, prepared.numerators
     k = len(theirs.parameters)
     pad = (0,) * (n - k + 6)
+    tail = (0,) * len(own)
 
     def lifted(terms: dict) -> PolyElement:  # the case's parameters, then its state primed
-        return ring.from_dict({(*e[:k], *pad, *e[k:]): c for e, c in terms.items()})
+        return ring.from_dict({(*e[:k], *pad, *e[k:], *tail): c for e, c in terms.items()})
+
+    symbols = dict(zip((*setting.unknowns, *STATE, *PRIMED, *own), ring.symbols, strict=True))
+
+    def element(expr: sp.Expr) -> PolyElement:
+        return ring.from_expr(sp.sympify(expr).xreplace(symbols))
 
     try:
+        field = [sp.together(f) for f in mine.field]
+        common = sp.Integer(1)
+        for f in field:
+            common = sp.lcm(common, sp.denom(f))
+        mine_field = [element(sp.expand(sp.cancel(f * common))) for f in field]
+        cleared = element(common)
         numerators = [lifted(terms) for terms in polys]
-        scale = lifted(denominator) * setting.element(transformation.tau)
-        mine_field = [setting.element(f) for f in mine.field]
+        scale = lifted(denominator) * element(transformation.tau)
         images = transformation.images()
-        images_l = [setting.element(e) for e in images[0]]
-        images_g = [setting.element(e) for e in images[1]]
+        images_l = [element(e) for e in images[0]]
+        images_g = [element(e) for e in images[1]]
     except (sp.PolynomialError, sp.CoercionFailed, ValueError):
         return None
     primed = ring.gens[n + 6 : n + 12]
@@ -308,12 +324,25 @@ def _equations(setting: _Setting, mine, theirs, transformation) -> list[PolyElem
             if derivative:
                 pushed += derivative * mine_field[j]
         pulled = numerators[component].compose(substitution)
-        for monom, c in (scale * pushed - pulled).iterterms():
-            key = (component, monom[n:])  # one equation per component and state monomial
-            out.setdefault(key, {})
-            out[key][monom[:n]] = out[key].get(monom[:n], ring.domain.zero) + c
+        for monom, c in (scale * pushed - cleared * pulled).iterterms():
+            key = (component, monom[n : n + 12])  # one equation per component and monomial
+            unknowns, params = monom[:n], monom[n + 12 :]
+            terms = out.setdefault(key, {}).setdefault(unknowns, {})
+            terms[params] = terms.get(params, 0) + c
     target = setting.unknown_ring
-    return [target.from_dict({m: c for m, c in terms.items() if c}) for terms in out.values()]
+    domain = target.domain
+    if own:
+        params_ring = domain.field.ring
+        lift = lambda terms: domain.field.new(params_ring.from_dict(terms))  # noqa: E731
+    else:
+        lift = lambda terms: domain.convert(terms[()])  # noqa: E731
+    equations = []
+    for per_unknowns in out.values():
+        terms = {m: {e: c for e, c in t.items() if c} for m, t in per_unknowns.items()}
+        terms = {m: lift(t) for m, t in terms.items() if t}
+        if terms:
+            equations.append(target.from_dict(terms))
+    return equations
 
 
 def _case_polynomials(form: FieldForm) -> tuple[dict, list[dict]]:
@@ -390,7 +419,42 @@ def _checked(mine, theirs, transformation: Transformation, values) -> bool:
         tuple(sp.sympify(f).xreplace(values) for f in theirs.field),
     )
     for left, right in zip(transformation.pushed(mine), transformation.pulled(at), strict=True):
-        difference = sp.expand(left - right)
-        if difference != 0 and sp.simplify(difference) != 0:
+        if not _is_zero(sp.expand(left - right)):
             return False
     return True
+
+
+def _is_zero(difference: sp.Expr) -> bool:
+    """Whether an expanded difference is zero. ``cancel`` decides it for a rational
+    function of the state and the parameters. Radicals b**(p/q) (a rotation's cos and
+    sin, a shift's square roots) are first made symbols: b = s**L for a parameter b (L
+    the lcm of its q's), and r with r**q = b for another base, the numerator then
+    reduced by r**q - b. Both are identities of the principal roots, so a zero result
+    proves zero; otherwise ``simplify`` decides (radicals may depend on each other)."""
+    if difference == 0:
+        return True
+    if all(p.exp.is_Integer for p in difference.atoms(sp.Pow)):
+        return sp.cancel(difference) == 0
+    radicals = [p for p in difference.atoms(sp.Pow) if not p.exp.is_Integer]
+    if any(not p.exp.is_Rational for p in radicals):
+        return sp.simplify(difference) == 0
+    orders: dict[sp.Symbol, int] = {}
+    for p in radicals:
+        if p.base.is_Symbol:
+            orders[p.base] = int(sp.ilcm(orders.get(p.base, 1), p.exp.q))
+    expr = difference.xreplace({b: sp.Dummy(positive=True) ** q for b, q in orders.items()})
+    roots: dict[tuple[sp.Expr, int], sp.Dummy] = {}
+    replace = {}
+    for p in expr.atoms(sp.Pow):
+        if p.exp.is_Integer:
+            continue
+        if not p.exp.is_Rational or any(not q.exp.is_Integer for q in p.base.atoms(sp.Pow)):
+            return sp.simplify(difference) == 0
+        root = roots.setdefault((p.base, int(p.exp.q)), sp.Dummy())
+        replace[p] = root ** int(p.exp.p)
+    numerator = sp.numer(sp.cancel(expr.xreplace(replace)))
+    for (base, q), root in roots.items():
+        numerator = sp.rem(numerator, root**q - base, root)
+    if sp.expand(numerator) == 0:
+        return True
+    return sp.simplify(difference) == 0
