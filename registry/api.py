@@ -25,6 +25,7 @@ from .execution.time_budget import TimeBudget, default_budget
 from .settings import (
     BESIDE_SEARCH_EXPONENT_SECONDS,
     DEFAULT_EXPONENT_SECONDS,
+    DEFAULT_IDENTIFY_SECONDS,
     DEFAULT_SEARCH_SECONDS,
     DEFAULT_SURVEY_SECONDS,
 )
@@ -35,7 +36,16 @@ if TYPE_CHECKING:
     import pandas as pd
     from distributed import Client
 
-    from .model import Case, DriftCurve, Equation, MeasureSearch, Verdict, VerdictChange, Weights
+    from .model import (
+        Case,
+        CaseIdentification,
+        DriftCurve,
+        Equation,
+        MeasureSearch,
+        Verdict,
+        VerdictChange,
+        Weights,
+    )
     from .presentation.site import Catalog
     from .runs.audit_run import AuditReport
     from .runs.exponents_run import ExponentReport
@@ -130,6 +140,14 @@ def survey_text(reports: Sequence[SearchReport], width: int | None = None) -> st
     from .presentation.listings import survey_listing
 
     return survey_listing([r.search for r in reports], terminal_width(width))
+
+
+def identify_text(found: Sequence[CaseIdentification], width: int | None = None) -> str:
+    """What ``registry identify`` prints: each case with the cases it is the same system
+    as, wrapped to ``width`` (None: the terminal's)."""
+    from .presentation.listings import identify_listing
+
+    return identify_listing(found, terminal_width(width))
 
 
 def check_where(jobs: int | None, scheduler: str | None) -> None:
@@ -371,6 +389,41 @@ class Registry:
 
         return frames.discoveries_frame(self.store)
 
+    # --- identification with the catalog ------------------------------------
+
+    def identify(
+        self,
+        case_ids: Sequence[str] | None = None,
+        *,
+        fresh: bool = False,
+        budget: float | None = DEFAULT_IDENTIFY_SECONDS,
+        jobs: int | None = None,
+        progress: Callable[[int, int, str], None] | None = None,
+        scheduler: str | Client | None = None,
+    ) -> list[CaseIdentification]:
+        """Record which catalog cases each case (the latest version of every case, or of
+        the named ones) is the same system as: equal vector fields at some values of the
+        other's parameters, after scalings of time and of each vector, permutations and
+        sign changes of the axes, rotations about a symmetry axis and shifts M -> M +
+        f(gamma) (``discovery.identification``). ``budget`` seconds per case; comparisons
+        in ``jobs`` processes or on the Dask cluster of ``scheduler``. A recorded
+        identification against the same catalog by this code version is reused unless
+        ``fresh``. Finding no case proves nothing."""
+        from .runs.identify_run import identify_run
+
+        with open_executor(jobs, scheduler) as executor:
+            return identify_run(
+                self.store, case_ids, executor, fresh=fresh, budget=budget, progress=progress
+            )
+
+    def identifications(self) -> pd.DataFrame:
+        """One row per catalog case that a case is the same system as (the newest
+        identification of its latest version): the values of the other's parameters, the
+        transformation, whether the two are ``equivalent`` (each is the other)."""
+        from .store import frames
+
+        return frames.identifications_frame(self.store)
+
     # --- Kovalevskaya exponents ---------------------------------------------
 
     def analyse_exponents(
@@ -603,6 +656,7 @@ class Registry:
             self.searches(),
             self.discoveries(),
             site_exponents(self.store),
+            self.identifications(),
         )
 
     def site(self, out_dir: str | os.PathLike, base_url: str = "") -> list[Path]:

@@ -559,6 +559,64 @@ def survey(
 
 
 @main.command()
+@click.option("--case", "case_ids", multiple=True, metavar="ID", help="Identify only this case.")
+@click.option("--fresh", is_flag=True, help="Compare again instead of reusing stored results.")
+@click.option(
+    "--budget",
+    "seconds",
+    type=click.FloatRange(min=0, min_open=True),
+    default=settings.DEFAULT_IDENTIFY_SECONDS,
+    show_default=True,
+    help="Seconds each case's comparisons may take; the cases left are named.",
+)
+@click.option("--json", "as_json", is_flag=True, help="Print a JSON list, one object per case.")
+@_where("Compare, one task per case,")
+@_user_errors
+def identify(
+    case_ids: tuple[str, ...],
+    fresh: bool,
+    seconds: float,
+    as_json: bool,
+    jobs: int | None,
+    scheduler: str | None,
+) -> None:
+    """Record which catalog cases each case (or the named ones) is the same system as.
+
+    \b
+    Two cases are the same system when one's vector field is the other's at some
+    values of the other's parameters, after scaling time and each vector, permuting
+    and changing the signs of the axes, rotating about an axis of symmetry, or
+    shifting M -> M + f(gamma) (adding Casimirs to H changes no field). Each match
+    is checked exactly; finding none proves nothing. Results are recorded and shown
+    by `registry cases`, `reg.identifications()` and the site.
+
+    Example: registry identify --case kovalevskaya-1889-heavy-top
+    """
+    from .api import check_where, identify_text
+
+    check_where(jobs, scheduler)
+    reg = _registry()
+    with _counting_bar("case") as progress, reg.interruptible():
+        found = reg.identify(
+            list(case_ids) or None,
+            fresh=fresh,
+            budget=seconds,
+            jobs=jobs,
+            progress=progress,
+            scheduler=scheduler,
+        )
+    if as_json:
+        click.echo(json.dumps([f.as_dict() for f in found], indent=2, ensure_ascii=False))
+        return
+    click.echo(identify_text(found))
+    same = sum(bool(f.same_as) for f in found)
+    click.echo(
+        f"{len(found)} case(s): {same} the same system as some other case; "
+        f"{sum(not f.complete for f in found)} not compared with every case"
+    )
+
+
+@main.command()
 @click.option("--case", "case_id", default=None, metavar="ID", help="Searches of this case only.")
 @click.option(
     "--long", "long_", is_flag=True, help="Each search's result in one sentence, in full."

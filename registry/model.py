@@ -561,6 +561,48 @@ class SameSystem:
 
 
 @dataclass(frozen=True)
+class CaseIdentification:
+    """Which catalog cases one case version is the same system as (issue 33): each with
+    the values of its parameters and the transformation (``same_as``); the cases it was
+    compared with, those left when the time ran out (``skipped``) and those whose
+    comparison failed (never said to be other systems); the ``catalog`` compared with (a
+    digest of its case versions: a new case makes it stale) and whether a recorded
+    identification was ``reused``. Finding no case proves nothing."""
+
+    case: str
+    version: int
+    catalog: str
+    same_as: tuple[SameSystem, ...] = ()
+    compared: tuple[str, ...] = ()
+    skipped: tuple[str, ...] = ()
+    failed: tuple[tuple[str, str], ...] = ()
+    seconds: float = 0.0
+    reused: bool = False
+    #: why the case itself was compared with none (its field has no normal form)
+    note: str = ""
+
+    @property
+    def complete(self) -> bool:
+        """Whether every case was compared (none skipped or failed)."""
+        return not self.skipped and not self.failed
+
+    def as_dict(self) -> dict:
+        """The JSON of ``registry identify --json`` for this case."""
+        return {
+            "case": self.case,
+            "version": self.version,
+            "same_as": [s.as_dict() for s in self.same_as],
+            "compared": len(self.compared),
+            "skipped": list(self.skipped),
+            "failed": [{"case": c, "error": e} for c, e in self.failed],
+            "complete": self.complete,
+            "seconds": round(self.seconds, 3),
+            "reused": self.reused,
+            "note": self.note,
+        }
+
+
+@dataclass(frozen=True)
 class IntegralSet:
     """The extra integrals on a set of parameter values: ``when`` (equations taken
     together, as text; empty for the generic values), how many there are, a basis of

@@ -48,6 +48,10 @@ DEFAULT_SURVEY_SECONDS = 60.0
 #: recorded as not decided, and ``registry exponents`` makes it again with its own budget.
 DEFAULT_EXPONENT_SECONDS = 300.0
 BESIDE_SEARCH_EXPONENT_SECONDS = 10.0
+#: Seconds the identification of one case with the catalog may take by default
+#: (``registry identify --budget``); the cases not compared by then are named, and a
+#: later identification with more time compares them.
+DEFAULT_IDENTIFY_SECONDS = 60.0
 #: Seconds a command waits for another's lock on the database before it gives up.
 DEFAULT_LOCK_TIMEOUT = 10.0
 

@@ -330,3 +330,46 @@ def test_a_survey_s_analysis_that_ran_out_is_made_again_with_more_time(tmp_path)
         assert again.exponents.all_integer and again.exponents.passes
         (kept,) = reg.survey(jobs=1, exponent_budget=1e-3)  # decided: kept, not redone
         assert kept.exponents.decided
+
+
+NORMALISATIONS = [
+    Path(__file__).resolve().parents[1] / "data" / "cases" / "heavy-top" / f"{name}.toml"
+    for name in (
+        "kovalevskaya-1889-heavy-top",
+        "kovalevskaya-1889-heavy-top-normalised",
+        "goryachev-1916-heavy-top",
+    )
+]
+
+
+def test_registry_identify_records_the_same_systems_and_cases_shows_them(db_target):
+    runner = CliRunner()
+    db = ["--db", str(db_target)]
+    assert runner.invoke(main, [*db, "add", *map(str, NORMALISATIONS)]).exit_code == 0
+    result = runner.invoke(main, [*db, "identify", "--jobs", "1"])
+    assert result.exit_code == 0, result.output
+    lines = result.stdout.strip().splitlines()
+    assert max(map(len, lines)) <= 80
+    assert lines[-1] == (
+        "3 case(s): 2 the same system as some other case; 0 not compared with every case"
+    )
+    # Goryachev's field has s in a denominator: no normal form, compared with no case
+    goryachev = "goryachev-1916-heavy-top: its field is not polynomial in (M, gamma)"
+    assert any(line.startswith(goryachev) for line in lines)
+    kovalevskaya = ["--case", "kovalevskaya-1889-heavy-top"]
+    as_json = runner.invoke(main, [*db, "identify", "--json", *kovalevskaya])
+    assert as_json.exit_code == 0, as_json.output
+    (found,) = json.loads(as_json.stdout)
+    assert found["reused"] and found["complete"]
+    (same,) = found["same_as"]
+    assert same["case"] == "kovalevskaya-1889-heavy-top-normalised"
+    assert same["values"] == {"c0": "C*a"} and same["transformation"]["t"] == "t/C"
+    with registry.open(db_target) as reg:
+        table = reg.cases().set_index("case")
+        assert table.loc["kovalevskaya-1889-heavy-top", "equivalent"] == [
+            "kovalevskaya-1889-heavy-top-normalised"
+        ]
+        assert table.loc["goryachev-1916-heavy-top", "same_as"] == []
+        assert len(reg.identifications()) == 2
+    unknown = runner.invoke(main, [*db, "identify", "--case", "no-such-case"])
+    assert unknown.exit_code != 0 and "no-such-case" in unknown.stderr

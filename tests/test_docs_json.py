@@ -28,8 +28,9 @@ MARK = re.compile(r"output of: (?P<command>registry .*)")
 
 #: Objects whose keys are data, not part of the shape: a witness point's coordinates
 #: and parameters, the concrete functions of a family's refutation, the weights of a
-#: state's vectors and the leading part's components (named as the case names them).
-DATA_KEYED = {"point", "functions", "weights", "leading"}
+#: state's vectors and the leading part's components (named as the case names them), a
+#: catalog case's parameter values and its variables under a transformation.
+DATA_KEYED = {"point", "functions", "weights", "leading", "values", "transformation"}
 
 
 def examples() -> list[tuple[str, str]]:

@@ -30,7 +30,7 @@ TEXT_COLUMNS = (
 #: Columns holding JSON values (dicts or lists), written as JSON text in CSV and Parquet.
 JSON_COLUMNS = (
     "on", "witness", "payload", "options", "authors", "aliases", "inertia", "torque",
-    "variables",
+    "variables", "same_as", "equivalent",
 )  # fmt: skip
 
 

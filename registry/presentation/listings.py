@@ -21,7 +21,7 @@ from .text_table import grouped_table, text_table, wrapped
 if TYPE_CHECKING:
     import pandas as pd
 
-    from ..model import Search
+    from ..model import CaseIdentification, Search
 
 #: What a listing with no rows prints.
 NONE = "(none)"
@@ -240,3 +240,28 @@ def survey_listing(searches: Sequence[Search], width: int | None = None) -> str:
         on = f" on {', '.join(e.text for e in s.options.on)}" if s.options.on else ""
         lines.append(wrapped(f"{s.case}{on}: {statement(s)}", width, subsequent="    "))
     return "\n".join(lines)
+
+
+def identify_listing(found: Sequence[CaseIdentification], width: int | None = None) -> str:
+    """``registry identify``: each case with the catalog cases it is the same system as
+    (their parameter values), how many were compared, and those left uncompared."""
+    lines = []
+    for f in found:
+        same = "; ".join(
+            s.case + (f" at {', '.join(f'{k} = {v}' for k, v in s.values)}" if s.values else "")
+            for s in f.same_as
+        )
+        if same:
+            text = f"{f.case}: the same system as {same}"
+        elif f.note:
+            text = f"{f.case}: {f.note}"
+        else:
+            text = f"{f.case}: no case found"
+        text += f" ({len(f.compared)} compared"
+        if f.skipped:
+            text += f"; {len(f.skipped)} not compared, time ran out"
+        if f.failed:
+            text += f"; {len(f.failed)} comparisons failed"
+        text += ", reused)" if f.reused else ")"
+        lines.append(wrapped(text, width, subsequent="    "))
+    return "\n".join(lines) if lines else NONE

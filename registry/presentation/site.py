@@ -94,6 +94,8 @@ class Catalog:
     searches: pd.DataFrame
     discoveries: pd.DataFrame
     exponents: dict[str, ExponentEntry] = field(default_factory=dict)
+    #: one row per (case, catalog case it is the same system as): ``reg.identifications()``
+    identifications: pd.DataFrame | None = None
 
 
 # ------------------------------------------------------------------ formulas
@@ -304,12 +306,39 @@ class _Views:
             "newest_search": search,
             "search_discoveries": [_discovery(d, ns) for d in found],
             "exponents": _exponents(self.catalog.exponents.get(case.id)),
+            **self.same_systems(case.id),
             "history": history,
             "source_bibtex": self.bib[case.id].text if case.id in self.bib else "",
             "entry_bibtex": self.entry_bibtex(entry, history),
             "downloads": [(f"{case.id}.{ext}", what) for ext, what in DOWNLOADS],
             "audited": outcome is not None,
         }
+
+    def same_systems(self, case_id: str) -> dict[str, Any]:
+        """The catalog cases this case is the same system as (with their parameter values
+        and whether each is also this case: ``equivalent``), the cases that are this one
+        at some of its values (``members``), and whether it was identified at all."""
+        frame = self.catalog.identifications
+        identified = self.catalog.cases.set_index("case")["same_as"].get(case_id) is not None
+        note = self.catalog.cases.set_index("case")["identification_note"].get(case_id)
+        if frame is None or not len(frame):
+            return {"identified": identified, "same_systems": [], "members": [], "note": note}
+        mine = frame[frame["case"] == case_id]
+        same = [
+            {
+                "case": row["same_as"],
+                "at": ", ".join(f"{k} = {v}" for k, v in row["values"].items()),
+                "via": ", ".join(f"{k} = {v}" for k, v in row["transformation"].items() if k != v),
+                "equivalent": bool(row["equivalent"]),
+            }
+            for row in mine.to_dict("records")
+        ]
+        members = sorted(
+            row["case"]
+            for row in frame[frame["same_as"] == case_id].to_dict("records")
+            if not row["equivalent"]
+        )
+        return {"identified": identified, "same_systems": same, "members": members, "note": note}
 
     def entry_bibtex(self, entry: CaseEntry, history: Sequence[dict[str, Any]]) -> str:
         """The registry entry of a case as BibTeX (cite the page, next to its source)."""

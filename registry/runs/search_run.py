@@ -16,7 +16,6 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 
 from ..discovery.every_degree import bounded, every_degree, summary
-from ..discovery.identification.catalog_index import CatalogIndex
 from ..discovery.search import discover, search_options
 from ..discovery.survey import searched, stated_options
 from ..errors import UnknownCaseError
@@ -37,6 +36,7 @@ from ..store import conversions
 from ..store.database import Store, StoredCase
 from ..version import code_version
 from .exponents_run import beside_search, beside_searches
+from .identify_run import catalog_index
 
 
 @dataclass(frozen=True)
@@ -209,12 +209,6 @@ def survey_run(
         reports[i] = _recorded(store, planned[i][0], planned[i][1], search)
     found = beside_searches(store, planned, executor, exponent_budget)
     return [replace(reports[i], exponents=found[i]) for i in range(len(planned))]
-
-
-def catalog_index(store: Store) -> CatalogIndex:
-    """The identification index of the latest version of every case the registry holds
-    (``discovery.identification.catalog_index``; each case's forms are computed once)."""
-    return CatalogIndex.of(stored.parse() for stored in store.case_versions())
 
 
 def recorded_searches(store: Store, case_id: str | None = None) -> list[tuple[int, int, Search]]:

@@ -17,6 +17,7 @@ from ..language import forms
 from ..model import (
     Case,
     CaseAudit,
+    CaseIdentification,
     CheckResult,
     Claim,
     Conditions,
@@ -46,6 +47,7 @@ from .tables import (
     DriftCurveRow,
     EvidenceRow,
     ExponentRow,
+    IdentificationRow,
     ResultRow,
     SearchRow,
     SourceRow,
@@ -440,3 +442,37 @@ def exponent_result(row: ExponentRow, case_id: str, content_hash: str) -> Expone
     """A Kovalevskaya analysis rebuilt from its row."""
     options = ExponentOptions(tuple(row.options["weights"].items()), tuple(row.options["free"]))
     return ExponentResult(case_id, content_hash, options, dict(row.document), row.seconds)
+
+
+def identification_row(
+    case_pk: int, found: CaseIdentification, code_version: str
+) -> IdentificationRow:
+    """The row of one case version's identification with the catalog."""
+    return IdentificationRow(
+        case_pk=case_pk,
+        catalog=found.catalog,
+        code_version=code_version,
+        recorded_at=now(),
+        seconds=float(found.seconds),
+        same_as=[s.as_dict() for s in found.same_as],
+        compared=list(found.compared),
+        skipped=list(found.skipped),
+        failed=[list(f) for f in found.failed],
+        note=found.note,
+    )
+
+
+def identification(row: IdentificationRow, case_id: str, version: int) -> CaseIdentification:
+    """An identification rebuilt from its row (``reused``: it was recorded before)."""
+    return CaseIdentification(
+        case_id,
+        version,
+        row.catalog,
+        tuple(SameSystem.from_dict(d) for d in row.same_as),
+        tuple(row.compared),
+        tuple(row.skipped),
+        tuple((str(c), str(e)) for c, e in row.failed),
+        row.seconds,
+        reused=True,
+        note=row.note,
+    )

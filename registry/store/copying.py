@@ -83,6 +83,7 @@ ROW_NAMES = {
     "searches": ("search", "searches"),
     "discoveries": ("discovery", "discoveries"),
     "exponents": ("exponent analysis", "exponent analyses"),
+    "identifications": ("identification", "identifications"),
 }
 
 

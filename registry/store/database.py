@@ -45,6 +45,7 @@ from ..language.parser import parse_equation, parse_expression
 from ..model import (
     Case,
     CaseAudit,
+    CaseIdentification,
     CheckResult,
     Claim,
     ClaimKind,
@@ -72,6 +73,8 @@ from .conversions import (
     exponent_result,
     exponent_row,
     fill_source,
+    identification,
+    identification_row,
     options_key,
     result_row,
     search_row,
@@ -102,6 +105,7 @@ from .tables import (
     DriftCurveRow,
     EvidenceRow,
     ExponentRow,
+    IdentificationRow,
     ResultRow,
     RunRow,
     SearchRow,
@@ -612,6 +616,61 @@ class Store:
             return {
                 case_id: (row.id, version, exponent_result(row, case_id, content_hash))
                 for row, case_id, version, content_hash in rows
+            }
+
+    # ---------------------------------------------------------- identifications
+
+    @guarded
+    def record_identification(
+        self, case_pk: int, found: CaseIdentification, code_version: str
+    ) -> int:
+        """Store a case version's identification with the catalog as a new row (earlier
+        ones are kept); returns its number."""
+        with self.write() as session:
+            row = identification_row(case_pk, found, code_version)
+            session.add(row)
+            session.flush()
+            return row.id
+
+    @guarded
+    def stored_identification(
+        self, case_pk: int, catalog: str, code_version: str
+    ) -> CaseIdentification | None:
+        """The newest identification of this case version with this catalog by this code
+        version, or None: what a repeated identification reuses."""
+        with self.read() as session:
+            found = session.execute(
+                select(IdentificationRow, CaseRow.case_id, CaseRow.version)
+                .join(CaseRow, CaseRow.id == IdentificationRow.case_pk)
+                .where(
+                    IdentificationRow.case_pk == case_pk,
+                    IdentificationRow.catalog == catalog,
+                    IdentificationRow.code_version == code_version,
+                )
+                .order_by(IdentificationRow.id.desc())
+            ).first()
+            if found is None:
+                return None
+            row, case_id, version = found
+            return identification(row, case_id, version)
+
+    @guarded
+    def newest_identifications(self) -> dict[str, CaseIdentification]:
+        """The newest identification of the latest version of every case with one, by
+        case id: what ``reg.cases()`` and the case pages show."""
+        with self.read() as session:
+            latest = newest_versions()
+            rows = session.execute(
+                select(IdentificationRow, CaseRow.case_id, CaseRow.version)
+                .join(CaseRow, CaseRow.id == IdentificationRow.case_pk)
+                .join(
+                    latest,
+                    (latest.c.case_id == CaseRow.case_id) & (latest.c.version == CaseRow.version),
+                )
+                .order_by(IdentificationRow.id)
+            ).all()
+            return {
+                case_id: identification(row, case_id, version) for row, case_id, version in rows
             }
 
     @guarded

@@ -136,6 +136,20 @@ def case_table(
 
     frame = cases_frame(store).merge(families_frame(store), on="case", how="left")
     frame["family"] = frame["family"].map(lambda f: f if isinstance(f, str) else "")
+    same = identifications_frame(store)
+    identified = store.newest_identifications()
+
+    def others(case: str, equivalent: bool) -> list[str] | None:
+        if case not in identified:
+            return None  # never identified: unknown, not "none"
+        rows = same[(same["case"] == case) & (same["equivalent"] | (not equivalent))]
+        return sorted(rows["same_as"])
+
+    frame["same_as"] = frame["case"].map(lambda c: others(c, False))
+    frame["equivalent"] = frame["case"].map(lambda c: others(c, True))
+    frame["identification_note"] = frame["case"].map(
+        lambda c: identified[c].note if c in identified else ""
+    )
     keep = pd.Series(True, index=frame.index)
 
     def contains(values: pd.Series, text: str) -> pd.Series:
@@ -157,6 +171,33 @@ def case_table(
     if verdict is not None:
         keep &= frame["case"].isin(_cases_with_verdict(store, verdict))
     return frame[keep.astype(bool)].reset_index(drop=True)
+
+
+def identifications_frame(store: Store) -> pd.DataFrame:
+    """One row per catalog case that a case (its latest version, its newest
+    identification) is the same system as: case, version, same_as (the other case), its
+    parameter ``values`` and the ``transformation`` (the other's variables and time in
+    this case's), ``equivalent`` (the other is identified back with this case: one
+    system written twice), ``complete`` (every case was compared)."""
+    import pandas as pd  # imported here: adding cases should not pay for pandas
+
+    newest = store.newest_identifications()
+    rows = [
+        {
+            "case": case,
+            "version": found.version,
+            "same_as": same.case,
+            "values": dict(same.values),
+            "transformation": dict(same.transformation),
+            "equivalent": same.case in newest
+            and any(back.case == case for back in newest[same.case].same_as),
+            "complete": found.complete,
+        }
+        for case, found in sorted(newest.items())
+        for same in found.same_as
+    ]
+    columns = ["case", "version", "same_as", "values", "transformation", "equivalent", "complete"]
+    return pd.DataFrame(rows, columns=columns)
 
 
 def _cases_with_verdict(store: Store, verdict: str) -> set[str]:

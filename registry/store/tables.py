@@ -32,7 +32,7 @@ from sqlalchemy.orm import DeclarativeBase, Mapped, mapped_column
 from sqlalchemy.types import TypeDecorator
 
 #: Version of the table layout, kept in the ``meta`` table (the Alembic revision, as a number).
-SCHEMA_VERSION = 10
+SCHEMA_VERSION = 11
 
 #: The states of an audit run; every run starts as ``running``.
 RUN_STATUSES = ("running", "complete", "failed", "interrupted")
@@ -406,3 +406,25 @@ def newest_versions():
         .group_by(CaseRow.case_id)
         .subquery()
     )
+
+
+class IdentificationRow(Base):
+    """Which catalog cases one case version is the same system as (``registry
+    identify``): the catalog compared with (a digest of its case versions), the code
+    that ran it, the cases found (``model.SameSystem.as_dict``), those compared, skipped
+    and failed, and the time. A new identification is a new row: none is overwritten."""
+
+    __tablename__ = "identifications"
+
+    id: Mapped[int] = mapped_column(primary_key=True)
+    case_pk: Mapped[int] = mapped_column(ForeignKey("cases.id"), index=True)
+    catalog: Mapped[str] = mapped_column(Text)
+    code_version: Mapped[str] = mapped_column(Text)
+    recorded_at: Mapped[datetime] = mapped_column(UTCDateTime)
+    seconds: Mapped[float] = mapped_column(Float, default=0.0)
+    same_as: Mapped[list[dict[str, Any]]] = mapped_column(JSON)
+    compared: Mapped[list[str]] = mapped_column(JSON)
+    skipped: Mapped[list[str]] = mapped_column(JSON)
+    failed: Mapped[list[list[str]]] = mapped_column(JSON)
+    # why the case was compared with none (its field has no normal form), else ""
+    note: Mapped[str] = mapped_column(Text, default="")

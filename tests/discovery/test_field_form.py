@@ -29,3 +29,10 @@ def test_a_hamiltonian_with_m_gamma_terms_is_shifted_to_the_normal_form():
 
 def test_a_field_that_is_not_polynomial_has_no_form():
     assert field_form(catalog_case("yehia-2003-kovalevskaya-b").dynamics) is None
+
+
+def test_a_component_that_is_zero_has_no_term_in_the_support():
+    form = field_form(catalog_case("lagrange-1788-heavy-top").dynamics)
+    assert form.field[2] == 0  # dL3/dt = 0 for the symmetric top
+    assert not any(component == 2 for component, _ in form.support())
+    assert (0, (0, 0, 0, 0, 1, 0)) in form.support()  # a gamma2 in dL1/dt

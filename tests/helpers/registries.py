@@ -23,7 +23,7 @@ def full_registry(path: Path) -> Path:
     """An SQLite registry holding rows in every table: the seed cases and one in the
     Hamiltonian form, a second version of one, a renamed case with an alias, two
     recorded searches (a generic integral attached as a claim, derived cases), a recorded
-    Kovalevskaya analysis, an audit with corrections, and a numerical one (evidence).
+    Kovalevskaya analysis, two identifications, an audit with corrections, and a numerical one (evidence).
     About 15 s of work."""
     with registry.open(path) as reg:
         reg.add(*(case_file(c) for c in SEED), FAMILIES / "lagrange-lam.toml", SO31)
@@ -38,6 +38,7 @@ def full_registry(path: Path) -> Path:
         reg.discover("family-lagrange-lam", degree=2, free=["lam"], record=True)
         reg.discover(FAMILIES / "heavy-top-lam.toml", degree=3, free=["lam"], record=True)
         reg.analyse_exponents("family-lagrange-lam", record=True)
+        reg.identify([ZHUKOVSKY, "family-lagrange-lam"], jobs=1)
         reg.audit(jobs=1)
         reg.audit([ZHUKOVSKY, "family-lagrange-lam"], jobs=1, numeric=True, fresh=True)
     return path

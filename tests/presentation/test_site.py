@@ -43,7 +43,7 @@ import registry
 from registry.cli import main
 from registry.language.casefile import parse_case_text
 from registry.presentation.site import bracket
-from tests.helpers.samples import CASES, HAMILTONIAN, SEED, YEHIA_B, ZHUKOVSKY
+from tests.helpers.samples import AFFINE, CASES, HAMILTONIAN, SEED, YEHIA_B, ZHUKOVSKY
 
 ROOT = Path(__file__).resolve().parents[2]
 ARTIFACTS = ROOT / "test-artifacts"
@@ -103,6 +103,7 @@ def built(tmp_path_factory) -> SimpleNamespace:
         reg.survey([RENAMED], jobs=1)
         reg.analyse_exponents(SO4, record=True)
         reg.analyse_exponents(HOSTILE_ID, free=["c"], record=True, jobs=1)
+        reg.identify([RENAMED, AFFINE], jobs=1)
         first = reg.site(folder / "one")
         reg.site(folder / "two")
         cases = reg.cases()
@@ -290,6 +291,21 @@ def test_a_case_page_shows_its_newest_kovalevskaya_analysis(built):
     assert "With the newest search" not in section  # no search of this case
     other = _exponents_section(built, YEHIA_B)
     assert "No Kovalevskaya analysis recorded for this case." in other
+
+
+def _same_system_section(built, case_id: str) -> str:
+    page = (built.site / "cases" / f"{case_id}.html").read_text(encoding="utf-8")
+    return html.unescape(page[page.index('id="same-system"') : page.index('id="exponents"')])
+
+
+def test_a_case_page_names_the_catalog_cases_that_are_the_same_system(built):
+    renamed = _same_system_section(built, RENAMED)  # Zhukovsky's gyrostat: an affine torque
+    assert f'<a href="{AFFINE}.html">{AFFINE}</a>, at A = A, B = B, C = C, T11 = 0' in renamed
+    affine = _same_system_section(built, AFFINE)
+    assert "No other case of the catalog was found to be this system" in affine
+    assert f'Cases that are this system at some of its values: <a href="{RENAMED}.html">' in affine
+    never = _same_system_section(built, YEHIA_B)
+    assert "Not identified with the catalog yet" in never
 
 
 def test_a_family_s_analysis_shows_its_special_sets_and_their_completeness(built):

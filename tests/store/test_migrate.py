@@ -129,7 +129,8 @@ def upgraded(table: str, row: dict) -> dict:
 
 def test_revisions_form_one_chain_ending_at_the_schema_version():
     assert migrate.known_revisions() == [
-        "0001", "0002", "0003", "0004", "0005", "0006", "0007", "0008", "0009", "0010"
+        "0001", "0002", "0003", "0004", "0005", "0006", "0007", "0008", "0009", "0010",
+        "0011",
     ]  # fmt: skip
     assert int(migrate.head()) == SCHEMA_VERSION
 
@@ -245,7 +246,7 @@ def test_a_newer_revision_is_refused_with_a_clear_message(db_target, databases, 
     before = _snapshot(path)
     expected = (
         f"database {str(path)!r} has schema revision 0099, newer than this registry "
-        "supports (revision 0010); upgrade the registry package to open it"
+        "supports (revision 0011); upgrade the registry package to open it"
     )
     with pytest.raises(SchemaTooNewError) as info:
         Store(path)
@@ -377,6 +378,7 @@ def test_revision_0007_copies_each_stored_systems_hamiltonian_and_kappa(tmp_path
         store.add_case(hamiltonian_form)
         store.add_case(inertia_form)
     with closing(sqlite3.connect(path)) as conn, conn:  # back to what 0006 built
+        conn.execute("DROP TABLE identifications")  # 0011
         conn.execute("ALTER TABLE discoveries DROP COLUMN same_as")  # 0010
         conn.execute("DROP TABLE exponents")
         conn.execute("DROP TABLE drift_curves")

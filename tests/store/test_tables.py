@@ -17,7 +17,7 @@ from tests.helpers.stores import audit_of, count
 def test_a_store_has_schema_version(store):
     with store.engine.connect() as conn:
         value = conn.scalar(text("SELECT value FROM meta WHERE key = 'schema_version'"))
-    assert value == str(tables.SCHEMA_VERSION) == "10"
+    assert value == str(tables.SCHEMA_VERSION) == "11"
 
 
 def test_foreign_keys_are_enforced(store, sample_case):
@@ -50,6 +50,7 @@ def test_view_is_queryable_with_plain_sql(store, sample_case):
 def test_the_orm_tables_are_the_registry_tables():
     names = set(tables.Base.metadata.tables)
     assert names == {
+        "identifications",
         "meta",
         "sources",
         "cases",

@@ -56,7 +56,7 @@ class Entry:
 
 
 #: Bump when what an entry holds, or how it is computed, changes: older files are ignored.
-FORM_VERSION = "2"
+FORM_VERSION = "3"
 
 
 def _cached(case: Case) -> Path:

@@ -64,6 +64,7 @@ class FieldForm:
         return frozenset(
             (i, monomial)
             for i, f in enumerate(self.field)
+            if f != 0  # the zero polynomial's monoms() is [(0, ..., 0)]: no constant term
             for monomial in sp.Poly(f, *STATE).monoms()
         )
 
