@@ -12,7 +12,7 @@ it is read.
 | ``REGISTRY_BUDGET`` | seconds allowed to each check | 5 |
 | ``REGISTRY_CORRECTIONS_BUDGET`` | seconds allowed to a case's corrections | 20 |
 | ``REGISTRY_LOCK_TIMEOUT`` | seconds to wait for another command's lock | 10 |
-| ``REGISTRY_CACHE`` | a folder for what is computed once per case version | ``~/.cache/registry`` |
+| ``REGISTRY_CACHE`` | a folder for normal forms and drift images | ``~/.cache/registry`` |
 """
 
 from __future__ import annotations
@@ -105,9 +105,9 @@ def database(option: str | None = None, environ: Mapping[str, str] | None = None
 
 
 def cache_folder(environ: Mapping[str, str] | None = None) -> Path:
-    """Where what is computed once per case version is kept between commands (the
-    catalog's normal forms for identification): ``$REGISTRY_CACHE``, else
-    ``~/.cache/registry``. Deleting it loses nothing but time."""
+    """Where what is computed once is kept between commands (the catalog's normal forms
+    for identification, per case version; a report's drift images, per curve):
+    ``$REGISTRY_CACHE``, else ``~/.cache/registry``. Deleting it loses nothing but time."""
     given = _value(CACHE_ENV, environ)
     return Path(given) if given else Path.home() / ".cache" / "registry"
 

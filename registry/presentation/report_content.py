@@ -10,7 +10,6 @@ conditions and the drift plot of a refuted claim. The content is said once, to a
 
 from __future__ import annotations
 
-import io
 import re
 import tempfile
 from collections import Counter
@@ -36,9 +35,9 @@ from ..model import (
     nan_to_none,
 )
 from .mathml import NAMES, equation
+from .plot_images import DriftImages
 from .report_writers import FORMATS, WRITERS, Code, Link, Math, Part, Writer, anchor
 
-#: Makes the drift plot of (case, claim label): the PNG's path, or why there is none.
 #: A claim's drift plot: (case, claim label) -> the image written, or why there is none.
 Plotter = Callable[[Case, str], "Path | str"]
 
@@ -346,31 +345,19 @@ def run_row(frame: pd.DataFrame, run: int | None) -> pd.Series:
     return rows.iloc[0]
 
 
-def _palette_png(png: bytes, colours: int = 16) -> bytes:
-    """A line plot's PNG with an adaptive palette of ``colours`` (a fifth of the bytes;
-    a report embeds several and stays small)."""
-    from PIL import Image  # matplotlib's own dependency
-
-    image = Image.open(io.BytesIO(png)).convert("RGB").quantize(colours)
-    out = io.BytesIO()
-    image.save(out, format="PNG", optimize=True)
-    return out.getvalue()
-
-
 def _plotter(directory: Path, curves: Mapping[tuple[str, str], DriftCurve | str]) -> Plotter:
     """Drift plots of the ``curves`` (by case and claim; a text says why there is none)
-    written into ``directory`` as drift-<case>-<claim>.png."""
-    from .plots import drift_plot
+    written into ``directory`` as drift-<case>-<claim>.png: drawn once per curve, then
+    read from the cache folder (``plot_images``)."""
+    images = DriftImages()
 
     def plot(case: Case, label: str) -> Path | str:
         curve = curves.get((case.id, label), "no trajectory was integrated")
         if isinstance(curve, str):
             return curve
         name = re.sub(r"[^A-Za-z0-9-]+", "-", f"drift-{case.id}-{label}") + ".png"
-        with tempfile.TemporaryDirectory() as scratch:
-            png = _palette_png(drift_plot(curve, Path(scratch) / "drift.png").read_bytes())
         directory.mkdir(parents=True, exist_ok=True)
-        (directory / name).write_bytes(png)
+        (directory / name).write_bytes(images.png(curve))
         return directory / name
 
     return plot

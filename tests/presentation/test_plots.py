@@ -1,17 +1,21 @@
 """Drift plots: I(t) - I(0) next to H(t) - H(0) along one trajectory, as a PNG, drawn from
-the curve the audit computed (``audit.numeric_evidence.drift_curve``)."""
+the curve the audit computed (``audit.numeric_evidence.drift_curve``); one canvas drawing
+curve after curve gives the pixels a new canvas gives each."""
 
 from __future__ import annotations
 
+import io
 from dataclasses import replace
 
+import numpy as np
 import pytest
+from PIL import Image
 
 import registry
 from registry.audit.numeric_evidence import drift_curve, drift_curves
 from registry.mathematics.mechanics import gamma1
 from registry.model import DriftCurve, Equation
-from registry.presentation.plots import drift_plot
+from registry.presentation.plots import PALETTE_COLOURS, DriftCanvas, drift_plot
 from tests.helpers.samples import CASES, YEHIA_B
 
 PNG = b"\x89PNG"
@@ -36,6 +40,38 @@ def test_drift_plot_writes_a_png_of_the_curve(reg, tmp_path):
 def test_a_curve_without_h_is_drawn_alone(tmp_path):
     curve = DriftCurve("c", "I", (0.0, 1.0, 2.0), (0.0, 0.5, 1.0))
     assert drift_plot(curve, tmp_path / "x.png").read_bytes().startswith(PNG)
+
+
+def _pixels(png: bytes) -> np.ndarray:
+    return np.asarray(Image.open(io.BytesIO(png)).convert("RGB"))
+
+
+def test_a_reused_canvas_draws_each_curve_as_a_new_one_does(reg):
+    """Lines, labels, limits and legend are all replaced: a curve with H after one
+    without, and one without after one with, look as they do drawn alone."""
+    with_h = drift_curve(reg.case(YEHIA_B), "I2")
+    alone = DriftCurve("c", "I", (0.0, 1.0, 2.0), (0.0, -3e-4, 7e-4))
+    canvas = DriftCanvas()
+    for curve in (with_h, alone, with_h, alone):
+        assert np.array_equal(_pixels(canvas.png(curve)), _pixels(DriftCanvas().png(curve)))
+        legend = [t.get_text() for t in canvas.axes.get_legend().get_texts()]
+        assert len(legend) == (2 if curve.dh else 1)
+        assert legend[0].startswith("$I(t) - I(0)$")
+
+
+def test_the_report_image_is_the_plot_in_a_few_colours(reg):
+    """Red I and blue H stay apart in the palette image, at the plot's size."""
+    curve = drift_curve(reg.case(YEHIA_B), "I2")
+    canvas = DriftCanvas()
+    full, small = _pixels(canvas.png(curve)), canvas.palette_png(curve)
+    image = Image.open(io.BytesIO(small))
+    assert image.mode == "P" and image.size == (full.shape[1], full.shape[0])
+    assert len(image.getcolors()) <= PALETTE_COLOURS
+    assert np.abs(_pixels(small).astype(int) - full).mean() < 3  # grey levels of 255
+    colours = {c for _, c in image.convert("RGB").getcolors()}
+    reddish = any(r > 150 and g < 100 and b < 100 for r, g, b in colours)
+    bluish = any(b > 120 and r < 100 for r, g, b in colours)
+    assert reddish and bluish
 
 
 def test_the_facade_writes_a_claims_plot_and_names_a_claim_it_does_not_make(reg, tmp_path):

@@ -21,7 +21,9 @@ from click.testing import CliRunner
 
 import registry
 from registry.cli import main
-from registry.presentation.report_writers import TexWriter
+from registry.presentation import report_content
+from registry.presentation.plots import DriftCanvas
+from registry.presentation.report_writers import TexWriter, anchor
 from tests.helpers.samples import CASES, SEED, YEHIA_B, ZHUKOVSKY
 
 PNG = b"\x89PNG"
@@ -89,6 +91,29 @@ def test_html_is_one_self_contained_file(html_report):
     assert not re.search(r"""(src|href)\s*=\s*["']?(https?:)?//""", text)
     for case_id in SEED:
         assert case_id in text
+
+
+def test_html_embeds_one_plot_per_refuted_claim_drawn_from_its_stored_curve(reg, html_report):
+    outcomes = reg.run_report(int(reg.runs()["run"].max())).outcomes()
+    refuted = report_content.plotted(outcomes)
+    stored = {(c.case, c.claim) for o in outcomes for c in o.curves}
+    assert refuted and {(case.id, label) for case, label in refuted} <= stored
+    assert html_report.count('<img class="plot"') == len(refuted)
+    for case, label in refuted:
+        section = html_report.split(f'id="{anchor("case", case.id)}"', 1)[1]
+        section = section.split('id="case-', 1)[0]  # up to the next case
+        claim = section.split(f"Claim {label} (", 1)[1].split("<h4", 1)[0]
+        assert claim.count('<img class="plot"') == 1
+
+
+def test_a_second_html_report_reads_its_plots_from_the_cache(reg, html_report, monkeypatch):
+    """The same file, with no plot drawn: drawing one fails here."""
+
+    def refuse(self, curve):
+        raise AssertionError("a cached drift plot was drawn again")
+
+    monkeypatch.setattr(DriftCanvas, "palette_png", refuse)
+    assert reg.report(fmt="html") == html_report
 
 
 def test_html_formulas_are_mathml_with_their_text_not_images(reg, html_report):
