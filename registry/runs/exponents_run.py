@@ -13,7 +13,6 @@ from __future__ import annotations
 import os
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, replace
-from pathlib import Path
 from typing import Any
 
 from ..discovery.every_degree import every_degree
@@ -24,7 +23,7 @@ from ..discovery.exponents import (
     exponent_options,
     refused,
 )
-from ..errors import ExponentError, UnknownCaseError
+from ..errors import ExponentError
 from ..execution.executor import Executor
 from ..language.casefile import load_case
 from ..model import Case, ExponentOptions, ExponentResult, SearchOptions, Weights
@@ -33,6 +32,7 @@ from ..presentation.terminal import terminal_width
 from ..settings import BESIDE_SEARCH_EXPONENT_SECONDS, DEFAULT_EXPONENT_SECONDS
 from ..store.database import Store, StoredCase
 from ..version import code_version
+from .targets import stored_target
 
 
 @dataclass(frozen=True)
@@ -96,7 +96,7 @@ def exponents_run(
     if store is None:
         case, stored = (target if isinstance(target, Case) else load_case(target)), None
     else:
-        case, stored = _target(store, target)
+        case, stored = stored_target(store, target)
     options = request.options(case)
     if store is not None and stored is not None and not request.fresh:
         found = store.stored_exponents(stored.pk, options, code_version())
@@ -223,20 +223,3 @@ def site_exponents(store: Store) -> dict[str, Any]:
             combined = every_degree(searched[2], result)
         found[case_id] = ExponentEntry(number, version, result, combined)
     return found
-
-
-def _target(store: Store, target: str | os.PathLike | Case) -> tuple[Case, StoredCase | None]:
-    """The case to analyse and its stored version (None when not stored)."""
-    if isinstance(target, Case):
-        case = target
-    elif Path(target).is_file():
-        case = load_case(target)
-    else:
-        (stored,) = store.case_versions([str(target)])
-        return stored.parse(), stored
-    try:
-        versions = store.case_versions([case.id], latest_only=False)
-    except UnknownCaseError:
-        return case, None
-    same = [s for s in versions if s.content_hash == case.content_hash]
-    return case, (same[-1] if same else None)

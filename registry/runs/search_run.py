@@ -13,12 +13,10 @@ from __future__ import annotations
 import os
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, replace
-from pathlib import Path
 
 from ..discovery.every_degree import bounded, every_degree, summary
 from ..discovery.search import discover, search_options
 from ..discovery.survey import searched, stated_options
-from ..errors import UnknownCaseError
 from ..execution.executor import Executor
 from ..language.case_writer import derived_case_text
 from ..language.casefile import load_case, parse_case_text
@@ -37,6 +35,7 @@ from ..store.database import Store, StoredCase
 from ..version import code_version
 from .exponents_run import beside_search, beside_searches
 from .identify_run import catalog_index
+from .targets import stored_target
 
 
 @dataclass(frozen=True)
@@ -148,7 +147,7 @@ def search_run(
     if store is None:
         case, stored = (target if isinstance(target, Case) else load_case(target)), None
     else:
-        case, stored = _search_target(store, target)
+        case, stored = stored_target(store, target)
     options = request.options(case)
     reused = None
     if store is not None and not request.fresh:
@@ -263,22 +262,3 @@ def _recorded(store: Store, stored: StoredCase, case: Case, search: Search) -> S
     ]
     number = store.record_search(stored.pk, search, code_version(), statement(search), derived)
     return SearchReport(search, number, derived=tuple(c.id for c in derived))
-
-
-def _search_target(
-    store: Store, target: str | os.PathLike | Case
-) -> tuple[Case, StoredCase | None]:
-    """The case to search and its stored version (None when not stored)."""
-    if isinstance(target, Case):
-        case = target
-    elif Path(target).is_file():
-        case = load_case(target)
-    else:
-        (stored,) = store.case_versions([str(target)])
-        return stored.parse(), stored
-    try:
-        versions = store.case_versions([case.id], latest_only=False)
-    except UnknownCaseError:
-        return case, None
-    same = [s for s in versions if s.content_hash == case.content_hash]
-    return case, (same[-1] if same else None)
