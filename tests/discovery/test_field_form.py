@@ -36,3 +36,4 @@ def test_a_component_that_is_zero_has_no_term_in_the_support():
     assert form.field[2] == 0  # dL3/dt = 0 for the symmetric top
     assert not any(component == 2 for component, _ in form.support())
     assert (0, (0, 0, 0, 0, 1, 0)) in form.support()  # a gamma2 in dL1/dt
+    assert ("L", 0, 0) not in form.profile()  # nor a constant term in the profile

@@ -52,6 +52,8 @@ class Problem:
     defaults: Mapping[int, Sequence[object]] = field(default_factory=dict)
     order: Sequence[int] = ()
     branches: int = 0
+    #: whether a value may be complex (a probe at a specialisation: ``matching``)
+    complex_values: bool = False
 
     def __post_init__(self) -> None:
         if not self.order:
@@ -264,7 +266,7 @@ def _finish(equations, solution, present, problem: Problem):
     for values in found:
         if any(values.get(s) == 0 for s in nonzero):
             continue
-        if any(v.has(sp.I) for v in values.values()):
+        if not problem.complex_values and any(v.has(sp.I) for v in values.values()):
             continue
         done = {k: sp.cancel(v.xreplace(values)) for k, v in base.items()}
         done.update(values)

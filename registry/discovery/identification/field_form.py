@@ -54,6 +54,8 @@ class FieldForm:
         out = set()
         for i, f in enumerate(self.field):
             kind = "L" if i < 3 else "gamma"
+            if f == 0:  # the zero polynomial's monoms() is [(0, ..., 0)]: no term
+                continue
             for monomial in sp.Poly(f, *STATE).monoms():
                 out.add((kind, sum(monomial[:3]), sum(monomial[3:])))
         return frozenset(out)

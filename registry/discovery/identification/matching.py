@@ -20,6 +20,7 @@ nothing: the system is then said to match no case, never that none exists.
 from __future__ import annotations
 
 import itertools
+import random
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
@@ -34,6 +35,8 @@ TAU, LAM, RHO = sp.symbols("tau_ lam_ rho_")
 SIGNS = sp.symbols("e1_ e2_ e3_")
 COS, SIN = sp.symbols("cos_ sin_")
 SHIFT = sp.symbols("h0_ h1_ h2_ h3_")
+#: The seed of the values ``specialised`` gives the first system's parameters.
+PROBE_SEED = 1889
 PRIMED = sp.symbols("Lp1_ Lp2_ Lp3_ gp1_ gp2_ gp3_")
 
 
@@ -72,14 +75,43 @@ def match(
         turned = list(rotated)
     else:
         turned = plain
-    if (0, 1, 2) in [tuple(o) for o in plain]:  # the parameters alone first: cheap
-        found = _try(mine, theirs, (0, 1, 2), None, 0, assumptions, fixed=True)
+    attempts = [(order, None) for order in plain] + [(order, axis) for order in turned]
+    if mine.parameters:  # first at a point of mine's parameters, over Q: cheap
+        if _attempts(specialised(mine), theirs, assumptions, attempts, probe=True) is None:
+            return None
+    return _attempts(mine, theirs, assumptions, attempts)
+
+
+def specialised(form: FieldForm) -> FieldForm:
+    """The form at fixed pseudo-random positive rational values of its parameters (whole
+    numbers for integer ones): the same values in every run, so identification is
+    reproducible."""
+    rng = random.Random(PROBE_SEED)
+    values = {
+        p: sp.Integer(rng.randint(3, 97))
+        if p.is_integer
+        else sp.Rational(rng.randint(101, 997), rng.randint(101, 997))
+        for p in form.parameters
+    }
+    kinetic = None if form.kinetic is None else sp.ImmutableMatrix(form.kinetic.xreplace(values))
+    return FieldForm(
+        (),
+        kinetic,
+        tuple(sp.sympify(e).xreplace(values) for e in form.shift),  # type: ignore[arg-type]
+        tuple(sp.expand(sp.sympify(f).xreplace(values)) for f in form.field),
+    )
+
+
+def _attempts(mine, theirs, assumptions, attempts, probe=False) -> Match | None:
+    """The attempts (an order of the axes, a rotation axis or None) in order, after the
+    parameters alone (module docstring); the first match found."""
+    if ((0, 1, 2), None) in [(tuple(o), a) for o, a in attempts]:  # the parameters alone
+        found = _try(mine, theirs, (0, 1, 2), None, 0, assumptions, fixed=True, probe=probe)
         if found is not None:
             return found
-    attempts = [(order, None) for order in plain] + [(order, axis) for order in turned]
     shifts = 4 if mine.shifted else 0
     for order, about in attempts:
-        found = _try(mine, theirs, tuple(order), about, shifts, assumptions)
+        found = _try(mine, theirs, tuple(order), about, shifts, assumptions, probe=probe)
         if found is not None:
             return found
     return None
@@ -152,10 +184,14 @@ class _Setting:
         return self.ring.from_expr(sp.sympify(expr).xreplace(symbols))
 
 
-def _try(mine, theirs, order, axis, shifts, assumptions, fixed=False) -> Match | None:
+def _try(mine, theirs, order, axis, shifts, assumptions, fixed=False, probe=False):
     """One attempt: an order of the axes, a rotation axis or None, how many shift
     coefficients; ``fixed``: the identity transformation, the case's parameters alone
-    unknown."""
+    unknown; ``probe``: at a specialisation of the first system (``specialised``, its
+    values allowed by its assumptions), where complex values are not refused (a real
+    square root of a parameter expression may be imaginary at one point): a value that is
+    positive for all the system's parameter values is positive there too, so a match at
+    generic values is a match there, and only a failed probe skips the generic attempt."""
     setting = _Setting(mine, theirs, shifts, axis is not None)
     rotation = (axis, COS, SIN) if axis is not None else None
     matrix = axes_matrix(order, (1, 1, 1) if fixed else SIGNS, rotation)
@@ -167,20 +203,20 @@ def _try(mine, theirs, order, axis, shifts, assumptions, fixed=False) -> Match |
     circle = [setting.unknown_ring.from_expr(COS**2 + SIN**2 - 1)] if rotation else []
     kinetic = _kinetic(setting, mine, theirs, matrix, transformation.tau, transformation.lam)
     if kinetic is not None:  # the inverse inertias first: most orders fail there, cheaply
-        problem = _problem(setting, theirs, assumptions, index)
+        problem = _problem(setting, theirs, assumptions, index, probe)
         if solve([*kinetic, *circle], problem) is None:
             return None
     equations = _equations(setting, mine, theirs, transformation)
     if equations is None:
         return None
     equations += circle
-    solution = solve(equations, _problem(setting, theirs, assumptions, index))
+    solution = solve(equations, _problem(setting, theirs, assumptions, index, probe))
     if solution is None:
         return None
     by_name = {str(u): u for u in setting.unknowns}
     solution = {by_name[str(k)]: v for k, v in solution.items()}
     back = {v: k for k, v in setting.renamed.items()}
-    return _completed(mine, theirs, transformation, solution, setting, back, assumptions)
+    return _completed(mine, theirs, transformation, solution, setting, back, assumptions, probe)
 
 
 def _kinetic(setting: _Setting, mine, theirs, matrix, tau=TAU, lam=LAM) -> list[PolyElement] | None:
@@ -200,7 +236,7 @@ def _kinetic(setting: _Setting, mine, theirs, matrix, tau=TAU, lam=LAM) -> list[
     return out
 
 
-def _problem(setting: _Setting, theirs, assumptions, index) -> Problem:
+def _problem(setting: _Setting, theirs, assumptions, index, probe=False) -> Problem:
     """The unknowns' constraints and default values (``equation_solver.Problem``)."""
     nonzero = {TAU, LAM, RHO, *SIGNS} | {
         setting.renamed[p]
@@ -223,6 +259,7 @@ def _problem(setting: _Setting, theirs, assumptions, index) -> Problem:
         frozenset(index[u] for u in SIGNS),
         positive,
         defaults,
+        complex_values=probe,
     )
 
 
@@ -359,7 +396,7 @@ def _case_polynomials(form: FieldForm) -> tuple[dict, list[dict]]:
     return dict(sp.Poly(common, *gens, domain=sp.QQ).terms()), polys
 
 
-def _completed(mine, theirs, transformation, solution, setting, back, assumptions):
+def _completed(mine, theirs, transformation, solution, setting, back, assumptions, probe=False):
     """The solution with its free unknowns given their simplest values (scalings and
     signs +-1 so that positive parameters come out positive), checked exactly."""
     free = [u for u in setting.unknowns if u not in solution]
@@ -375,7 +412,7 @@ def _completed(mine, theirs, transformation, solution, setting, back, assumption
         full = {k: _simplified(sp.sympify(v).xreplace(values)) for k, v in solution.items()}
         full.update(values)
         case_values = {back[u]: full[u] for u in setting.renamed.values()}
-        if not _allowed(case_values, assumptions):
+        if not _allowed(case_values, assumptions, complex_values=probe):
             continue
         renamed_values = {u: full[u] for u in setting.renamed.values()}
         concrete = transformation.substitute({**full, **renamed_values})
@@ -396,10 +433,12 @@ def _simplified(expr: sp.Expr) -> sp.Expr:
     return sp.radsimp(expr) if expr.has(sp.Pow) else expr
 
 
-def _allowed(values: Mapping[sp.Symbol, sp.Expr], assumptions: Mapping[str, str]) -> bool:
+def _allowed(
+    values: Mapping[sp.Symbol, sp.Expr], assumptions: Mapping[str, str], complex_values=False
+) -> bool:
     for p, v in values.items():
         kind = assumptions.get(str(p))
-        if v.has(sp.I, sp.zoo, sp.nan):
+        if v.has(sp.zoo, sp.nan) or (v.has(sp.I) and not complex_values):
             return False
         if kind == "positive" and v.is_positive is not True:
             return False
