@@ -11,8 +11,12 @@ the whole catalog in under 1 s).
    heavy top with moments 1, 2, 3 (asymmetric-heavy-top), a member of the catalog's
    general heavy-top cases only: the special cases must be ruled out or fail to match.
 
+4. with --catalog, every case of the catalog against all the others in this process
+   (what ``registry identify`` does, one case per worker): the total, the slowest
+   cases, and how many are the same system as another.
+
 CPU seconds (process time) are printed beside wall seconds: the machine is shared.
-Usage: python scripts/bench_identify.py [--repeat 3]
+Usage: python scripts/bench_identify.py [--repeat 3] [--catalog]
 Nothing here is asserted by the tests.
 """
 
@@ -38,13 +42,14 @@ def timed(fn):
 def main() -> None:
     parser = argparse.ArgumentParser()
     parser.add_argument("--repeat", type=int, default=3)
+    parser.add_argument("--catalog", action="store_true", help="every case against the others")
     args = parser.parse_args()
     with tempfile.TemporaryDirectory(prefix="bench-identify-") as cache:
         os.environ["REGISTRY_CACHE"] = cache  # cold: an empty cache folder, removed after
-        run(args.repeat)
+        run(args.repeat, args.catalog)
 
 
-def run(repeat: int) -> None:
+def run(repeat: int, catalog: bool) -> None:
 
     from registry.discovery.identification import catalog_index  # noqa: PLC0415
     from registry.discovery.identification.identify import identify  # noqa: PLC0415
@@ -84,6 +89,18 @@ def run(repeat: int) -> None:
             f"{', ...' if len(found.same) > 4 else ''}), {len(found.compared)} compared, "
             f"best of {repeat}: {best[0]:.2f} s wall, {best[1]:.2f} s CPU"
         )
+    if catalog:
+        times = []
+        for case in cases:
+            found, wall, cpu = timed(lambda c=case: identify(c.dynamics, index, exclude=(c.id,)))
+            times.append((cpu, case.id, len(found.same)))
+        same = sum(1 for _, _, n in times if n)
+        print(
+            f"the catalog against itself: {sum(t for t, _, _ in times):.1f} s CPU for "
+            f"{len(cases)} cases, {same} the same system as another; slowest:"
+        )
+        for cpu, case_id, n in sorted(times, reverse=True)[:5]:
+            print(f"    {case_id}: {cpu:.2f} s CPU, {n} cases")
 
 
 if __name__ == "__main__":

@@ -19,3 +19,26 @@ def test_goryachev_chaplygins_body_is_not_kovalevskayas():
     mine = field_form(catalog_case("kovalevskaya-1889-heavy-top-normalised").dynamics)
     theirs = field_form(catalog_case("goryachev-chaplygin-1900").dynamics)
     assert match(mine, theirs, assumptions={"C": "positive"}) is None
+
+
+def test_the_probe_point_is_fixed_positive_and_leaves_no_parameter():
+    from registry.discovery.identification.matching import specialised
+
+    form = field_form(catalog_case("kovalevskaya-1889-heavy-top").dynamics)
+    point = specialised(form)
+    assert point == specialised(form)  # the same values in every run
+    assert point.parameters == ()
+    assert not any(f.free_symbols & set(form.parameters) for f in point.field)
+    c = point.kinetic[2, 2]  # 1/C at the point: a positive rational
+    assert c.is_Rational and c > 0
+
+
+def test_a_match_with_parameters_is_found_through_the_probe_and_then_generically():
+    from registry.discovery.identification import matching
+
+    mine = field_form(catalog_case("kovalevskaya-1889-heavy-top").dynamics)
+    theirs = field_form(catalog_case("kovalevskaya-1889-heavy-top-normalised").dynamics)
+    found = match(mine, theirs)
+    assert {str(k): str(v) for k, v in found.values.items()} == {"c0": "C*a"}  # generic
+    probed = matching._attempts(matching.specialised(mine), theirs, {}, [((0, 1, 2), None)])
+    assert probed is not None and probed.values[next(iter(probed.values))].is_Rational
