@@ -48,6 +48,12 @@ class ClaimKind(StrEnum):
     MEASURE = "measure"  # the density rho of an invariant measure: div(rho v) = 0
     RELATION = "relation"  # its zero set is invariant: dF/dt vanishes where F = 0
 
+    @property
+    def conserved(self) -> bool:
+        """Whether a claim of this kind is a first integral (an integral or a Casimir;
+        a density or an invariant relation is none): what searches count as known."""
+        return self in (ClaimKind.INTEGRAL, ClaimKind.CASIMIR)
+
 
 class Verdict(StrEnum):
     """The outcome of one check. ``error`` means the check itself crashed."""

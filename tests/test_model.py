@@ -70,3 +70,9 @@ def test_results_are_found_by_check_and_claim():
 
 def test_variable_names_are_those_of_the_mechanics():
     assert VARIABLE_NAMES == tuple(str(v) for v in (*STATE, s))
+
+
+def test_only_integrals_and_casimirs_are_conserved_kinds():
+    from registry.model import ClaimKind
+
+    assert {k for k in ClaimKind if k.conserved} == {ClaimKind.INTEGRAL, ClaimKind.CASIMIR}

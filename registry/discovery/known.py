@@ -17,7 +17,7 @@ from ..language.printer import to_text
 from ..mathematics.case_mechanics import CaseMechanics
 from ..mathematics.families import recognise
 from ..mathematics.zero_test import decide
-from ..model import Case, ClaimKind, IntegralSet, IntegralStatus, Verdict
+from ..model import Case, IntegralSet, IntegralStatus, Verdict
 from . import novelty
 from .ansatz import PolynomialSystem
 from .integrals import Generator
@@ -111,7 +111,7 @@ def verified_claims(case: Case, system: PolynomialSystem) -> list[novelty.Known]
     the audit does not verify is not known (nothing is taken on trust)."""
     applicable = []
     for claim in case.claims:
-        if claim.kind not in (ClaimKind.INTEGRAL, ClaimKind.CASIMIR):
+        if not claim.kind.conserved:
             continue  # a density or an invariant relation is no integral
         try:
             inside = all(not system.polynomial(eq.expr) for eq in claim.on)

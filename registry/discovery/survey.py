@@ -12,7 +12,7 @@ from ..errors import DiscoveryError
 from ..execution.executor import Executor, InProcess, in_order, timed
 from ..execution.serving import Failure
 from ..mathematics.grading import ring_degree, weights_by_symbol
-from ..model import Case, Claim, ClaimKind, IntegralSet, Provenance, Search, SearchOptions, Weights
+from ..model import Case, Claim, IntegralSet, Provenance, Search, SearchOptions, Weights
 from .search import discover
 
 #: The smallest degree searched: below it no integral beyond H and |gamma|^2 can show.
@@ -30,7 +30,7 @@ def stated_options(case: Case) -> list[SearchOptions]:
     an invariant relation is no integral), at least 2.
     """
     weights = case.dynamics.grading
-    integrals = [c for c in case.claims if c.kind in (ClaimKind.INTEGRAL, ClaimKind.CASIMIR)]
+    integrals = [c for c in case.claims if c.kind.conserved]
     claims = [c for c in integrals if c.provenance is Provenance.LITERATURE] or integrals
     degree = max(
         [
