@@ -93,6 +93,19 @@ def _registry(create: bool = False) -> Registry:
     return ctx.obj["registry"]
 
 
+def _registry_for(target: str, record: bool) -> Registry | None:
+    """The registry a command on "a case file or a stored case's id" needs: none for a
+    file handled without --record (no database is needed, and none is created)."""
+    if record or not Path(target).is_file():
+        return _registry(create=True)
+    return _existing_registry()
+
+
+def _names(text: str) -> tuple[str, ...]:
+    """A comma-separated list of names (``--free a,b``), blanks dropped."""
+    return tuple(name.strip() for name in text.split(",") if name.strip())
+
+
 def _existing_registry() -> Registry | None:
     """The registry named by --db if it exists (None otherwise): nothing is created."""
     try:
@@ -431,13 +444,12 @@ def discover(
 
     check_where(jobs, scheduler)
     weights = _weights(weights_text)
-    free = tuple(f.strip() for f in free_text.split(",") if f.strip())
-    is_file = Path(target).is_file()
+    free = _names(free_text)
     if measure:
+        is_file = Path(target).is_file()
         _measures(target, is_file, as_json, relations or record or bool(free) or bool(on))
         return
-    # a file searched without --record needs no database, and creates none
-    reg = _registry(create=True) if record or not is_file else _existing_registry()
+    reg = _registry_for(target, record)
     options: dict[str, Any] = dict(
         degree=degree,
         weights=weights,
@@ -706,9 +718,8 @@ def exponents(
 
     check_where(jobs, scheduler)
     weights = _weights(weights_text)
-    free = tuple(f.strip() for f in free_text.split(",") if f.strip())
-    is_file = Path(target).is_file()
-    reg = _registry(create=True) if record or not is_file else _existing_registry()
+    free = _names(free_text)
+    reg = _registry_for(target, record)
     options: dict[str, Any] = dict(
         weights=weights, free=free, budget=seconds, jobs=jobs, scheduler=scheduler
     )
