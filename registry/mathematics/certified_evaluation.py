@@ -68,10 +68,27 @@ def evaluate(expr: sp.Expr, point: Mapping[sp.Symbol, sp.Expr]) -> Value:
 
     Raises OutsideDomain where the expression is undefined or not real there.
     """
-    with mpmath.workdps(INTERVAL_DPS):
-        _iv.dps = INTERVAL_DPS
-        env = {sym: _number(val, {}) for sym, val in point.items()}
-        return _as_value(_eval(expr, env, {}))
+    return At(point)(expr)
+
+
+class At:
+    """Evaluation of several expressions at one exact point: ``At(point)(expr)`` is
+    ``evaluate(expr, point)``, with the point's values converted once and the values of
+    common subexpressions (a radical shared by the components of a residual) computed
+    once for all the expressions evaluated there."""
+
+    def __init__(self, point: Mapping[sp.Symbol, sp.Expr]) -> None:
+        self.point = point
+        self._env: dict | None = None
+        self._cache: dict = {}
+
+    def __call__(self, expr: sp.Expr) -> Value:
+        """The value of ``expr`` at the point; OutsideDomain as ``evaluate``."""
+        with mpmath.workdps(INTERVAL_DPS):
+            _iv.dps = INTERVAL_DPS
+            if self._env is None:
+                self._env = {sym: _number(val, {}) for sym, val in self.point.items()}
+            return _as_value(_eval(expr, self._env, self._cache))
 
 
 # --- internals: values are Fraction (exact) or mpmath.iv.mpf (enclosure) ---

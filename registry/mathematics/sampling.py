@@ -20,7 +20,7 @@ from functools import lru_cache
 import sympy as sp
 from sympy.core.function import AppliedUndef
 
-from .certified_evaluation import OutsideDomain, evaluate, exact_root
+from .certified_evaluation import At, OutsideDomain, exact_root
 from .domain import Domain
 
 
@@ -77,9 +77,10 @@ def radical_bases(exprs) -> list[tuple[sp.Expr, int]]:
 def _exact_radicals(point: Mapping, bases: Sequence[tuple[sp.Expr, int]]) -> int:
     """How many of the radicals are rational at the point (higher is better)."""
     count = 0
+    at = At(point)
     for base, q in bases:
         try:
-            value = evaluate(base, point)
+            value = at(base)
         except (OutsideDomain, ValueError):
             continue
         exact = value.exact
@@ -119,6 +120,8 @@ def sample_point(domain: Domain, rng: random.Random, funcs, bases=()) -> dict | 
         score = _exact_radicals(candidate, bases) if bases else 0
         if score > best_score:
             best, best_score = candidate, score
+        if not bases:
+            break  # without radicals every arrangement scores 0: the first one is kept
     if best is None:
         return None
     point = best
@@ -128,11 +131,12 @@ def sample_point(domain: Domain, rng: random.Random, funcs, bases=()) -> dict | 
         if not _place_on_set(point, domain, rng, funcs):
             return None
         _put_shorthands(point, domain)
+    at = At(point)  # the point's values converted once for every expression
     try:
-        if not all(evaluate(e, point).certainly_nonzero() for e in domain.nonzero):
+        if not all(at(e).certainly_nonzero() for e in domain.nonzero):
             return None
         for expr in domain.defined:
-            evaluate(substitute_functions(expr, funcs), point)
+            at(substitute_functions(expr, funcs))
     except OutsideDomain:
         return None
     return point

@@ -26,7 +26,7 @@ from dataclasses import dataclass
 import sympy as sp
 
 from ..model import Verdict, Witness
-from .certified_evaluation import OutsideDomain, Value, evaluate
+from .certified_evaluation import At, OutsideDomain, Value
 from .domain import Domain
 from .normal_form import prove_zero
 from .sampling import concrete_functions, radical_bases, sample_point, substitute_functions
@@ -132,7 +132,8 @@ def _probe(live, domain: Domain, probes: int, rng: random.Random) -> ZeroTest | 
         if point is None:
             continue
         try:
-            values = {label: evaluate(expr, point) for label, expr in residuals.items()}
+            at = At(point)  # the point's values converted once for every residual
+            values = {label: at(expr) for label, expr in residuals.items()}
         except OutsideDomain:
             continue
         for label, value in values.items():

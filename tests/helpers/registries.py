@@ -23,7 +23,8 @@ def full_registry(path: Path) -> Path:
     """An SQLite registry holding rows in every table: the seed cases and one in the
     Hamiltonian form, a second version of one, a renamed case with an alias, two
     recorded searches (a generic integral attached as a claim, derived cases), a recorded
-    Kovalevskaya analysis, two identifications, an audit with corrections, and a numerical one (evidence).
+    Kovalevskaya analysis, two identifications, an audit with corrections, and a numerical
+    one (evidence).
     About 15 s of work."""
     with registry.open(path) as reg:
         reg.add(*(case_file(c) for c in SEED), FAMILIES / "lagrange-lam.toml", SO31)

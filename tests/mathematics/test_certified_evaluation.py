@@ -5,7 +5,7 @@ from fractions import Fraction
 import pytest
 import sympy as sp
 
-from registry.mathematics.certified_evaluation import OutsideDomain, evaluate
+from registry.mathematics.certified_evaluation import At, OutsideDomain, evaluate
 
 x, y = sp.symbols("x y", real=True)
 
@@ -67,3 +67,28 @@ def test_enclosures_contain_the_true_value(expr, value):
 def test_undefined_points_are_reported(expr, point):
     with pytest.raises(OutsideDomain):
         evaluate(expr, point)
+
+
+def test_one_point_many_expressions_gives_what_evaluate_gives():
+    point = {x: sp.Rational(3, 2), y: sp.sqrt(2)}
+    at = At(point)
+    exprs = [
+        sp.sqrt(x**2 + y**2) * x,  # a radical shared with the next expression
+        sp.sqrt(x**2 + y**2) - y,
+        x**2 / 3 - sp.Rational(3, 4),
+        sp.atan(y) + x,
+    ]
+    for expr in exprs:
+        mine, theirs = at(expr), evaluate(expr, point)
+        assert mine.exact == theirs.exact
+        assert mine.text() == theirs.text()
+    assert at(x**2 / 3 - sp.Rational(3, 4)).exact == 0
+
+
+def test_one_point_reports_each_undefined_expression_and_goes_on():
+    at = At({x: sp.Integer(0), y: sp.Integer(2)})
+    with pytest.raises(OutsideDomain):
+        at(1 / x)
+    with pytest.raises(OutsideDomain):
+        at(sp.sqrt(x - y))
+    assert at(y**2 + x).exact == Fraction(4)
