@@ -87,7 +87,24 @@ def main(argv: list[str] | None = None) -> int:
                 width = registry.api.terminal_width()
                 print(wrapped(survey_line([r.search for r in surveyed]), width))
                 print(wrapped(exponents_line(surveyed), width))
+            print(wrapped(identification_line(reg.cases()), width))
     return 1 if refused else 0
+
+
+def identification_line(cases) -> str:
+    """Which cases are recorded as the same system as another (``registry identify``,
+    not run by the main job: the catalog against itself takes minutes)."""
+    identified = cases[cases["same_as"].notna()]
+    if not len(identified):
+        return (
+            "Same systems: not identified yet; registry identify compares every case with "
+            "the others (a few minutes), then registry cases and the site show them"
+        )
+    same = sum(bool(s) for s in identified["same_as"])
+    return (
+        f"Same systems: {same} of {len(identified)} identified cases are the same system as "
+        "another case; see reg.identifications()"
+    )
 
 
 if __name__ == "__main__":

@@ -93,3 +93,23 @@ def test_cases_never_identified_are_unknown_not_none(tmp_path):
     table = frames.case_table(store)
     assert table.loc[0, "same_as"] is None and table.loc[0, "equivalent"] is None
     store.close()
+
+
+def test_the_main_job_says_whether_the_catalog_was_identified(tmp_path):
+    import importlib.util
+    from pathlib import Path
+
+    path = Path(__file__).resolve().parents[2] / "scripts" / "audit.py"
+    spec = importlib.util.spec_from_file_location("main_job", path)
+    main_job = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(main_job)
+    store = _store(tmp_path, KOVALEVSKAYA, NORMALISED, LAGRANGE)
+    assert main_job.identification_line(frames.case_table(store)).startswith(
+        "Same systems: not identified yet; registry identify compares every case"
+    )
+    identify_run(store, None, InProcess())
+    assert main_job.identification_line(frames.case_table(store)) == (
+        "Same systems: 2 of 3 identified cases are the same system as another case; "
+        "see reg.identifications()"
+    )
+    store.close()
