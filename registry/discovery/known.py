@@ -14,6 +14,7 @@ from sympy import QQ
 from ..audit.case_audit import audit_case
 from ..errors import DiscoveryError
 from ..language.printer import to_text
+from ..mathematics.bracket_casimirs import polynomial_casimirs
 from ..mathematics.case_mechanics import CaseMechanics
 from ..mathematics.families import recognise
 from ..mathematics.zero_test import decide
@@ -27,13 +28,19 @@ from .linear import Field
 def known_integrals(m: CaseMechanics) -> list[tuple[str, sp.Expr]]:
     """H and the bracket's known Casimirs, named: those of the system's ``casimirs`` that
     are Casimirs of its bracket (on e(3) |gamma|^2, for every torque; on so(4) and
-    so(3,1) kappa |M|^2 + |gamma|^2 and s, which a torque may destroy: decided by the zero
-    test) and, on e(3), the Casimir of the torque's family (s where there is no torque)."""
+    so(3,1) kappa |M|^2 + |gamma|^2 and s, which a torque may destroy; for a bracket
+    given entry by entry, its polynomial Casimirs of degree <= 2: each decided by the
+    zero test) and, on e(3), the Casimir of the torque's family (s where there is no
+    torque)."""
     dynamics = m.dynamics
     named: list[tuple[str, sp.Expr]] = []
     if m.hamiltonian is not None:
         named.append(("H", m.hamiltonian))
-    for name, expr in dynamics.casimirs:
+    casimirs = list(dynamics.casimirs)
+    if dynamics.bracket is not None and not casimirs:  # a bracket of its own: its quadrics
+        found = polynomial_casimirs(dynamics.bracket, dynamics.variables)
+        casimirs = [(to_text(c), c) for c in found]
+    for name, expr in casimirs:
         if decide(m.casimir_residual(expr), m.domain).verdict is Verdict.VERIFIED:
             named.append((name, expr))
     if m.mu is not None and m.kappa == 0:

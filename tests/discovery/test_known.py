@@ -41,3 +41,22 @@ def test_only_the_claims_the_audit_proves_are_known():
     m = CaseMechanics(case)
     system = _system(search_options(case, degree=2), m, [])[0]
     assert [k.name for k in verified_claims(case, system)] == ["M3"]
+
+
+def test_a_bracket_of_its_own_has_its_quadratic_casimirs_known():
+    """Ryabov's two-field Kowalevski top on (M, alpha, beta): |alpha|^2, alpha.beta and
+    |beta|^2 are Casimirs of its bracket, known to the search like |gamma|^2 on e(3), so
+    the one extra integral of degree 4 is the Kowalevski-type quartic alone."""
+    case = load_case(CASES / "two-fields" / "ryabov-2014-two-field-kowalevski-top.toml")
+    names = [name for name, _ in known_integrals(CaseMechanics(case))]
+    assert names == [
+        "H",
+        "alpha1**2 + alpha2**2 + alpha3**2",
+        "alpha1*beta1 + alpha2*beta2 + alpha3*beta3",
+        "beta1**2 + beta2**2 + beta3**2",
+    ]
+    from registry.discovery.search import discover
+
+    found = discover(case, search_options(case, degree=4))
+    assert found.complete and found.generic.extra == 1
+    assert all(s.new for s in found.generic.status)
