@@ -362,7 +362,15 @@ def _painleve_locus(split, p, exceptional, invalid, analyses, seed):
             for condition in r.conditions:
                 numer = sp.expand(sp.fraction(sp.together(condition))[0])
                 others = sorted(numer.free_symbols - {p}, key=str)
-                parts = sp.Poly(numer, *others).coeffs() if others else [numer]
+                try:
+                    parts = sp.Poly(numer, *others).coeffs() if others else [numer]
+                except sp.PolynomialError:  # a radical of the free coefficients
+                    notes.append(
+                        f"a compatibility condition at resonance {r.order} is not "
+                        f"polynomial in the free coefficients for generic {p}: the values "
+                        "where the Painlevé test passes were not sought"
+                    )
+                    return generic, (), tuple(notes)
                 equations += [sp.expand(c) for c in parts]
     if not equations:
         return generic, (), ("the Painlevé test passes for generic values of the parameter",)

@@ -578,6 +578,28 @@ def test_a_generated_familys_special_set_is_the_catalog_case_it_was_made_from():
     assert moved["M1"].lstrip("-") == "M3"  # the axes 1 and 3 exchanged, as generated
 
 
+def test_an_entry_of_wolfs_list_is_rediscovered_and_identified():
+    """Wolf and Efimovskaya's set S4 (a Hamiltonian with M3 gamma1 cross terms) at b = 1,
+    n3 = 1, m2 = 0, with its condition m1 = b n3 left free: the search finds the set
+    m1 = 1, identifies it with the list's entry, and names its quartic K: the claim is
+    carried through the entry's normal form at its values (its shift holds b and n3)."""
+    case = family("wolf-s4-m1")
+    found = discover(
+        case,
+        search_options(case, degree=4, weights={"M": 1, "gamma": 1}, free=("m1",)),
+        catalog=catalog_index(),
+    )
+    assert found.complete and found.generic.extra == 0
+    (point,) = found.special
+    assert point.when == ("m1 = 1",)
+    (status,) = point.status
+    assert status.status == "rediscovered"
+    assert status.equals == ("wolf-2003-e3-sokolov-linear:K",)
+    same = {s.case: s for s in point.same_as}
+    assert dict(same["wolf-2003-e3-sokolov-linear"].values) == {"b": "1", "m2": "0", "n3": "1"}
+    assert same["wolf-2003-e3-sokolov-linear"].claims == ("K",)
+
+
 def test_a_failed_identification_is_in_the_coverage_and_the_search_is_not_complete(
     monkeypatch,
 ):

@@ -80,3 +80,21 @@ def test_the_analyses_at_candidate_values_run_through_the_mapper_given():
     assert [s.values for s in mapped.special] == [
         s.values for s in exponent_family([x, y], field, [1, 1], [p]).special
     ]
+
+
+def test_a_compatibility_condition_with_radicals_is_named_not_a_crash():
+    """Wolf's set S4 with m1 free: at one balance the compatibility condition holds a
+    square root of the free coefficients, so it cannot be split by their coefficients;
+    the values where the Painlevé test passes are then not sought, and the coverage
+    says so (this raised PolynomialError before)."""
+    import registry
+    from tests.helpers.samples import FAMILIES
+
+    report = registry.analyse_exponents(
+        FAMILIES / "wolf-s4-m1.toml", free=["m1"], weights={"M": 1, "gamma": 1}
+    )
+    assert report.result.decided
+    assert any(
+        "not polynomial in the free coefficients" in line
+        for line in report.result.document["coverage"]
+    )

@@ -15,10 +15,10 @@ the audit, is what is checked.
 from __future__ import annotations
 
 from collections.abc import Sequence
+from dataclasses import replace
 
 import sympy as sp
 
-from ...model import ClaimKind
 from .catalog_index import CatalogIndex
 from .field_form import FieldForm
 from .identify import SameAs
@@ -36,15 +36,19 @@ def carried_claims(
         if entry is None or entry.form is None:
             continue
         values = match.found.values
+        # the case's normal form at those values: its shift f(gamma) may hold parameters
+        at_values = replace(
+            entry.form, shift=tuple(sp.sympify(e).xreplace(values) for e in entry.form.shift)
+        )
         for claim in entry.case.claims:
-            if claim.on or claim.kind not in (ClaimKind.INTEGRAL, ClaimKind.CASIMIR):
+            if claim.on or not claim.kind.conserved:
                 continue
             expr = entry.case.dynamics.expanded(claim.expression.expr)
             if expr.atoms(sp.Function) or not expr.free_symbols:
                 continue
             try:
                 at = sp.sympify(expr).xreplace(values)
-                carried = match.found.transformation.pullback(at, entry.form, mine)
+                carried = match.found.transformation.pullback(at, at_values, mine)
             except (TypeError, ValueError, ZeroDivisionError):
                 continue
             if any(not a.exp.is_Integer for a in carried.atoms(sp.Pow)):
