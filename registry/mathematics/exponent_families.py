@@ -434,9 +434,9 @@ def _exponent_polynomial(generic: ExponentAnalysis, matrix: sp.Matrix):
             for c in sp.Poly(sp.together(expr), u).coeffs() if expr.has(u) else [expr]:
                 poles.append(sp.fraction(sp.cancel(c))[1])
     equations = []
-    for q in poles:
-        for f, _ in factor_list(q, sorted(params, key=str)):
-            if f.free_symbols & params and f not in equations:
+    for q in poles:  # a family of balances' coordinate may stay in a pole: factored too
+        for f, _ in factor_list(q, sorted(sp.sympify(q).free_symbols, key=str)):
+            if f.free_symbols and f.free_symbols <= params and f not in equations:
                 equations.append(f)
     factors = tuple(sorted(total.items(), key=lambda fe: sp.default_sort_key(fe[0])))
     return factors, varying, equations

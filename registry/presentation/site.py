@@ -320,9 +320,16 @@ class _Views:
         at some of its values (``members``), and whether it was identified at all."""
         frame = self.catalog.identifications
         identified = self.catalog.cases.set_index("case")["same_as"].get(case_id) is not None
-        note = self.catalog.cases.set_index("case")["identification_note"].get(case_id)
+        row = self.catalog.cases.set_index("case").loc[case_id]
+        note = row.get("identification_note")
+        state = {
+            "identified": identified,
+            "note": note,
+            "complete": row.get("identification_complete") is not False,
+            "current": row.get("identification_current") is not False,
+        }
         if frame is None or not len(frame):
-            return {"identified": identified, "same_systems": [], "members": [], "note": note}
+            return {**state, "same_systems": [], "members": []}
         mine = frame[frame["case"] == case_id]
         same = [
             {
@@ -338,7 +345,7 @@ class _Views:
             for row in frame[frame["same_as"] == case_id].to_dict("records")
             if not row["equivalent"]
         )
-        return {"identified": identified, "same_systems": same, "members": members, "note": note}
+        return {**state, "same_systems": same, "members": members}
 
     def entry_bibtex(self, entry: CaseEntry, history: Sequence[dict[str, Any]]) -> str:
         """The registry entry of a case as BibTeX (cite the page, next to its source)."""

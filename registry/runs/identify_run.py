@@ -11,7 +11,6 @@ only this process writes.
 
 from __future__ import annotations
 
-import hashlib
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
@@ -20,7 +19,7 @@ from ..discovery.identification.identify import identify
 from ..execution.executor import Executor, in_order
 from ..execution.serving import Failure
 from ..model import Case, CaseIdentification, SameSystem
-from ..store.database import Store, StoredCase
+from ..store.database import Store
 from ..version import code_version
 
 #: Seconds a comparison may run past an identification's budget before it is stopped:
@@ -32,13 +31,6 @@ def catalog_index(store: Store) -> CatalogIndex:
     """The identification index of the latest version of every case the registry holds
     (``discovery.identification.catalog_index``; each case's forms are computed once)."""
     return CatalogIndex.of(stored.parse() for stored in store.case_versions())
-
-
-def catalog_digest(versions: Sequence[StoredCase]) -> str:
-    """A digest of the catalog's latest case versions: it changes when a case is added
-    or changed, and an identification against another catalog is not reused."""
-    text = "\n".join(sorted(f"{s.case_id} {s.content_hash}" for s in versions))
-    return hashlib.sha256(text.encode()).hexdigest()[:16]
 
 
 def identify_run(
@@ -55,7 +47,7 @@ def identify_run(
     case (the cases left are named as skipped, never said to be other systems)."""
     store.require_writer("record identifications")
     versions = store.case_versions()
-    digest = catalog_digest(versions)
+    digest = store.catalog_digest()
     wanted = set(case_ids) if case_ids else None
     if wanted is not None:
         store.case_versions(sorted(wanted))  # UnknownCaseError for a case not held
@@ -80,7 +72,8 @@ def identify_run(
         for done, (k, outcome) in enumerate(in_order(calls, len(items))):
             stored = chosen[todo[k]]
             if isinstance(outcome, Failure):  # the call gave no result: nothing compared
-                outcome = _Outcome(skipped=tuple(i for i in index.ids() if i != stored.case_id))
+                others = tuple(i for i in index.ids() if i != stored.case_id)
+                outcome = _Outcome(skipped=others, note=f"no result came back: {outcome.reason}")
             result = CaseIdentification(
                 stored.case_id,
                 stored.version,

@@ -15,6 +15,7 @@ Around it: ``tables`` (the rows), ``conversions`` (rows to domain objects and ba
 
 from __future__ import annotations
 
+import hashlib
 import platform
 import sqlite3
 from collections.abc import Callable, Iterator, Sequence
@@ -619,6 +620,14 @@ class Store:
             }
 
     # ---------------------------------------------------------- identifications
+
+    @guarded
+    def catalog_digest(self) -> str:
+        """A digest of the latest version of every case: it changes when a case is added
+        or changed, and an identification against another catalog is not reused."""
+        versions = self.case_versions()
+        text = "\n".join(sorted(f"{s.case_id} {s.content_hash}" for s in versions))
+        return hashlib.sha256(text.encode()).hexdigest()[:16]
 
     @guarded
     def record_identification(

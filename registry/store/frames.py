@@ -150,6 +150,13 @@ def case_table(
     frame["identification_note"] = frame["case"].map(
         lambda c: identified[c].note if c in identified else ""
     )
+    current = store.catalog_digest()
+    frame["identification_complete"] = frame["case"].map(
+        lambda c: identified[c].complete if c in identified else None
+    )
+    frame["identification_current"] = frame["case"].map(
+        lambda c: identified[c].catalog == current if c in identified else None
+    )
     keep = pd.Series(True, index=frame.index)
 
     def contains(values: pd.Series, text: str) -> pd.Series:

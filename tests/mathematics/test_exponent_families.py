@@ -98,3 +98,19 @@ def test_a_compatibility_condition_with_radicals_is_named_not_a_crash():
         "not polynomial in the free coefficients" in line
         for line in report.result.document["coverage"]
     )
+
+
+def test_a_pole_that_holds_a_coordinate_of_a_family_of_balances_is_no_crash():
+    """Kovalevskaya's top with its axes exchanged, c free, under weights M: 1, gamma: 1:
+    a family of balances keeps a free coordinate (gamma3) in a pole of its exponents; the
+    parameter equations are the factors in c alone (this raised CoercionFailed)."""
+    import registry
+    from tests.helpers.samples import FAMILIES
+
+    report = registry.analyse_exponents(
+        FAMILIES / "kovalevskaya-transformed.toml",
+        free=["c"],
+        weights={"M": 1, "gamma": 1},
+        budget=60,
+    )
+    assert report.result.decided or "time budget" in report.result.statement

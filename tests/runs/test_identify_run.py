@@ -6,7 +6,7 @@ frames and ``reg.cases()`` show what was found."""
 from __future__ import annotations
 
 from registry.execution.executor import InProcess
-from registry.runs.identify_run import catalog_digest, identify_run
+from registry.runs.identify_run import identify_run
 from registry.store import frames
 from registry.store.database import Store
 from tests.helpers.samples import CASES
@@ -78,7 +78,10 @@ def test_a_recorded_identification_is_reused_until_the_catalog_changes(tmp_path)
     (grown,) = identify_run(store, [KOVALEVSKAYA], here)
     assert not grown.reused and grown.catalog != first.catalog
     assert {s.case for s in grown.same_as} == {NORMALISED, "kovalevskaya-1889-heavy-top-equatorial"}
-    assert catalog_digest(store.case_versions()) == grown.catalog
+    assert store.catalog_digest() == grown.catalog
+    table = frames.case_table(store).set_index("case")
+    assert table.loc[KOVALEVSKAYA, "identification_current"]
+    assert not table.loc[NORMALISED, "identification_current"]  # against the older catalog
     with store.read() as session:
         from sqlalchemy import func, select
 

@@ -188,10 +188,10 @@ def _try(mine, theirs, order, axis, shifts, assumptions, fixed=False, probe=Fals
     """One attempt: an order of the axes, a rotation axis or None, how many shift
     coefficients; ``fixed``: the identity transformation, the case's parameters alone
     unknown; ``probe``: at a specialisation of the first system (``specialised``, its
-    values allowed by its assumptions), where complex values are not refused (a real
-    square root of a parameter expression may be imaginary at one point): a value that is
-    positive for all the system's parameter values is positive there too, so a match at
-    generic values is a match there, and only a failed probe skips the generic attempt."""
+    values allowed by its assumptions), where the solver keeps its positivity rule (a
+    value positive for all the system's parameter values is positive there) but any
+    finite solution counts, complex or not (``_allowed``), so that a match at generic
+    values is one there: only a failed probe skips the generic attempt."""
     setting = _Setting(mine, theirs, shifts, axis is not None)
     rotation = (axis, COS, SIN) if axis is not None else None
     matrix = axes_matrix(order, (1, 1, 1) if fixed else SIGNS, rotation)
@@ -412,7 +412,7 @@ def _completed(mine, theirs, transformation, solution, setting, back, assumption
         full = {k: _simplified(sp.sympify(v).xreplace(values)) for k, v in solution.items()}
         full.update(values)
         case_values = {back[u]: full[u] for u in setting.renamed.values()}
-        if not _allowed(case_values, assumptions, complex_values=probe):
+        if not _allowed(case_values, assumptions, probe=probe):
             continue
         renamed_values = {u: full[u] for u in setting.renamed.values()}
         concrete = transformation.substitute({**full, **renamed_values})
@@ -434,11 +434,21 @@ def _simplified(expr: sp.Expr) -> sp.Expr:
 
 
 def _allowed(
-    values: Mapping[sp.Symbol, sp.Expr], assumptions: Mapping[str, str], complex_values=False
+    values: Mapping[sp.Symbol, sp.Expr], assumptions: Mapping[str, str], probe: bool = False
 ) -> bool:
+    """Whether the case's parameter values are allowed for every value of the first
+    system's parameters: real (no even root of a base not shown nonnegative: sqrt(c2 -
+    c1) is real only where c2 >= c1), positive, nonzero or integer as the case declares.
+    At a ``probe`` point only a value that is not finite is refused: a value complex or
+    of the wrong sign there may come from a branch the generic attempt leaves for
+    another (the probe only decides whether the generic attempt is made)."""
     for p, v in values.items():
+        if v.has(sp.zoo, sp.nan):
+            return False
+        if probe:
+            continue
         kind = assumptions.get(str(p))
-        if v.has(sp.zoo, sp.nan) or (v.has(sp.I) and not complex_values):
+        if v.has(sp.I) or not _real_radicals(v):
             return False
         if kind == "positive" and v.is_positive is not True:
             return False
@@ -446,6 +456,16 @@ def _allowed(
             return False
         if kind == "integer" and v.is_integer is not True:
             return False
+    return True
+
+
+def _real_radicals(value: sp.Expr) -> bool:
+    """Whether every even root in ``value`` is of a base shown to be nonnegative."""
+    for power in value.atoms(sp.Pow):
+        exp = power.exp
+        if exp.is_Rational and not exp.is_Integer and exp.q % 2 == 0:
+            if power.base.is_nonnegative is not True:
+                return False
     return True
 
 
@@ -466,34 +486,30 @@ def _checked(mine, theirs, transformation: Transformation, values) -> bool:
 def _is_zero(difference: sp.Expr) -> bool:
     """Whether an expanded difference is zero. ``cancel`` decides it for a rational
     function of the state and the parameters. Radicals b**(p/q) (a rotation's cos and
-    sin, a shift's square roots) are first made symbols: b = s**L for a parameter b (L
-    the lcm of its q's), and r with r**q = b for another base, the numerator then
-    reduced by r**q - b. Both are identities of the principal roots, so a zero result
-    proves zero; otherwise ``simplify`` decides (radicals may depend on each other)."""
+    sin, a shift's square roots) are first made symbols: for each base b, with L the lcm
+    of its q's, a root r with r**L = b, and b**(p/q) = r**(pL/q) (an identity of the
+    principal roots for every complex b; b itself elsewhere is left as it is); the
+    numerator is then reduced by r**L - b. A zero remainder proves zero; otherwise
+    ``simplify`` decides (radicals may depend on each other: sqrt(b c) and sqrt(b)
+    sqrt(c) are not identified, and are equal only where signs allow)."""
     if difference == 0:
         return True
     if all(p.exp.is_Integer for p in difference.atoms(sp.Pow)):
         return sp.cancel(difference) == 0
     radicals = [p for p in difference.atoms(sp.Pow) if not p.exp.is_Integer]
-    if any(not p.exp.is_Rational for p in radicals):
-        return sp.simplify(difference) == 0
-    orders: dict[sp.Symbol, int] = {}
+    if any(
+        not p.exp.is_Rational or any(not q.exp.is_Integer for q in p.base.atoms(sp.Pow))
+        for p in radicals
+    ):
+        return sp.simplify(difference) == 0  # an irrational exponent, a nested radical
+    orders: dict[sp.Expr, int] = {}
     for p in radicals:
-        if p.base.is_Symbol:
-            orders[p.base] = int(sp.ilcm(orders.get(p.base, 1), p.exp.q))
-    expr = difference.xreplace({b: sp.Dummy(positive=True) ** q for b, q in orders.items()})
-    roots: dict[tuple[sp.Expr, int], sp.Dummy] = {}
-    replace = {}
-    for p in expr.atoms(sp.Pow):
-        if p.exp.is_Integer:
-            continue
-        if not p.exp.is_Rational or any(not q.exp.is_Integer for q in p.base.atoms(sp.Pow)):
-            return sp.simplify(difference) == 0
-        root = roots.setdefault((p.base, int(p.exp.q)), sp.Dummy())
-        replace[p] = root ** int(p.exp.p)
-    numerator = sp.numer(sp.cancel(expr.xreplace(replace)))
-    for (base, q), root in roots.items():
-        numerator = sp.rem(numerator, root**q - base, root)
+        orders[p.base] = int(sp.ilcm(orders.get(p.base, 1), p.exp.q))
+    roots = {base: sp.Dummy(f"r{k}") for k, base in enumerate(orders)}
+    replace = {p: roots[p.base] ** int(p.exp * orders[p.base]) for p in radicals}
+    numerator = sp.numer(sp.cancel(difference.xreplace(replace)))
+    for base, root in roots.items():
+        numerator = sp.rem(numerator, root ** orders[base] - base, root)
     if sp.expand(numerator) == 0:
         return True
     return sp.simplify(difference) == 0
