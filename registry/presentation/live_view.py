@@ -40,6 +40,9 @@ TABLES: dict[str, str] = {
     "discoveries": "Sets of parameter values where a search found integrals, and the integrals.",
     "exponents": "Kovalevskaya analyses of case versions: balances, exponents, Yoshida's "
     "degrees, the Painlevé test and the statement (the JSON document of registry exponents).",
+    "identifications": "Which catalog cases each case version is the same system as (registry "
+    "identify): their parameter values and the transformation, the cases compared, skipped "
+    "and failed, and the catalog compared with.",
     "latest_verdicts": "The newest verdict of every check and claim of the newest case "
     "versions (a view).",
 }
