@@ -8,13 +8,18 @@ numbers, only orders that match their ratios), with signs of the axes as unknown
 (+-1); then, with a residual shift (h0, then h0 + h.gamma) where both fields are in
 normal form; then with a rotation about the first system's axis of symmetry where two
 of its moments are equal. The other unknowns are the case's parameters and the scalings
-tau, lam, rho. Equations are built in a polynomial ring over Q or Q(p) (the first
-system's parameters p), the case's field multiplied by its common denominator.
+tau, lam, rho. Equations are built over Q with p (the first system's parameters) as
+generators, both fields cleared of their denominators, then read in K[unknowns], K = Q
+or Q(p). Where the system has parameters, the attempts are first made at one fixed
+point of them (``specialised``), over Q: a match at generic values is one there, so a
+failed probe skips the generic attempt, which costs far more.
 
 A solution is completed with the simplest values for what it leaves free (a scaling 1
-or -1, so that the case's positive parameters come out positive) and kept only when the
-transformed field equals the case's exactly: a match is a proof. Finding none proves
-nothing: the system is then said to match no case, never that none exists.
+or -1, so that the case's positive parameters come out positive), its values must be
+real (no even root of an expression of either sign) and of the kinds the case declares,
+and it is kept only when the transformed field equals the case's exactly: a match is a
+proof. Finding none proves nothing: the system is then said to match no case, never
+that none exists.
 """
 
 from __future__ import annotations
