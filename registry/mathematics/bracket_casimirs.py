@@ -12,6 +12,7 @@ proves each one again with the audit's zero test before it counts.
 
 from __future__ import annotations
 
+import functools
 import itertools
 from collections.abc import Sequence
 
@@ -29,10 +30,17 @@ def polynomial_casimirs(
 ) -> list[sp.Expr]:
     """A basis of the polynomial Casimirs of ``pi`` of degree 1..``degree`` without
     constant term (module docstring), each with integer coefficients where the
-    parameters allow; empty where ``pi`` is not polynomial in ``variables``."""
-    variables = list(variables)
+    parameters allow; empty where ``pi`` is not polynomial in ``variables``. Solved once
+    per bracket in a process (a search asks for them several times)."""
+    return list(_casimirs(sp.ImmutableMatrix(pi), tuple(variables), degree))
+
+
+@functools.lru_cache(maxsize=32)
+def _casimirs(
+    pi: sp.ImmutableMatrix, variables: tuple[sp.Symbol, ...], degree: int
+) -> tuple[sp.Expr, ...]:
     if not all(sp.sympify(e).is_polynomial(*variables) for e in pi):
-        return []
+        return ()
     monomials = [
         sp.Mul(*combo)
         for d in range(1, degree + 1)
@@ -46,13 +54,13 @@ def polynomial_casimirs(
         poly = sp.Poly(sp.expand(component), *variables)
         equations.extend(c for c in poly.coeffs() if c != 0)
     if not equations:
-        return []
+        return ()
     matrix, _ = sp.linear_eq_to_matrix(equations, unknowns)
     basis = []
     for vector in matrix.nullspace():
         expr = sp.expand(sum((v * m for v, m in zip(vector, monomials, strict=True)), 0))
         basis.append(_primitive(expr, variables))
-    return basis
+    return tuple(basis)
 
 
 def _primitive(expr: sp.Expr, variables: Sequence[sp.Symbol]) -> sp.Expr:

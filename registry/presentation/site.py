@@ -319,8 +319,9 @@ class _Views:
         and whether each is also this case: ``equivalent``), the cases that are this one
         at some of its values (``members``), and whether it was identified at all."""
         frame = self.catalog.identifications
-        identified = self.catalog.cases.set_index("case")["same_as"].get(case_id) is not None
-        row = self.catalog.cases.set_index("case").loc[case_id]
+        cases = self.catalog.cases
+        row = cases[cases["case"] == case_id].iloc[0]
+        identified = row.get("same_as") is not None
         note = row.get("identification_note")
         state = {
             "identified": identified,

@@ -12,7 +12,7 @@ only this process writes.
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from dataclasses import replace
 
 from ..discovery.identification.catalog_index import CatalogIndex
 from ..discovery.identification.identify import identify
@@ -47,7 +47,7 @@ def identify_run(
     case (the cases left are named as skipped, never said to be other systems)."""
     store.require_writer("record identifications")
     versions = store.case_versions()
-    digest = store.catalog_digest()
+    digest = store.catalog_digest(versions)
     wanted = set(case_ids) if case_ids else None
     if wanted is not None:
         store.case_versions(sorted(wanted))  # UnknownCaseError for a case not held
@@ -73,18 +73,9 @@ def identify_run(
             stored = chosen[todo[k]]
             if isinstance(outcome, Failure):  # the call gave no result: nothing compared
                 others = tuple(i for i in index.ids() if i != stored.case_id)
-                outcome = _Outcome(skipped=others, note=f"no result came back: {outcome.reason}")
-            result = CaseIdentification(
-                stored.case_id,
-                stored.version,
-                digest,
-                outcome.same_as,
-                outcome.compared,
-                outcome.skipped,
-                outcome.failed,
-                outcome.seconds,
-                note=outcome.note,
-            )
+                why = f"no result came back: {outcome.reason}"
+                outcome = CaseIdentification(stored.case_id, 0, "", skipped=others, note=why)
+            result = replace(outcome, version=stored.version, catalog=digest)
             store.record_identification(stored.pk, result, code_version())
             found[todo[k]] = result
             if progress is not None:
@@ -96,20 +87,9 @@ def _more_time(budget: float | None, reused: CaseIdentification) -> bool:
     return budget is None or budget > reused.seconds
 
 
-@dataclass(frozen=True)
-class _Outcome:
-    """What a worker sends back: one identification as plain data."""
-
-    same_as: tuple[SameSystem, ...] = ()
-    compared: tuple[str, ...] = ()
-    skipped: tuple[str, ...] = ()
-    failed: tuple[tuple[str, str], ...] = ()
-    seconds: float = 0.0
-    note: str = ""
-
-
-def _identified(item: tuple[Case, CatalogIndex, float | None]) -> _Outcome:
-    """One case against the catalog (its own id left out), as plain data."""
+def _identified(item: tuple[Case, CatalogIndex, float | None]) -> CaseIdentification:
+    """One case against the catalog (its own id left out), as plain data (its version and
+    the catalog's digest are the caller's to fill in)."""
     case, index, budget = item
     found = identify(case.dynamics, index, exclude=(case.id,), budget=budget)
     same = tuple(
@@ -121,4 +101,6 @@ def _identified(item: tuple[Case, CatalogIndex, float | None]) -> _Outcome:
         for s in found.same
     )
     note = "" if found.form is not None else index.unindexed().get(case.id, "")
-    return _Outcome(same, found.compared, found.skipped, found.failed, found.seconds, note)
+    return CaseIdentification(
+        case.id, 0, "", same, found.compared, found.skipped, found.failed, found.seconds, note=note
+    )

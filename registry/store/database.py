@@ -622,10 +622,11 @@ class Store:
     # ---------------------------------------------------------- identifications
 
     @guarded
-    def catalog_digest(self) -> str:
-        """A digest of the latest version of every case: it changes when a case is added
-        or changed, and an identification against another catalog is not reused."""
-        versions = self.case_versions()
+    def catalog_digest(self, versions: Sequence[StoredCase] | None = None) -> str:
+        """A digest of the latest version of every case (``versions``, where the caller
+        has read them): it changes when a case is added or changed, and an identification
+        against another catalog is not reused."""
+        versions = self.case_versions() if versions is None else versions
         text = "\n".join(sorted(f"{s.case_id} {s.content_hash}" for s in versions))
         return hashlib.sha256(text.encode()).hexdigest()[:16]
 

@@ -7,14 +7,14 @@ one database session; ``Registry.cases()`` and the other queries of the API, and
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
 from sqlalchemy import Select, func, select
 from sqlalchemy import case as sql_case
 
 from ..errors import UnknownRunError
-from ..model import Verdict
+from ..model import CaseIdentification, Verdict
 from .conversions import verdict_text
 from .database import Store, get_run
 from .engine import guarded
@@ -136,8 +136,8 @@ def case_table(
 
     frame = cases_frame(store).merge(families_frame(store), on="case", how="left")
     frame["family"] = frame["family"].map(lambda f: f if isinstance(f, str) else "")
-    same = identifications_frame(store)
     identified = store.newest_identifications()
+    same = identifications_frame(store, identified)
 
     def others(case: str, equivalent: bool) -> list[str] | None:
         if case not in identified:
@@ -180,7 +180,9 @@ def case_table(
     return frame[keep.astype(bool)].reset_index(drop=True)
 
 
-def identifications_frame(store: Store) -> pd.DataFrame:
+def identifications_frame(
+    store: Store, newest: Mapping[str, CaseIdentification] | None = None
+) -> pd.DataFrame:
     """One row per catalog case that a case (its latest version, its newest
     identification) is the same system as: case, version, same_as (the other case), its
     parameter ``values`` and the ``transformation`` (the other's variables and time in
@@ -188,7 +190,7 @@ def identifications_frame(store: Store) -> pd.DataFrame:
     system written twice), ``complete`` (every case was compared)."""
     import pandas as pd  # imported here: adding cases should not pay for pandas
 
-    newest = store.newest_identifications()
+    newest = store.newest_identifications() if newest is None else newest
     rows = [
         {
             "case": case,
