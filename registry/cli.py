@@ -93,6 +93,18 @@ def _registry(create: bool = False) -> Registry:
     return ctx.obj["registry"]
 
 
+def _every_case(verb: str, unit: str, case_ids: tuple[str, ...], options: dict) -> Any:
+    """``reg.<verb>`` over the named cases (default: every case), with ``jobs`` and
+    ``scheduler`` checked first, a bar counting each ``unit`` done, and Ctrl-C or SIGTERM
+    ending it between records: what ``survey`` and ``identify`` share."""
+    from .api import check_where
+
+    check_where(options["jobs"], options["scheduler"])
+    reg = _registry()
+    with _counting_bar(unit) as progress, reg.interruptible():
+        return getattr(reg, verb)(list(case_ids) or None, progress=progress, **options)
+
+
 def _registry_for(target: str, record: bool) -> Registry | None:
     """The registry a command on "a case file or a stored case's id" needs: none for a
     file handled without --record (no database is needed, and none is created)."""
@@ -545,19 +557,8 @@ def survey(
 
     Example: registry survey --case kovalevskaya-1889-heavy-top
     """
-    from .api import check_where
-
-    check_where(jobs, scheduler)
-    reg = _registry()
-    with _counting_bar("search") as progress, reg.interruptible():
-        reports = reg.survey(
-            list(case_ids) or None,
-            fresh=fresh,
-            budget=seconds,
-            jobs=jobs,
-            progress=progress,
-            scheduler=scheduler,
-        )
+    options = dict(fresh=fresh, budget=seconds, jobs=jobs, scheduler=scheduler)
+    reports = _every_case("survey", "search", case_ids, options)
     from .api import survey_text
 
     if reports:
@@ -604,19 +605,10 @@ def identify(
 
     Example: registry identify --case kovalevskaya-1889-heavy-top
     """
-    from .api import check_where, identify_text
+    from .api import identify_text
 
-    check_where(jobs, scheduler)
-    reg = _registry()
-    with _counting_bar("case") as progress, reg.interruptible():
-        found = reg.identify(
-            list(case_ids) or None,
-            fresh=fresh,
-            budget=seconds,
-            jobs=jobs,
-            progress=progress,
-            scheduler=scheduler,
-        )
+    options = dict(fresh=fresh, budget=seconds, jobs=jobs, scheduler=scheduler)
+    found = _every_case("identify", "case", case_ids, options)
     if as_json:
         click.echo(json.dumps([f.as_dict() for f in found], indent=2, ensure_ascii=False))
         return
