@@ -26,10 +26,9 @@ Nothing here is asserted by the tests: machines are shared and noisy.
 from __future__ import annotations
 
 import argparse
-import contextlib
+import functools
 import json
 import multiprocessing
-import signal
 import statistics
 import time
 from collections import Counter
@@ -38,6 +37,7 @@ from pathlib import Path
 import sympy as sp
 from sympy.core.cache import clear_cache
 
+from registry.execution.time_budget import BudgetExceeded, time_limit
 from registry.mathematics import mechanics as mech
 from registry.mathematics.exponent_analysis import exponents
 
@@ -58,23 +58,10 @@ def heavy_top(inertia, r):
     return [sp.expand(v) for v in mech.vector_field(inertia, potential, (0, 0, 0))]
 
 
-class Timeout(Exception):
-    pass
-
-
 def limited(seconds: float, fn):
-    """fn(), or Timeout after ``seconds`` of wall clock (SIGALRM)."""
-
-    def expire(signum, frame):
-        raise Timeout
-
-    previous = signal.signal(signal.SIGALRM, expire)
-    signal.setitimer(signal.ITIMER_REAL, seconds)
-    try:
+    """fn(), or BudgetExceeded after ``seconds`` of wall clock."""
+    with time_limit(seconds):
         return fn()
-    finally:
-        signal.setitimer(signal.ITIMER_REAL, 0)
-        signal.signal(signal.SIGALRM, previous)
 
 
 def baseline(field):
@@ -128,26 +115,6 @@ def same(spectrum: Counter, others: list[Counter]) -> bool:
 CATALOG = Path(__file__).resolve().parent.parent / "data" / "cases"
 
 
-@contextlib.contextmanager
-def cpu_time_limit(seconds: float | None):
-    """``time_budget.time_limit`` counting this process's CPU seconds (ITIMER_PROF)."""
-    from registry.execution.time_budget import BudgetExceeded
-
-    def expire(signum, frame):
-        raise BudgetExceeded
-
-    if not seconds:
-        yield
-        return
-    previous = signal.signal(signal.SIGPROF, expire)
-    signal.setitimer(signal.ITIMER_PROF, seconds)
-    try:
-        yield
-    finally:
-        signal.setitimer(signal.ITIMER_PROF, 0)
-        signal.signal(signal.SIGPROF, previous)
-
-
 def catalog_case(work: tuple[str, float, bool]) -> tuple[str, float, float, str, dict | None]:
     """One catalog case analysed as beside the survey's search: (file, CPU seconds, wall
     seconds, summary, the result's document without its seconds)."""
@@ -161,7 +128,7 @@ def catalog_case(work: tuple[str, float, bool]) -> tuple[str, float, float, str,
     if cpu_budget:  # the budget in CPU seconds: the machine's load does not eat it
         import registry.discovery.exponents as module
 
-        module.time_limit = cpu_time_limit
+        module.time_limit = functools.partial(time_limit, cpu=True)
     cpu, wall = time.process_time(), time.perf_counter()
     document = None
     try:
@@ -256,7 +223,7 @@ def main() -> None:
             t_base, found = best(
                 args.repeat, lambda f=field: limited(args.timeout, lambda: baseline(f))
             )
-        except Timeout:
+        except BudgetExceeded:
             t_base, found = None, None
         mine = spectra(result)
         if found is None:

@@ -38,6 +38,18 @@ def test_time_limit_is_lifted_afterwards():
     assert signal.getsignal(signal.SIGALRM) is handler
 
 
+def test_a_processor_time_limit_counts_this_process_and_is_lifted_afterwards():
+    handler = signal.getsignal(signal.SIGPROF)
+    with cpu_bound(10), pytest.raises(BudgetExceeded):
+        with time_limit(0.2, cpu=True):
+            assert signal.getitimer(signal.ITIMER_PROF)[0] > 0
+            assert signal.getitimer(signal.ITIMER_REAL) == (0.0, 0.0)  # not the wall clock
+            while True:
+                pass
+    assert signal.getitimer(signal.ITIMER_PROF) == (0.0, 0.0)
+    assert signal.getsignal(signal.SIGPROF) is handler
+
+
 def test_an_expression_crafted_to_take_forever_ends_inconclusive_within_its_budget():
     case = load_case(CASES / "zhukovsky-gyrostat.toml")
     g1, g2, g3 = sp.symbols("gamma1 gamma2 gamma3", real=True)
