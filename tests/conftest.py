@@ -18,6 +18,7 @@ machine to themselves are marked ``serial`` and run apart, without -n.
 
 from __future__ import annotations
 
+import faulthandler
 import hashlib
 import os
 import shutil
@@ -85,6 +86,8 @@ def pytest_configure(config):
     process of the run (each xdist worker) has its own watchdog and Dask scratch folder."""
     watchdog.start()
     _own_dask_scratch(worker_name(config))
+    if worker_name(config) == "main":  # the controller, or a run without -n
+        os.environ[RUNNING] = tempfile.mkdtemp(prefix="registry-tests-running-")
 
 
 def worker_name(config) -> str:
@@ -109,11 +112,64 @@ def _own_dask_scratch(worker: str) -> None:
 
 
 def pytest_unconfigure(config):
-    """Remove this process's Dask scratch folder (its clusters are closed by now)."""
+    """Remove this process's Dask scratch folder (its clusters are closed by now), and
+    the controller its tests' marks."""
+    if worker_name(config) == "main":
+        shutil.rmtree(os.environ.pop(RUNNING), ignore_errors=True)
     while _dask_scratch:
         folder, registration = _dask_scratch.pop()
         shutil.rmtree(folder, ignore_errors=True)
         watchdog.unregister(registration)
+
+
+#: Wall-clock seconds after which a test (its fixtures included) is taken to hang; the
+#: slowest test of CI takes a few minutes. ``REGISTRY_TEST_HANG`` sets another.
+TEST_HANG = float(os.environ.get("REGISTRY_TEST_HANG", "900"))
+
+#: The environment variable naming the folder where each test running leaves a mark (a
+#: file named by its node id and process), into which the stacks of a hung test are written.
+RUNNING = "REGISTRY_TESTS_RUNNING"
+
+_hung_before = pytest.StashKey[str]()
+
+
+def _stacks_of(nodeid: str) -> str:
+    """The stacks a test left in a mark of its own when it hung in this run, or ''."""
+    name = hashlib.sha256(nodeid.encode()).hexdigest()
+    return "".join(m.read_text() for m in Path(os.environ[RUNNING]).glob(f"{name}-*"))
+
+
+@pytest.hookimpl(hookwrapper=True)
+def pytest_runtest_protocol(item, nextitem):
+    """A test that hangs ends its process once its stacks are written, instead of holding
+    CI until CI's own time runs out with nothing said: under xdist the controller reports
+    the test that crashed its worker with those stacks (``pytest_handlecrashitem``), and
+    fails it at once if it gives it to another worker."""
+    item.stash[_hung_before] = _stacks_of(item.nodeid)
+    name = hashlib.sha256(item.nodeid.encode()).hexdigest()
+    mark = Path(os.environ[RUNNING]) / f"{name}-{os.getpid()}"
+    with mark.open("w") as stacks:
+        faulthandler.dump_traceback_later(TEST_HANG, exit=True, file=stacks)
+        try:
+            yield
+        finally:
+            faulthandler.cancel_dump_traceback_later()
+    mark.unlink(missing_ok=True)
+
+
+@pytest.hookimpl(tryfirst=True)
+def pytest_runtest_setup(item):
+    if item.stash.get(_hung_before, ""):
+        pytest.fail(f"hung for over {TEST_HANG:g} s in another worker of this run; not run "
+                    "again", pytrace=False)  # fmt: skip
+
+
+@pytest.hookimpl(optionalhook=True)
+def pytest_handlecrashitem(crashitem, report, sched):
+    """xdist's report of a test whose worker died: with its stacks, if it hung."""
+    stacks = _stacks_of(crashitem)
+    if stacks:
+        report.longrepr = f"{report.longrepr}: it hung for over {TEST_HANG:g} s\n\n{stacks}"
 
 
 #: Module-scoped fixtures too cheap to keep a module's tests in one xdist worker.

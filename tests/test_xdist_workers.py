@@ -4,13 +4,15 @@ PostgreSQL server, Dask scratch folder, temporary folders and watchdog, and the
 environment that ``tests/conftest.py`` sets (the audits' budgets, the wait for a lock)
 reaches every worker and the processes it starts. A real ``pytest -n 2`` of the probe
 below shows it: the probe runs once in each worker (``--dist each``) and reports what it
-sees; the run starts from an environment without those variables.
+sees; the run starts from an environment without those variables. A test that hangs is
+ended with its stacks reported, and the run goes on (another probe).
 """
 
 from __future__ import annotations
 
 import json
 import os
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -100,3 +102,37 @@ def test_each_worker_has_its_own_server_folders_and_the_suites_environment(tmp_p
         # stopped and removed when the worker's session ended
         assert not Path(report["server"]).exists()
         assert not Path(report["dask"]).exists()
+
+
+#: The environment variable that makes the probe below hang.
+HANG_PROBE = "REGISTRY_TEST_HANG_PROBE"
+
+
+@pytest.mark.skipif(
+    HANG_PROBE not in os.environ, reason="the probe of the run the test below starts"
+)
+def test_probe_that_hangs():
+    import time
+
+    time.sleep(10 * HANG)
+
+
+def test_a_test_that_hangs_is_reported_with_its_stacks_and_the_run_goes_on(tmp_path):
+    probe = f"{Path(__file__).relative_to(ROOT)}::test_probe_that_hangs"
+    neighbour = f"{Path(__file__).relative_to(ROOT)}::test_probe_of_a_worker"  # skipped
+    env = {k: v for k, v in os.environ.items() if not k.startswith("PYTEST_XDIST")}
+    done = subprocess.run(
+        [sys.executable, "-m", "pytest", "-n", "2", "-p", "no:cacheprovider", "-q"]
+        + ["--basetemp", str(tmp_path / "base"), probe, neighbour],
+        cwd=ROOT,
+        env={**env, HANG_PROBE: "1", "REGISTRY_TEST_HANG": "3"},
+        capture_output=True,
+        text=True,
+        timeout=10 * HANG,
+    )
+    assert done.returncode == 1, done.stdout + done.stderr
+    report = done.stdout
+    assert f"crashed while running '{probe}': it hung for over 3 s" in report
+    # the hung test's stacks: the line it hung on, in the test's own file
+    assert re.search(r'File ".*test_xdist_workers\.py", line \d+ in test_probe_that_hangs', report)
+    assert "1 skipped" in report  # the other test still ran
