@@ -506,7 +506,7 @@ def _step(
     if cofactor is not None and cofactor != 0:
         found = proven_relations(m, when, integrals, cofactor, state.coefficients, state.undecided)
     else:
-        found = _proven(state, case, when, integrals)
+        found = _proven(state, case, when, values, integrals)
     if not when and found.integrals:  # new, or the case's own claims again
         kept = [e for e in integrals if to_text(e) in found.integrals]
         found, state.claims = named(case, m, system, params, found, kept)
@@ -819,14 +819,18 @@ def _expression(system: PolynomialSystem, vec, fld: Field) -> sp.Expr:
     return system.space.lower(primitive.as_expr())
 
 
-def _proven(state: _State, case: Case, when, integrals: Sequence[sp.Expr]) -> IntegralSet:
+def _proven(
+    state: _State, case: Case, when, values: dict, integrals: Sequence[sp.Expr]
+) -> IntegralSet:
     """The integrals, each proven by the audit's ``integral`` check (``casimir`` recorded
-    for information). One that is not proven is not reported, and the search is then
-    not complete. The checks run under the search's own budget."""
+    for information) on the level set at the set's parameter ``values``. One that is not
+    proven is not reported, and the search is then not complete. The checks run under
+    the search's own budget."""
     if not integrals:
         return IntegralSet(when, 0)
+    on = tuple(_at(eq, values) for eq in state.options.on)
     claims = tuple(
-        Claim(f"F{i + 1}", ClaimKind.INTEGRAL, Expression(to_text(e), e), on=state.options.on)
+        Claim(f"F{i + 1}", ClaimKind.INTEGRAL, Expression(to_text(e), e), on=on)
         for i, e in enumerate(integrals)
     )
     audit = audit_case(
@@ -849,6 +853,15 @@ def _proven(state: _State, case: Case, when, integrals: Sequence[sp.Expr]) -> In
         )
     # a system given by its equations has no bracket, hence no Casimir verdicts
     return IntegralSet(when, len(kept), tuple(kept), tuple(casimirs))
+
+
+def _at(equation: Equation, values: dict) -> Equation:
+    """A level-set equation at a set's parameter values (``k1 = 0`` in ``s + k1 gamma1 =
+    0``), as the audit must read it for the case at those values."""
+    if not values:
+        return equation
+    lhs, rhs = equation.lhs.xreplace(values), equation.rhs.xreplace(values)
+    return Equation(f"{to_text(lhs)} = {to_text(rhs)}", lhs, rhs)
 
 
 def _check_invariant(system: PolynomialSystem, options: SearchOptions) -> None:

@@ -641,3 +641,21 @@ def test_a_budget_spent_identifying_keeps_the_sets_found_and_says_where_it_ran_o
     assert point.when == ("t1 = 0", "t2 = 0", "t3 = 0") and point.same_as == ()
     assert not found.complete
     assert "while identifying the sets found with the catalog" in found.coverage[0]
+
+
+def test_a_level_set_that_holds_the_free_parameters_is_read_at_each_sets_values():
+    # The Casimir of a gyrostat is s + k.gamma: the integral of Sretenskii's gyrostat lives
+    # on its zero level. The integral found where k1 = k2 = 0 must be proven on that level
+    # set at k1 = k2 = 0 (it was checked with k1, k2 left without values, and failed).
+    found = search(
+        "goryachev-chaplygin-gyrostat",
+        degree=3,
+        free=("k1", "k2", "k3"),
+        weights={"M": 1, "gamma": 2},
+        on=("M1*gamma1 + M2*gamma2 + M3*gamma3 + k1*gamma1 + k2*gamma2 + k3*gamma3 = 0",),
+    )
+    assert found.complete, found.undecided
+    (integral,) = where(found)[("k1 = 0", "k2 = 0")]
+    sretenskii = "(M3 - k3)*(M1**2 + M2**2) - 4*M1*gamma3"
+    assert sp.expand(sp.sympify(integral) - sp.sympify(sretenskii)) == 0
+    assert set(where(found)) == {("k1 = 0", "k2 = 0")}
