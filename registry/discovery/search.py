@@ -397,7 +397,19 @@ def _fresh_count(
     rnd = state.rnd((*when, "beyond"))
     point = {i: rnd.randrange(1, PRIME) for i in range(len(params))}
     modular = Field(GF_PRIME, params, point, system.inverses)
-    return analyse(system, [*known, *_generators(system, integrals)], modular).extra
+    return _beyond(analyse(system, [*known, *_generators(system, integrals)], modular))
+
+
+def _beyond(analysis: Analysis) -> int:
+    """How many integrals of weighted degree <= K the products of weight <= K of the
+    generators an analysis was given do not span (none: nothing new). Counted at the top
+    degree K, not degree by degree: where the field is not weighted-homogeneous, an
+    integral of a lower degree may be such a product whose leading parts cancel (on the
+    Lagrange body with the torque p22 gamma + (p33 gamma3 + k3) e3: (p22 - p33) I**2
+    + 2 p22**2 C - p22**3 |gamma|**2, of degree 3, for I = M3 - p22 gamma3 of degree 2
+    and C, |gamma|**2 of degree 4). Modulo a prime it bounds the number from above."""
+    kernel, trivial, _ = analysis.counts[max(analysis.counts)]
+    return kernel - trivial
 
 
 @dataclass(frozen=True)
@@ -487,17 +499,13 @@ def _step(
     point = {i: rnd.randrange(1, PRIME) for i in range(len(params))}
     modular = Field(GF_PRIME, params, point, system.inverses)
     generic = analyse(system, known, modular)
-    fresh = analyse(system, [*known, *before], modular).extra if before else generic.extra
+    fresh = _beyond(analyse(system, [*known, *before], modular) if before else generic)
     integrals: list[sp.Expr] = []
     if generic.extra:  # extra integrals for generic values (or an unlucky point)
         fld = Field(QQ.frac_field(*params) if params else QQ, params, {}, system.inverses)
         generic = analyse(system, known, fld, to_poly=lambda v: _ring_poly(system, v, fld))
-        if not before or not fresh:
-            fresh = min(fresh, generic.extra)
-        else:  # what the sets it lies in do not generate, exactly
-            fresh = analyse(
-                system, [*known, *before], fld, to_poly=lambda v: _ring_poly(system, v, fld)
-            ).extra
+        if fresh:  # what the known ones and the sets it lies in do not generate, exactly
+            fresh = min(_beyond(analyse(system, [*known, *before], fld)), generic.extra)
         columns = [e for e, _ in system.columns]
         integrals = [
             _expression(system, simplest(v, generic.trivial[d], columns, fld.domain), fld)
