@@ -666,7 +666,7 @@ def test_a_set_whose_integral_is_a_product_with_cancelling_leading_parts_is_not_
     # degree 4 and a degree-3 integral appears that is a polynomial in the set's integral
     # and the known ones (leading parts cancel): counted degree by degree it looked new.
     found = search(
-        "lagrange-gradient-torque",
+        "lagrange-axial-torque",
         degree=4,
         free=("p11", "p22", "p33", "k3", "c113", "c223"),
         weights={"M": 1, "gamma": 2},
