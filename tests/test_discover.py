@@ -36,6 +36,29 @@ def test_record_then_audit_verifies_every_discovered_claim(db_target):
         assert reg.verify_db().problems == ()
 
 
+def test_a_derived_case_s_level_set_holds_the_set_s_values(tmp_path):
+    # The gyrostat's Casimir s + k.gamma holds the free parameters: the derived case at
+    # k1 = k2 = 0 declares neither, so its claims' level set must not name them either.
+    with registry.open(tmp_path / "r.sqlite") as reg:
+        on = "M1*gamma1 + M2*gamma2 + M3*gamma3 + k1*gamma1 + k2*gamma2 + k3*gamma3 = 0"
+        report = reg.discover(
+            FAMILIES / "goryachev-chaplygin-gyrostat.toml",
+            degree=3,
+            weights={"M": 1, "gamma": 2},
+            on=[on],
+            free=["k1", "k2", "k3"],
+            record=True,
+            jobs=1,
+        )
+        (derived,) = report.derived
+        reg.audit(jobs=1)
+        claims = reg.claims()
+        (level,) = claims[claims.case == derived].on
+        assert level == ["M1*gamma1 + M2*gamma2 + M3*gamma3 + gamma3*k3 = 0"]
+        v = reg.verdicts()
+        assert list(v[(v.check == "integral") & (v.case == derived)].verdict) == ["verified"]
+
+
 def test_generic_integrals_become_claims_of_the_searched_version(db_target):
     with registry.open(db_target) as reg:
         reg.add(FAMILIES / "lagrange-lam.toml")
