@@ -495,6 +495,25 @@ def _discovery(row: dict[str, Any], ns: Namespace) -> dict[str, Any]:
     }
 
 
+def _classifications(searches: list[dict[str, Any]], views: _Views) -> list[dict[str, Any]]:
+    """The recorded searches of families (free parameters), newest first, each with its
+    special sets: the catalog cases each is the same system as (those the site holds),
+    and how many of its integrals are new."""
+    out = []
+    for s in reversed(searches):
+        if not s.get("free"):
+            continue
+        sets = []
+        for d in s["discoveries"]:
+            if not d.get("when"):
+                continue  # the generic values
+            status = d.get("status") or []
+            same = [x for x in d.get("same_as") or [] if x["case"] in views.entries]
+            sets.append({**d, "same_as": same, "new": sum(st["status"] == "new" for st in status)})
+        out.append({**s, "sets": sets})
+    return out
+
+
 # ------------------------------------------------------------------ writing
 
 
@@ -650,6 +669,11 @@ def site_files(catalog: Catalog, base_url: str = "") -> dict[str, bytes]:
         found = [_discovery(d, ns) for d in views.discoveries if d["search"] == s["search"]]
         searches.append({**s, "discoveries": found, "known_case": searched is not None})
     page("searches.html", "searches.html", searches=searches)
+    page(
+        "classifications.html",
+        "classifications.html",
+        classifications=_classifications(searches, views),
+    )
 
     corrections = []
     for entry in entries:

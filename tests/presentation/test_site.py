@@ -43,7 +43,7 @@ import registry
 from registry.cli import main
 from registry.language.casefile import parse_case_text
 from registry.presentation.site import bracket
-from tests.helpers.samples import AFFINE, CASES, HAMILTONIAN, SEED, YEHIA_B, ZHUKOVSKY
+from tests.helpers.samples import AFFINE, CASES, FAMILIES, HAMILTONIAN, SEED, YEHIA_B, ZHUKOVSKY
 
 ROOT = Path(__file__).resolve().parents[2]
 ARTIFACTS = ROOT / "test-artifacts"
@@ -53,6 +53,14 @@ RENAMED = "zhukovsky-1885-renamed-gyrostat"
 SO31 = "test-kovalevskaya-so31"  # Hamiltonian form, kappa = -1
 SO4 = "test-kovalevskaya-so4"  # Hamiltonian form, kappa a parameter
 HOSTILE_ID = "hostile-2024-markup"
+#: A family whose special set (Sretenskii's gyrostat) is the affine torque at some values.
+GYROSTATS = "goryachev-chaplygin-gyrostat"
+GYROSTATS_SEARCH = dict(
+    degree=3,
+    weights={"M": 1, "gamma": 2},
+    on=["M1*gamma1 + M2*gamma2 + M3*gamma3 + k1*gamma1 + k2*gamma2 + k3*gamma3 = 0"],
+    free=["k1", "k2", "k3"],
+)
 PAYLOAD = "<script>window.__pwned = 1</script>"
 HOSTILE = f'''id = "{HOSTILE_ID}"
 title = "Evil {PAYLOAD} \\"quoted\\" & 'single' <img src=x onerror=\\"window.__pwned=2\\">"
@@ -104,6 +112,7 @@ def built(tmp_path_factory) -> SimpleNamespace:
         reg.analyse_exponents(SO4, record=True)
         reg.analyse_exponents(HOSTILE_ID, free=["c"], record=True, jobs=1)
         reg.identify([RENAMED, AFFINE], jobs=1)
+        reg.discover(FAMILIES / f"{GYROSTATS}.toml", **GYROSTATS_SEARCH, record=True, jobs=1)
         first = reg.site(folder / "one")
         reg.site(folder / "two")
         cases = reg.cases()
@@ -138,13 +147,16 @@ def test_two_builds_are_byte_identical(built):
 
 def test_every_case_has_its_permanent_page_downloads_and_alias_redirect(built):
     ids = list(built.cases["case"])
-    assert set(ids) == {*SEED, RENAMED, HOSTILE_ID, SO31, SO4} - {ZHUKOVSKY}
+    family = f"family-{GYROSTATS}"  # recorded by its search, with its special set
+    recorded = {family, f"{family}-where-k1-0-k2-0"}
+    assert set(ids) == {*SEED, RENAMED, HOSTILE_ID, SO31, SO4, *recorded} - {ZHUKOVSKY}
     for case_id in ids:
         for ext in ("html", "toml", "audit.json", "m", "mpl", "py"):
             assert (built.site / "cases" / f"{case_id}.{ext}").is_file(), (case_id, ext)
     redirect = (built.site / "cases" / f"{ZHUKOVSKY}.html").read_text(encoding="utf-8")
     assert f'content="0; url={RENAMED}.html"' in redirect
-    for page in ("index.html", "searches.html", "corrections.html", "topics/index.html"):
+    for page in ("index.html", "searches.html", "classifications.html", "corrections.html",
+                 "topics/index.html"):  # fmt: skip
         assert (built.site / page).is_file()
 
 
@@ -306,6 +318,18 @@ def test_a_case_page_names_the_catalog_cases_that_are_the_same_system(built):
     assert f'Cases that are this system at some of its values: <a href="{RENAMED}.html">' in affine
     never = _same_system_section(built, YEHIA_B)
     assert "Not identified with the catalog yet" in never
+
+
+def test_the_classifications_page_shows_each_family_s_sets_identified(built):
+    page = (built.site / "classifications.html").read_text(encoding="utf-8")
+    section = page.split('<section id="search-', 1)[1].split("</section>", 1)[0]
+    assert "family-goryachev-chaplygin-gyrostat" in section
+    assert "3 free parameters (k1, k2, k3)" in section and "Complete: yes." in section
+    assert "<caption>1 special sets</caption>" in section
+    (row,) = re.findall(r"<tr>\n<th scope=\"row\">.*?</tr>", section, flags=re.S)
+    assert f'<a href="cases/{AFFINE}.html">{AFFINE}</a>' in row
+    assert "<td>1 of 1</td>" in row  # Sretenskii's integral: no case of this site claims it
+    assert "k1 = 0" in html.unescape(row) and "M1**2*M3" in html.unescape(row)
 
 
 def test_a_family_s_analysis_shows_its_special_sets_and_their_completeness(built):
