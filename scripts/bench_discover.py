@@ -25,6 +25,14 @@ Then classification scale (issue 21), with several free parameters:
    five free parameters, degree 2 at weights M = 1, gamma = 1 (Clebsch's condition);
 8. the same at degree 4 on s = 0 (Chaplygin's case besides); 7 and 8 target < 10 min.
 
+Then a classification at the scale of the published lists (issue 33, part 6):
+
+10. the reference paper's torque class on the Kovalevskaya body
+    (data/families/kovalevskaya-gradient-torque.toml): mu = grad phi, phi cubic in
+    gamma, all 19 coefficients free, degree 4 at weights M = 1, gamma = 2 (target < 10
+    min on two cores, complete: Yehia's gyrostat and the quadratic integral of
+    data/cases/discovered/).
+
 Then the survey of the whole catalog (issue 21, item 5):
 
 9. ``Registry.survey`` of every case of ``data/cases`` on a fresh throwaway SQLite
@@ -47,7 +55,7 @@ with sympy's nullspace. It runs in a child process with a time cap: past it the
 ratio printed is a lower bound.
 
 Usage: python scripts/bench_discover.py [--repeat 5] [--baseline-cap 300]
-       [--only-general | --only-scale | --only-survey]
+       [--only-general | --only-scale | --only-classification | --only-survey]
 Nothing here is asserted by the tests: machines are shared and noisy.
 """
 
@@ -266,10 +274,32 @@ SCALE = [
 ]
 
 
-def once(name: str, options: dict, **how) -> tuple[float, object]:
+#: Search 10: the classification of the torque class mu = grad phi, phi cubic (all of
+#: data/families/kovalevskaya-gradient-torque.toml's 19 coefficients free).
+TORQUE_CLASS = ROOT / "data" / "families" / "kovalevskaya-gradient-torque"
+CLASSIFICATION = [
+    (
+        "19 parameters (mu = grad phi, phi cubic), degree 4",
+        TORQUE_CLASS,
+        dict(
+            degree=4,
+            weights={"M": 1, "gamma": 2},
+            free=list(load_case(f"{TORQUE_CLASS}.toml").parameters),
+        ),
+        600.0,
+    ),
+]
+
+
+def family_file(name: str | Path) -> Path:
+    """A test family by its name, or a family file given by its path without suffix."""
+    return Path(f"{name}.toml") if isinstance(name, Path) else FAMILIES / f"{name}.toml"
+
+
+def once(name: str | Path, options: dict, **how) -> tuple[float, object]:
     """Seconds of one search (``how``: jobs, scheduler) and its result."""
     started = time.perf_counter()
-    report = discover_file(FAMILIES / f"{name}.toml", budget=1800, **options, **how)
+    report = discover_file(family_file(name), budget=1800, **options, **how)
     return time.perf_counter() - started, report.search
 
 
@@ -279,7 +309,7 @@ def with_and_without_symmetries(name: str, options: dict) -> tuple[float, float,
     timed searches above, so that caches are warm alike; processor time, since the
     machine is shared), whether their results are the same, and how many searched sets
     were split."""
-    case = load_case(FAMILIES / f"{name}.toml")
+    case = load_case(family_file(name))
     opts = search_options(case, **options)
     seconds, searches = [], []
     for symmetries in (True, False):
@@ -297,16 +327,16 @@ def with_and_without_symmetries(name: str, options: dict) -> tuple[float, float,
     return seconds[0], seconds[1], same, used
 
 
-def scale(repeat: int) -> None:
-    """Searches 6-8: one process, two processes, a local Dask cluster of two workers, and
-    one process without symmetries."""
+def scale(repeat: int, searches: list = SCALE) -> None:
+    """Searches 6-8 (or 10): one process, two processes, a local Dask cluster of two
+    workers, and one process without symmetries."""
     from registry.execution.cluster import cluster_client
 
     reference, _ = ours_timed("heavy-top-lam", dict(degree=4, free=["lam"]), repeat)
     print(f"reference (search 1, 1 parameter, degree 4): {reference:.3f} s")
     with cluster_client("local:2") as client:
         once("heavy-top-lam", dict(degree=4, free=["lam"]), scheduler=client)  # warm workers
-        for label, name, options, target in SCALE:
+        for label, name, options, target in searches:
             one, search = once(name, options, jobs=1)
             two, search2 = once(name, options, jobs=2)
             dask, search3 = once(name, options, scheduler=client)
@@ -370,7 +400,13 @@ def main() -> None:
     parser.add_argument("--only-general", action="store_true", help="only searches 4 and 5")
     parser.add_argument("--only-scale", action="store_true", help="only searches 6 to 8")
     parser.add_argument("--only-survey", action="store_true", help="only the survey (9)")
+    parser.add_argument(
+        "--only-classification", action="store_true", help="only the torque class (10)"
+    )
     args = parser.parse_args()
+    if args.only_classification:
+        scale(args.repeat, CLASSIFICATION)
+        return
     if args.only_scale:
         scale(args.repeat)
         return
@@ -399,6 +435,7 @@ def main() -> None:
                 f"ratio > {seconds / ours:.0f}x"
             )
     scale(args.repeat)
+    scale(args.repeat, CLASSIFICATION)
     survey(args.repeat)
 
 

@@ -5,21 +5,25 @@ Chaplygin and Lagrange bodies with a linear potential (the families of data/fami
 
 Each family is searched with all 19 coefficients of phi free, at weighted degree 4
 (weights M 1, gamma 2: Kovalevskaya's integral and Goryachev-Chaplygin's are of degree 4
-and 3 there), and recorded in the registry (``Registry.discover(record=True)``; the catalog of
-data/cases is added first, to identify the sets with): its
-special sets become derived cases whose integrals the next audit decides. Printed: one
-Markdown table per family (each special set, the catalog cases it is the same system as,
-whether its integrals are new, the integrals), the completeness and the time; what
-docs/classifications.md shows.
+and 3 there); so is a part of Wolf and Efimovskaya's e(3) setting (issue 33, part 3:
+quadratic Hamiltonians at the Kovalevskaya ratio, eight coefficients free, degree 4 at
+weights M 1, gamma 1). Each search is recorded in the registry
+(``Registry.discover(record=True)``; the catalog of data/cases is added first, to
+identify the sets with): its special sets become derived cases whose integrals the next
+audit decides. Printed: one Markdown table per family (each special set, the catalog
+cases it is the same system as, whether its integrals are new, the integrals), the
+completeness and the time; what docs/classifications.md shows.
 
     python scripts/classify.py [--db URL] [--jobs N] [--scheduler ADDRESS] [--fresh]
-                               [--family kovalevskaya ...]
+                               [--family kovalevskaya|goryachev-chaplygin|lagrange|
+                                         wolf-kovalevskaya-ratio ...]
 """
 
 from __future__ import annotations
 
 import argparse
 import sys
+from dataclasses import dataclass
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -30,19 +34,36 @@ from registry.api import Registry  # noqa: E402
 from registry.language.casefile import load_case  # noqa: E402
 
 FAMILIES = ROOT / "data" / "families"
-BODIES = ("kovalevskaya", "goryachev-chaplygin", "lagrange")
-WEIGHTS = {"M": 1, "gamma": 2}
-DEGREE = 4
 
 
-def classify(reg: Registry, body: str, *, jobs, scheduler, fresh: bool):
-    """The recorded search of one body's family, every parameter free."""
-    path = FAMILIES / f"{body}-gradient-torque.toml"
+@dataclass(frozen=True)
+class Family:
+    """A family file of data/families/ and the ansatz it is classified with."""
+
+    name: str
+    degree: int
+    weights: dict[str, int]
+
+
+#: The torque class on three bodies (weights M 1, gamma 2: Kovalevskaya's integral has
+#: degree 4, Goryachev-Chaplygin's 3), and a part of Wolf and Efimovskaya's e(3) setting
+#: at the Kovalevskaya ratio (weights M 1, gamma 1: its quartic integrals have degree 4).
+CLASSIFIED = {
+    "kovalevskaya": Family("kovalevskaya-gradient-torque", 4, {"M": 1, "gamma": 2}),
+    "goryachev-chaplygin": Family("goryachev-chaplygin-gradient-torque", 4, {"M": 1, "gamma": 2}),
+    "lagrange": Family("lagrange-gradient-torque", 4, {"M": 1, "gamma": 2}),
+    "wolf-kovalevskaya-ratio": Family("wolf-e3-kovalevskaya-ratio", 4, {"M": 1, "gamma": 1}),
+}
+
+
+def classify(reg: Registry, family: Family, *, jobs, scheduler, fresh: bool):
+    """The recorded search of one family, every parameter free."""
+    path = FAMILIES / f"{family.name}.toml"
     free = list(load_case(path).parameters)
     return reg.discover(
         path,
-        degree=DEGREE,
-        weights=WEIGHTS,
+        degree=family.degree,
+        weights=family.weights,
         free=free,
         record=True,
         fresh=fresh,
@@ -52,10 +73,10 @@ def classify(reg: Registry, body: str, *, jobs, scheduler, fresh: bool):
     )
 
 
-def table(body: str, document: dict) -> str:
+def table(name: str, document: dict) -> str:
     """The family's special sets as a Markdown table, with its completeness and time."""
     lines = [
-        f"### {body} body: {len(document['free'])} free parameters, degree {DEGREE}",
+        f"### {name}: {len(document['free'])} free parameters, degree {document['degree']}",
         "",
         f"complete: {'yes' if document['complete'] else 'no'}; "
         f"{document['seconds']:.0f} s; generic values: "
@@ -85,13 +106,15 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--jobs", type=int, help="worker processes (default: one per core)")
     parser.add_argument("--scheduler", help="a Dask scheduler's address, or local:N")
     parser.add_argument("--fresh", action="store_true", help="search again, not reuse")
-    parser.add_argument("--family", action="append", choices=BODIES, help="only these bodies")
+    parser.add_argument("--family", action="append", choices=CLASSIFIED, help="only these")
     args = parser.parse_args(argv)
     with registry.open(args.db) as reg:
         reg.add(ROOT / "data" / "cases")  # the catalog its sets are identified with
-        for body in args.family or BODIES:
-            found = classify(reg, body, jobs=args.jobs, scheduler=args.scheduler, fresh=args.fresh)
-            print(table(body, found.document()), end="\n\n", flush=True)
+        for name in args.family or CLASSIFIED:
+            found = classify(
+                reg, CLASSIFIED[name], jobs=args.jobs, scheduler=args.scheduler, fresh=args.fresh
+            )
+            print(table(name, found.document()), end="\n\n", flush=True)
     return 0
 
 
