@@ -504,8 +504,9 @@ def _step(
     if generic.extra:  # extra integrals for generic values (or an unlucky point)
         fld = Field(QQ.frac_field(*params) if params else QQ, params, {}, system.inverses)
         generic = analyse(system, known, fld, to_poly=lambda v: _ring_poly(system, v, fld))
-        if fresh:  # what the known ones and the sets it lies in do not generate, exactly
-            fresh = min(_beyond(analyse(system, [*known, *before], fld)), generic.extra)
+        if fresh and before:  # what the sets it lies in do not generate, exactly
+            fresh = _beyond(analyse(system, [*known, *before], fld))
+        fresh = min(fresh, generic.extra)
         columns = [e for e, _ in system.columns]
         integrals = [
             _expression(system, simplest(v, generic.trivial[d], columns, fld.domain), fld)
