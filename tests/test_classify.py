@@ -7,6 +7,7 @@ search found there."""
 from __future__ import annotations
 
 import importlib.util
+import sys
 from pathlib import Path
 
 import pytest
@@ -27,6 +28,7 @@ DISCOVERED = (
 def _script():
     spec = importlib.util.spec_from_file_location("classify", ROOT / "scripts" / "classify.py")
     module = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = module  # its dataclass looks its module up there
     spec.loader.exec_module(module)
     return module
 
