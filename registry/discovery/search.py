@@ -42,7 +42,7 @@ from ..execution.executor import Executor, InProcess, in_order, timed
 from ..execution.serving import Failure
 from ..execution.time_budget import BudgetExceeded, time_limit
 from ..language import forms
-from ..language.forms import with_values
+from ..language.forms import equation_with_values, with_values
 from ..language.parser import parse_equation, parse_expression
 from ..language.printer import to_text
 from ..mathematics.case_mechanics import CaseMechanics
@@ -837,7 +837,7 @@ def _proven(
     the search's own budget."""
     if not integrals:
         return IntegralSet(when, 0)
-    on = tuple(_at(eq, values) for eq in state.options.on)
+    on = tuple(equation_with_values(eq, values) for eq in state.options.on)
     claims = tuple(
         Claim(f"F{i + 1}", ClaimKind.INTEGRAL, Expression(to_text(e), e), on=on)
         for i, e in enumerate(integrals)
@@ -862,15 +862,6 @@ def _proven(
         )
     # a system given by its equations has no bracket, hence no Casimir verdicts
     return IntegralSet(when, len(kept), tuple(kept), tuple(casimirs))
-
-
-def _at(equation: Equation, values: dict) -> Equation:
-    """A level-set equation at a set's parameter values (``k1 = 0`` in ``s + k1 gamma1 =
-    0``), as the audit must read it for the case at those values."""
-    if not values:
-        return equation
-    lhs, rhs = equation.lhs.xreplace(values), equation.rhs.xreplace(values)
-    return Equation(f"{to_text(lhs)} = {to_text(rhs)}", lhs, rhs)
 
 
 def _check_invariant(system: PolynomialSystem, options: SearchOptions) -> None:

@@ -98,7 +98,11 @@ def derived_case_text(case: Case, found: IntegralSet, options: SearchOptions) ->
             "label": f"F{i + 1}",
             "kind": "integral",
             "expression": text,
-            **({"on": [f"{put(e.lhs)} = {put(e.rhs)}" for e in options.on]} if options.on else {}),
+            **(
+                {"on": [forms.equation_with_values(e, values).text for e in options.on]}
+                if options.on
+                else {}
+            ),
             **({"on": [f"{text} = 0"]} if options.relations else {}),
             "provenance": "discovered",
             "notes": f"Found by registry discover ({ansatz}) on case {case.id!r}"

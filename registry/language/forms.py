@@ -19,7 +19,7 @@ import sympy as sp
 from ..dynamics import Dynamics, Given, Vector
 from ..mathematics import flow, grading
 from ..mathematics import mechanics as mech
-from ..model import Case, Expression, System, Weights, as_weights
+from ..model import Case, Equation, Expression, System, Weights, as_weights
 from .parser import Namespace
 from .printer import to_text
 
@@ -240,6 +240,15 @@ def with_values(case: Case, values: Mapping[sp.Symbol, sp.Expr]) -> Case | None:
         assumptions={n: a for n, a in case.assumptions.items() if n in kept},
         dynamics=dynamics(system, kept, case.functions),
     )
+
+
+def equation_with_values(equation: Equation, values: Mapping[sp.Symbol, sp.Expr]) -> Equation:
+    """A level-set equation at these parameter values (``k1 = 0`` in ``s + k1 gamma1 =
+    0``): what a claim of the case at those values is restricted to."""
+    if not values:
+        return equation
+    lhs, rhs = equation.lhs.xreplace(values), equation.rhs.xreplace(values)
+    return Equation(f"{to_text(lhs)} = {to_text(rhs)}", lhs, rhs)
 
 
 def with_system(case: Case, system: System) -> Case:

@@ -64,3 +64,14 @@ def test_the_store_keeps_the_forms_fields_as_written():
     assert columns["hamiltonian"] is None and columns["kappa"] == "0"
     texts = forms.stored_texts(case.system)
     assert texts["potential"] == case.system.potential.text and "hamiltonian" not in texts
+
+
+def test_a_level_set_at_parameter_values_has_them_put_in_and_its_text_rewritten():
+    k1, k2, g1, g2, s = sp.symbols("k1 k2 gamma1 gamma2 s")
+    from registry.model import Equation
+
+    level = Equation("s + k1*gamma1 + k2*gamma2 = 0", s + k1 * g1 + k2 * g2, sp.Integer(0))
+    at = forms.equation_with_values(level, {k1: sp.Integer(0)})
+    assert sp.expand(at.expr - (s + k2 * g2)) == 0
+    assert "k1" not in at.text and at.text.endswith(" = 0")
+    assert forms.equation_with_values(level, {}) is level
