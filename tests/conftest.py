@@ -133,10 +133,15 @@ RUNNING = "REGISTRY_TESTS_RUNNING"
 _hung_before = pytest.StashKey[str]()
 
 
+def _marks(nodeid: str) -> Path:
+    """Where a test's marks are (one per process, ``<this>-<pid>``)."""
+    return Path(os.environ[RUNNING]) / hashlib.sha256(nodeid.encode()).hexdigest()
+
+
 def _stacks_of(nodeid: str) -> str:
     """The stacks a test left in a mark of its own when it hung in this run, or ''."""
-    name = hashlib.sha256(nodeid.encode()).hexdigest()
-    return "".join(m.read_text() for m in Path(os.environ[RUNNING]).glob(f"{name}-*"))
+    marks = _marks(nodeid)
+    return "".join(m.read_text() for m in marks.parent.glob(f"{marks.name}-*"))
 
 
 @pytest.hookimpl(hookwrapper=True)
@@ -146,8 +151,8 @@ def pytest_runtest_protocol(item, nextitem):
     the test that crashed its worker with those stacks (``pytest_handlecrashitem``), and
     fails it at once if it gives it to another worker."""
     item.stash[_hung_before] = _stacks_of(item.nodeid)
-    name = hashlib.sha256(item.nodeid.encode()).hexdigest()
-    mark = Path(os.environ[RUNNING]) / f"{name}-{os.getpid()}"
+    marks = _marks(item.nodeid)
+    mark = marks.with_name(f"{marks.name}-{os.getpid()}")
     with mark.open("w") as stacks:
         faulthandler.dump_traceback_later(TEST_HANG, exit=True, file=stacks)
         try:
