@@ -17,8 +17,9 @@ This module holds data only (sympy expressions and symbols); the algebra on it l
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
+from functools import cached_property
 
 import sympy as sp
 
@@ -95,7 +96,9 @@ class Dynamics:
     torque, the field). ``given`` is the system as the case file states it.
     ``grading`` are the weights the registry's recorded searches use for it (a grading
     under which its field is homogeneous where there is one); a search's default weights
-    are the vectors' own.
+    are the vectors' own. ``graded`` computes it on first use (finding a grading expands
+    the field, which listing or reporting a case never needs); without it the grading is
+    the vectors' own weights.
     """
 
     variables: tuple[sp.Symbol, ...]
@@ -116,7 +119,7 @@ class Dynamics:
     nonzero: tuple[sp.Expr, ...] = ()
     defined: tuple[sp.Expr, ...] = ()
     given: tuple[Given, ...] = ()
-    grading: Weights = ()
+    graded: Callable[[], Weights] | None = None
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "shorthands", dict(self.shorthands))
@@ -125,6 +128,13 @@ class Dynamics:
             raise ValueError(
                 f"{len(self.field)} equations of motion for {len(self.variables)} variables"
             )
+
+    @cached_property
+    def grading(self) -> Weights:
+        """The weights the registry's recorded searches use (class docstring)."""
+        if self.graded is not None:
+            return self.graded()
+        return tuple((v.name, v.weight) for v in self.vectors)
 
     @property
     def dimension(self) -> int:

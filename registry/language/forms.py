@@ -13,6 +13,7 @@ from __future__ import annotations
 import re
 from collections.abc import Mapping, Sequence
 from dataclasses import replace
+from functools import partial
 
 import sympy as sp
 
@@ -47,7 +48,7 @@ def _paper_state(
         energy: tuple[Given, ...] = (_given("H", "Hamiltonian H", "H", system.hamiltonian),)
         nonzero: tuple[sp.Expr, ...] = ()
         defining = h
-        graded = grading.homogeneous_weights(field) or as_weights((1, 1))
+        graded = partial(_field_grading, tuple(field))
     else:
         inertia = system.inertia_exprs
         h = mech.hamiltonian(inertia, system.potential.expr)
@@ -58,7 +59,7 @@ def _paper_state(
         )
         nonzero = tuple(inertia)
         defining = system.potential.expr
-        graded = _potential_grading(system.potential.expr)
+        graded = partial(_potential_grading, system.potential.expr)
     torque = tuple(
         _given(f"mu{k}", f"torque μ{k}", f"mu_{k}", e) for k, e in enumerate(system.torque, start=1)
     )
@@ -84,7 +85,7 @@ def _paper_state(
         nonzero=nonzero,
         defined=(defining, *mu, *([kappa] if kappa != 0 else [])),
         given=(*energy, *torque, *deformed, *_definitions(system)),
-        grading=graded,
+        graded=graded,
     )
 
 
@@ -143,7 +144,6 @@ def _own_state(
         functions=functions,
         defined=defined,
         given=(*given, *_definitions(system)),
-        grading=graded or tuple((v.name, v.weight) for v in vectors),
     )
 
 
@@ -176,6 +176,12 @@ def _definitions(system: System) -> tuple[Given, ...]:
         Given(name, f"definition {name}", sp.Symbol(name), e.expr, e.text)
         for name, e in system.definitions
     )
+
+
+def _field_grading(field: tuple[sp.Expr, ...]) -> Weights:
+    """The first of the paper state's gradings that makes a Hamiltonian's field homogeneous,
+    else M: 1, gamma: 1 (the weights of its quadratic part)."""
+    return grading.homogeneous_weights(field) or as_weights((1, 1))
 
 
 def _potential_grading(potential: sp.Expr) -> Weights:

@@ -44,6 +44,12 @@ def test_a_hamiltonian_form_is_pi_grad_h_and_names_kappa():
     generated = mech.hamiltonian_vector_field(d.bracket, d.hamiltonian)
     assert all(sp.expand(a - b) == 0 for a, b in zip(d.field, generated, strict=True))
     assert [g.name for g in d.given] == ["H", "mu1", "mu2", "mu3", "kappa"]
+    # the grading is found when first asked (listing or reporting a case never needs it):
+    # kappa != 0 and a quadratic part in gamma leave only equal weights
+    assert "grading" not in vars(d)
+    assert d.grading == (("M", 1), ("gamma", 1)) and "grading" in vars(d)
+    free_body = parse_case_text(SO4.replace("2*c*gamma1", "0").replace('"kappa"\n', '"0"\n'))
+    assert free_body.dynamics.grading == (("M", 1), ("gamma", 2))
 
 
 def test_parameter_values_are_put_in_where_the_case_is_defined():
