@@ -16,7 +16,7 @@ from collections.abc import Callable, Iterable, Mapping, Sequence
 from contextlib import AbstractContextManager
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Literal
+from typing import TYPE_CHECKING, Any, Literal, Unpack
 
 from . import settings
 from .errors import CaseFormatError, RegistryError
@@ -38,11 +38,11 @@ if TYPE_CHECKING:
 
     from .model import (
         Case,
+        CaseFilter,
         CaseIdentification,
         DriftCurve,
         Equation,
         MeasureSearch,
-        Verdict,
         VerdictChange,
         Weights,
     )
@@ -466,54 +466,24 @@ class Registry:
 
     # --- queries ----------------------------------------------------------
 
-    def cases(
-        self,
-        *,
-        source: str | None = None,
-        author: str | None = None,
-        year: int | tuple[int, int] | None = None,
-        topic: str | None = None,
-        family: str | None = None,
-        verdict: str | Verdict | None = None,
-    ) -> pd.DataFrame:
+    def cases(self, **filters: Unpack[CaseFilter]) -> pd.DataFrame:
         """One row per case (its latest version) with its citation (authors, year, title,
-        journal, volume, pages, doi, ...), topic, aliases and the torque family its
-        newest audit found; filtered by any of: ``source`` (text in the citation, title
-        or journal), ``author`` (text in an author's name), ``year`` (a year or an
-        inclusive range), ``topic``, ``family`` (exact), ``verdict`` (some claim has it).
-        Text filters ignore case."""
-        from .model import Verdict
+        journal, volume, pages, doi, ...), topic, aliases, the torque family its newest
+        audit found and the cases it was identified with; filtered by any of
+        ``source`` (text in the citation, title or journal), ``author`` (text in an
+        author's name), ``year`` (a year or an inclusive range), ``topic``, ``family``
+        (exact), ``verdict`` (some claim has it). Text filters ignore case; a
+        misspelt filter is a TypeError, never a silently unfiltered list."""
         from .store import frames
 
-        return frames.case_table(
-            self.store,
-            source=source,
-            author=author,
-            year=year,
-            topic=topic,
-            family=family,
-            verdict=None if verdict is None else str(Verdict(verdict)),
-        )
+        return frames.case_table(self.store, **filters)
 
-    def cases_text(
-        self,
-        *,
-        source: str | None = None,
-        author: str | None = None,
-        year: int | tuple[int, int] | None = None,
-        topic: str | None = None,
-        family: str | None = None,
-        verdict: str | Verdict | None = None,
-        width: int | None = None,
-    ) -> str:
+    def cases_text(self, width: int | None = None, **filters: Unpack[CaseFilter]) -> str:
         """The cases (filtered as ``cases``) as ``registry cases`` lists them, wrapped to
         ``width`` (None: the terminal's)."""
         from .presentation.listings import cases_listing
 
-        frame = self.cases(
-            source=source, author=author, year=year, topic=topic, family=family, verdict=verdict
-        )
-        return cases_listing(frame, terminal_width(width))
+        return cases_listing(self.cases(**filters), terminal_width(width))
 
     def claims(self) -> pd.DataFrame:
         """One row per claim of the latest case versions."""

@@ -11,7 +11,7 @@ from __future__ import annotations
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from enum import StrEnum
-from typing import TYPE_CHECKING, Any, NoReturn
+from typing import TYPE_CHECKING, Any, NoReturn, TypedDict
 
 import sympy as sp
 
@@ -461,6 +461,33 @@ class CaseAudit:
             if r.check == check and r.claim == claim:
                 return r
         raise KeyError((check, claim))
+
+
+class CaseFilter(TypedDict, total=False):
+    """Which cases to list (``Registry.cases``), every filter optional, None for none,
+    and all of them combined. Text filters ignore case."""
+
+    #: text in the citation, the source's title or its journal
+    source: str | None
+    #: text in an author's name
+    author: str | None
+    #: a year, or an inclusive range of years
+    year: int | tuple[int, int] | None
+    topic: str | None
+    #: the torque family the case's newest audit found (exact)
+    family: str | None
+    #: some claim's overall verdict (its kind's check)
+    verdict: str | Verdict | None
+
+
+def case_filter(filters: Mapping[str, Any]) -> CaseFilter:
+    """``filters`` as a ``CaseFilter`` without its None entries; a TypeError naming any
+    keyword that is not one of its filters (a misspelt filter must not list every case)."""
+    unknown = sorted(set(filters) - set(CaseFilter.__annotations__))
+    if unknown:
+        known = ", ".join(CaseFilter.__annotations__)
+        raise TypeError(f"no case filter {', '.join(map(repr, unknown))}; the filters are {known}")
+    return CaseFilter(**{k: v for k, v in filters.items() if v is not None})  # type: ignore[typeddict-item]
 
 
 @dataclass(frozen=True)

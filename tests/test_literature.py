@@ -445,6 +445,10 @@ def test_family_filter_and_unknown_values(browsed):
     )
     empty = browsed.cases(family="no such family")
     assert empty.empty and "authors" in empty.columns
+    # a misspelt filter is refused by name, never read as "no filter"
+    with pytest.raises(TypeError, match="no case filter 'autor'.*the filters are source"):
+        browsed.cases(autor="Euler")  # type: ignore[call-arg]
+    assert browsed.cases(author=None, year=None).equals(frame)  # None: no filter
 
 
 def test_registry_cases_command_filters(browsed_db):

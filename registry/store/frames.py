@@ -8,13 +8,13 @@ one database session; ``Registry.cases()`` and the other queries of the API, and
 from __future__ import annotations
 
 from collections.abc import Iterable, Mapping, Sequence
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Unpack
 
 from sqlalchemy import Select, func, select
 from sqlalchemy import case as sql_case
 
 from ..errors import UnknownRunError
-from ..model import CaseIdentification, Verdict
+from ..model import CaseFilter, CaseIdentification, Verdict, case_filter
 from .conversions import verdict_text
 from .database import Store, get_run
 from .engine import guarded
@@ -117,22 +117,12 @@ def _form_name(own: dict | None, hamiltonian: str | None) -> str:
 
 
 @guarded
-def case_table(
-    store: Store,
-    *,
-    source: str | None = None,
-    author: str | None = None,
-    year: int | tuple[int, int] | None = None,
-    topic: str | None = None,
-    family: str | None = None,
-    verdict: str | None = None,
-) -> pd.DataFrame:
-    """``cases_frame`` with the torque family each case's newest audit found, filtered
-    by any of: ``source`` (text in the citation, title or journal), ``author`` (text in
-    an author's name), ``year`` (a year or an inclusive range), ``topic``, ``family``
-    (exact), ``verdict`` (the overall verdict of some claim: its kind's check). Text
-    filters ignore case."""
+def case_table(store: Store, **filters: Unpack[CaseFilter]) -> pd.DataFrame:
+    """``cases_frame`` with the torque family each case's newest audit found and the
+    cases each was identified with, filtered as ``filters`` say (``model.CaseFilter``)."""
     import pandas as pd  # imported here: adding cases should not pay for pandas
+
+    wanted = case_filter(filters)
 
     frame = cases_frame(store).merge(families_frame(store), on="case", how="left")
     frame["family"] = frame["family"].map(lambda f: f if isinstance(f, str) else "")
@@ -162,21 +152,21 @@ def case_table(
     def contains(values: pd.Series, text: str) -> pd.Series:
         return values.astype(str).str.lower().str.contains(text.lower(), regex=False)
 
-    if source is not None:
+    if (source := wanted.get("source")) is not None:
         texts = frame["citation"] + " " + frame["source_title"] + " " + frame["journal"]
         keep &= contains(texts, source)
-    if author is not None:
+    if (author := wanted.get("author")) is not None:
         names = frame["authors"].map(lambda a: " ".join(a) if isinstance(a, list) else "")
         keep &= contains(names, author)
-    if year is not None:
+    if (year := wanted.get("year")) is not None:
         first, last = year if isinstance(year, tuple) else (year, year)
         keep &= pd.to_numeric(frame["year"], errors="coerce").between(first, last)
-    if topic is not None:
+    if (topic := wanted.get("topic")) is not None:
         keep &= frame["topic"].astype(str).str.lower() == topic.lower()
-    if family is not None:
+    if (family := wanted.get("family")) is not None:
         keep &= frame["family"] == family
-    if verdict is not None:
-        keep &= frame["case"].isin(_cases_with_verdict(store, verdict))
+    if (verdict := wanted.get("verdict")) is not None:
+        keep &= frame["case"].isin(_cases_with_verdict(store, str(Verdict(verdict))))
     return frame[keep.astype(bool)].reset_index(drop=True)
 
 
