@@ -70,3 +70,25 @@ def test_the_kovalevskaya_body_with_a_gradient_torque_has_two_special_sets():
     text = _script().table("kovalevskaya", search_document(found))
     assert "yehia-1986-kovalevskaya-gyrostat" in text and "p33 = 1/k1" in text
     assert "complete: yes" in text
+
+
+@pytest.mark.slow  # about 15 s of computing (8 free parameters)
+def test_wolf_and_efimovskayas_family_at_the_kovalevskaya_ratio_is_classified_completely():
+    # Wolf, Efimovskaya, Regular and Chaotic Dynamics 8 (2003) 155-162: at A = diag(1, 1, 2)
+    # the quartic cases are the Kovalevskaya gyrostat and Sokolov's case; the locus has
+    # quadric components (c22**2 n3**2 - c22 m2 n3 - c22 + m2**2/4 + 1/4 = 0 in a slice)
+    # that only a parametrisation through the discriminant makes rational
+    case = load_case(ROOT / "data" / "families" / "wolf-e3-kovalevskaya-ratio.toml")
+    free = list(case.parameters)
+    options = search_options(case, degree=4, weights={"M": 1, "gamma": 1}, free=free)
+    found = discover(case, options, catalog=catalog_index())
+    assert found.complete, found.coverage
+    sets = {frozenset(s.when): s for s in found.special}
+    gyrostat = sets[frozenset({"b31 = 0", "b32 = 0", "c11 = 0", "c12 = 0", "c22 = 0"})]
+    assert "wolf-2003-e3-kovalevskaya-gyrostat" in {s.case for s in gyrostat.same_as}
+    # Sokolov's case in every rotation about the axis, one set
+    (sokolov,) = [s for s in found.special if "c22 = b31**2/4 + b32**2/4" in s.when]
+    assert {"c12 = 0", "c11 = b31**2/4 + b32**2/4"} <= set(sokolov.when)
+    assert "wolf-2003-e3-sokolov-linear" in {s.case for s in sokolov.same_as}
+    assert not any(st.new for st in sokolov.status)
+    assert not any("parametrisation" in c for c in found.coverage)

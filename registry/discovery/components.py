@@ -17,6 +17,13 @@ position; symbolic parameters stay in the ground field) are taken one by one:
 * a component of degree 1 over the field of its free coordinates (its bound parameters
   rational functions of the free ones) is an ordinary candidate set, searched by
   substitution like every other;
+* a hypersurface f = 0 quadratic in a parameter y, a y**2 + b y + c, whose
+  discriminant b**2 - 4ac is k L Q**2 with L linear in another parameter s, is rational
+  with one new parameter w (``NEW``): L = k w**2 gives s, and y = (-b + k w Q)/(2a).
+  Every real point where a, Q and L's coefficient of s do not vanish is reached (there
+  k L = (2ay + b)**2/Q**2 >= 0, so w is real); where one of them vanishes is a smaller
+  set, resolved again. This is how ``n3**2 c22**2 = c22 - 1/4`` (a quartic curve) is
+  searched: c22 = w**2 + 1/4, n3 = w/c22;
 * the rest (defined over an algebraic extension, or without a rational parametrisation)
   is returned as a ``Piece``.
 """
@@ -33,6 +40,11 @@ from .splitting import AlgebraicSet
 
 #: How often the real-point rule may add equations to one set before it stops.
 MAX_REAL_STEPS = 8
+
+#: The parameter a quadratic component's parametrisation introduces (module docstring).
+#: Its name is no case's (case names are identifiers): the search renames it to one the
+#: case does not use before it searches the set.
+NEW = sp.Symbol("w'", real=True)
 
 
 @dataclass(frozen=True)
@@ -93,8 +105,16 @@ def _resolve(
             continue
         if part.degree == 1:
             values = _rational(found.values, part)
-            if _allowed(values):
+            if _allowed(values) and values not in out.sets:
                 out.sets.append(values)
+        elif (parametrised := _parametrised(found.values, part)) is not None:
+            values, misses = parametrised
+            if _allowed(values) and values not in out.sets:
+                out.sets.append(values)
+            for factor in misses:  # in the component's own parameters
+                factor = sp.numer(sp.together(sp.sympify(factor).xreplace(found.values)))
+                smaller = AlgebraicSet(found.values, (*part.equations(), factor), found.units)
+                _resolve(smaller, free, symbolic, out, depth + 1)
         else:
             text = AlgebraicSet(found.values, tuple(part.equations())).text()
             piece = Piece(found.values, part, text, found.units)
@@ -127,6 +147,136 @@ def _real_zeros(part: Component) -> list[sp.Symbol]:
 def _allowed(values: dict[sp.Symbol, sp.Expr]) -> bool:
     """False where a positive parameter is set to a number that is not positive."""
     return not any(x.is_positive and v.is_number and not v > 0 for x, v in values.items())
+
+
+def _parametrised(
+    values: dict[sp.Symbol, sp.Expr], part: Component
+) -> tuple[dict[sp.Symbol, sp.Expr], list[sp.Expr]] | None:
+    """A component of degree > 1 parametrised rationally (module docstring), or None: its
+    equations linear in a parameter solved for it one by one, and the one left either
+    linear in a parameter too, or quadratic with a discriminant that is k L Q**2. The
+    values of the parameters it solves (in w and the others, the splitting's solved
+    parameters written in them too), and the factors where real points are missed."""
+    names = set(part.variables)
+    equations = [
+        sp.expand(sp.numer(sp.together(e)))
+        for e in part.equations()
+        if sp.sympify(e).free_symbols & names
+    ]
+    bound: dict[sp.Symbol, sp.Expr] = {}
+    misses: list[sp.Expr] = []
+
+    def solve(x: sp.Symbol, at: sp.Expr, denominators: Sequence[sp.Expr]) -> None:
+        for solved in bound:
+            bound[solved] = sp.cancel(bound[solved].xreplace({x: at}))
+        bound[x] = at
+        misses.extend(d for d in denominators if sp.sympify(d).free_symbols & names)
+
+    while equations:
+        linear = next(
+            (
+                (e, x)
+                for e in equations
+                for x in part.variables
+                if sp.degree(e, x) == 1 and not part.vanishes(e.coeff(x, 1))
+            ),
+            None,
+        )
+        if linear is None:
+            break
+        e, x = linear
+        alpha, beta = e.coeff(x, 1), e.coeff(x, 0)
+        solve(x, sp.cancel(-beta / alpha), [alpha])
+        put = (sp.expand(sp.numer(sp.together(g.xreplace({x: bound[x]})))) for g in equations)
+        equations = [f for f in put if f != 0]
+    if len(equations) > 1:
+        return None
+    if equations:
+        found = _quadratic(equations[0], [x for x in part.variables if x not in bound])
+        if found is None:
+            return None
+        for x, at in found[0].items():
+            solve(x, at, [])
+        misses.extend(g for g in found[1] if sp.sympify(g).free_symbols & names)
+    out = {x: sp.cancel(sp.sympify(e).xreplace(bound)) for x, e in values.items()}
+    out.update(bound)
+    out = _unnamed(out)
+    if any(sp.cancel(sp.together(sp.sympify(e).xreplace(out))) != 0 for e in part.equations()):
+        return None  # never a set off the component (the steps above should not make one)
+    # where a value's denominator vanishes, the values do not reach the component's points
+    for e in out.values():
+        misses.extend(
+            g
+            for g, _ in sp.factor_list(sp.denom(sp.together(e)))[1]
+            if g.free_symbols & (names | set(values)) and NEW not in g.free_symbols
+        )
+    return out, list(dict.fromkeys(misses))
+
+
+def _unnamed(values: dict[sp.Symbol, sp.Expr]) -> dict[sp.Symbol, sp.Expr]:
+    """The values with ``NEW`` written as a parameter that is c w + d (c a number, d free
+    of w), where one is: that parameter stays free, and no new one is needed
+    (b32 = -w gives w = -b32)."""
+    for x, e in values.items():
+        e = sp.expand(e)
+        if NEW in sp.denom(sp.together(e)).free_symbols:
+            continue
+        if NEW in e.free_symbols and sp.degree(e, NEW) == 1:
+            c, d = e.coeff(NEW, 1), e.coeff(NEW, 0)
+            if c.is_number and c != 0 and NEW not in d.free_symbols and x not in d.free_symbols:
+                w = (x - d) / c
+                return {
+                    y: sp.cancel(sp.sympify(v).xreplace({NEW: w}))
+                    for y, v in values.items()
+                    if y != x
+                }
+    return values
+
+
+def _quadratic(
+    f: sp.Expr, variables: Sequence[sp.Symbol]
+) -> tuple[dict[sp.Symbol, sp.Expr], list[sp.Expr]] | None:
+    """f = a y**2 + b y + c = 0 with b**2 - 4ac = k L Q**2, L linear in another parameter
+    s: the values of s and y in ``NEW`` and the others (w scaled so that L = k0 w**2 with
+    k0 the square-free part of k), and the factors where real points
+    are missed (a, Q's factors, L's coefficient of s); None where f is not of this kind.
+    Only an irreducible f is parametrised (a factor of f is another component)."""
+    _, parts = sp.factor_list(f)
+    if len(parts) != 1 or parts[0][1] != 1:
+        return None
+    names = set(variables)
+    found = []
+    for y in variables:
+        if sp.degree(f, y) != 2:
+            continue
+        a, b, c = (sp.expand(f.coeff(y, k)) for k in (2, 1, 0))
+        k, factors = sp.factor_list(sp.expand(b**2 - 4 * a * c))
+        odd = [g for g, e in factors if e % 2]
+        if len(odd) != 1:
+            continue
+        square = sp.Mul(*(g ** (e // 2) for g, e in factors))
+        # k = r**2 k0 with k0 a square-free integer: L = k0 w**2 makes k L = (r k0 w)**2
+        r, root_k0 = sp.sqrt(abs(k)).as_coeff_Mul()
+        k0 = sp.sign(k) * root_k0**2
+        for s in variables:
+            if s == y or sp.degree(odd[0], s) != 1:
+                continue
+            alpha, beta = sp.expand(odd[0]).coeff(s, 1), sp.expand(odd[0]).coeff(s, 0)
+            at_s = sp.cancel((k0 * NEW**2 - beta) / alpha)
+            root = sp.cancel(((-b + r * k0 * NEW * square) / (2 * a)).xreplace({s: at_s}))
+            misses = [
+                g
+                for g in (a, alpha, *(g for g, e in factors if e > 1))
+                if sp.sympify(g).free_symbols & names
+            ]
+            found.append(({s: at_s, y: root}, misses))
+    # the simplest: fewest factors where points are missed (a polynomial parametrisation
+    # where there is one), then the shortest values
+    return min(
+        found,
+        key=lambda option: (len(option[1]), sum(sp.count_ops(e) for e in option[0].values())),
+        default=None,
+    )
 
 
 def _rational(values: dict[sp.Symbol, sp.Expr], part: Component) -> dict[sp.Symbol, sp.Expr]:

@@ -26,6 +26,7 @@ free-parameter values where more appear.
 
 from __future__ import annotations
 
+import itertools
 import random
 import time
 from collections.abc import Callable, Mapping, Sequence
@@ -65,7 +66,7 @@ from ..model import (
 )
 from .algebraic_points import decide
 from .ansatz import PolynomialSystem
-from .components import resolve
+from .components import NEW, resolve
 from .darboux import general_cofactor, proven_relations
 from .identification.catalog_index import CatalogIndex
 from .identification.claim_match import carried_claims
@@ -555,12 +556,13 @@ def _step(
             state.undecided.extend(u for u in resolved.undecided if u not in state.undecided)
             locus.sets.extend(x for x in resolved.sets if x not in locus.sets)
             pieces.extend(resolved.pieces)
-    for assignment in locus.maximal():
+    for parametrised in locus.maximal():
+        assignment, introduced = _named(case, parametrised)
         sub = with_values(case, assignment)
         if sub is None:
             continue
         composed = _composed(values, assignment)
-        rest = [p for p in free if p not in assignment]
+        rest = [p for p in free if p not in assignment] + introduced
         sub_when = _when(state, composed)
         candidates.append((sub, rest, sub_when, composed, _restricted(inside, assignment)))
         if cofactor is not None:
@@ -604,6 +606,20 @@ def _scalings(m: CaseMechanics, system: PolynomialSystem, known, params, options
     invariant = [sp.sympify(eq.expr) for eq in options.on]
     invariant += [system.expression(g.poly) for g in known]
     return covariant_weights(field, m.dynamics.variables, params, invariant)
+
+
+def _named(
+    case: Case, assignment: dict[sp.Symbol, sp.Expr]
+) -> tuple[dict[sp.Symbol, sp.Expr], list[sp.Symbol]]:
+    """A candidate set with the parameter its parametrisation introduced
+    (``components.NEW``) named ``w1``, ``w2``, ... (the first name the case does not
+    use), and the parameters so named: free parameters of the set's own search."""
+    if not any(NEW in sp.sympify(e).free_symbols for e in assignment.values()):
+        return assignment, []
+    taken = {*case.parameters, *map(str, case.dynamics.variables), *case.functions}
+    name = next(f"w{i}" for i in itertools.count(1) if f"w{i}" not in taken)
+    named = sp.Symbol(name, real=True)
+    return {s: sp.sympify(e).xreplace({NEW: named}) for s, e in assignment.items()}, [named]
 
 
 def _composed(values: dict, assignment: dict) -> dict[sp.Symbol, sp.Expr]:

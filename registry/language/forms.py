@@ -20,7 +20,7 @@ import sympy as sp
 from ..dynamics import Dynamics, Given, Vector
 from ..mathematics import flow, grading
 from ..mathematics import mechanics as mech
-from ..model import Case, Equation, Expression, System, Weights, as_weights
+from ..model import Assumption, Case, Equation, Expression, System, Weights, as_weights
 from .parser import Namespace
 from .printer import to_text
 
@@ -215,10 +215,17 @@ def with_values(case: Case, values: Mapping[sp.Symbol, sp.Expr]) -> Case | None:
         ):
             return None
 
+    # values with denominators (a component's rational parametrisation) leave fractions
+    # that cancel: a moment 1 + a**2 c**2 at a = 2w/(w**2 + 1), c = (w**2 + 1)/4 is
+    # 1 + w**2/4, so that the system reads (and is identified) as what it is
+    fractions = any(sp.denom(sp.together(v)).free_symbols for v in values.values())
+
     def put(e: Expression) -> Expression:
         new = sp.sympify(e.expr).xreplace(values)
         if new.has(sp.zoo, sp.nan, sp.oo):
             raise Undefined
+        if fractions and new.free_symbols:
+            new = sp.cancel(new)
         return Expression(to_text(new), new)
 
     system = case.system
@@ -238,12 +245,19 @@ def with_values(case: Case, values: Mapping[sp.Symbol, sp.Expr]) -> Case | None:
     except Undefined:  # a value where a denominator vanishes
         return None
     kept = {n: s for n, s in case.parameters.items() if s not in values}
+    # a parameter the values bring in (a component's parametrisation) is a real one
+    brought = set().union(*(v.free_symbols for v in values.values())) - set(kept.values())
+    kept.update({str(s): s for s in sorted(brought, key=str)})
     return replace(
         case,
         system=system,
         claims=(),
         parameters=kept,
-        assumptions={n: a for n, a in case.assumptions.items() if n in kept},
+        assumptions={
+            n: case.assumptions.get(n, Assumption.REAL)
+            for n in kept
+            if n in case.assumptions or n not in case.parameters
+        },
         dynamics=dynamics(system, kept, case.functions),
     )
 

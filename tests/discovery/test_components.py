@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import sympy as sp
 
-from registry.discovery.components import resolve
+from registry.discovery.components import NEW, resolve
 from registry.discovery.splitting import AlgebraicSet
 
 c = sp.Symbol("c", positive=True)
@@ -41,4 +41,57 @@ def test_lines_over_an_algebraic_extension_are_a_piece():
 def test_a_component_that_breaks_an_assumption_is_dropped():
     found = resolve(AlgebraicSet({}, ((c + 1) * (x0**2 - 2),)), [c, x0])
     # c = -1 is not allowed (c positive); x0^2 = 2 is a piece
+    assert found.sets == [] and len(found.pieces) == 1
+
+
+c22, n3, m2, b31, b32 = sp.symbols("c22 n3 m2 b31 b32", real=True)
+
+
+def _vanishes(equation, values) -> bool:
+    return sp.cancel(sp.together(sp.sympify(equation).xreplace(values))) == 0
+
+
+def test_a_quadric_whose_discriminant_is_linear_is_parametrised_by_a_new_parameter():
+    # quadratic in m2 with discriminant c22 - 1/4: c22 = w**2 + 1/4, m2 = 2 c22 n3 + 2 w
+    # (Wolf and Efimovskaya's e(3) family, at the Kovalevskaya ratio, has this slice)
+    f = m2**2 / 4 - c22 * n3 * m2 + c22**2 * n3**2 - c22 + sp.Rational(1, 4)
+    found = resolve(AlgebraicSet({}, (f,)), [c22, n3, m2])
+    assert not found.pieces and not found.undecided
+    (values,) = found.sets
+    assert NEW in values[c22].free_symbols and _vanishes(f, values)
+    # a polynomial parametrisation is preferred where there is one: nothing is missed
+    assert not any(sp.denom(sp.together(v)).free_symbols for v in values.values())
+    # every real point is reached: both real m2 at c22 = 5/4, n3 = 1 have a real w
+    ws = sp.solve(values[c22] - sp.Rational(5, 4), NEW)
+    reached = {values[m2].xreplace({NEW: w, n3: 1}) for w in ws}
+    assert all(w.is_real for w in ws)
+    assert reached == set(sp.solve(f.xreplace({c22: sp.Rational(5, 4), n3: 1}), m2))
+
+
+def test_a_parametrisation_misses_no_point_where_its_denominators_vanish():
+    # n3**2 c22**2 = c22 - 1/4: c22 = (w**2 + 1)/4, n3 = 2w/(w**2 + 1); the point
+    # c22 = 1/4, n3 = 0 (w = 0) is reached, nothing is left undecided
+    g = n3**2 * c22**2 - c22 + sp.Rational(1, 4)
+    found = resolve(AlgebraicSet({}, (g,)), [c22, n3])
+    assert not found.pieces and not found.undecided
+    (values,) = found.sets
+    assert _vanishes(g, values) and values[c22].xreplace({NEW: 0}) == sp.Rational(1, 4)
+
+
+def test_a_parameter_the_parametrisation_equals_stays_free_instead_of_a_new_one():
+    # the component of the Wolf family where b32 = 2 c22 n3/m2: its parametrisation's w
+    # is -b32 itself, so the set is rational in b31, b32, m2 (Sokolov's case)
+    f = b31**2 * m2**2 / 4 + c22**2 * n3**2 - c22 * m2**2
+    solved = {b32: 2 * c22 * n3 / m2}
+    found = resolve(AlgebraicSet(solved, (f,), (m2,)), [b31, b32, c22, n3, m2])
+    assert not found.pieces and not found.undecided
+    (sokolov,) = [v for v in found.sets if n3 in v]
+    assert b32 not in sokolov and not any(NEW in e.free_symbols for e in sokolov.values())
+    assert sp.expand(sokolov[c22] - (b31**2 + b32**2) / 4) == 0
+    assert _vanishes(f, sokolov) and _vanishes(b32 - 2 * c22 * n3 / m2, sokolov)
+
+
+def test_a_conic_with_no_linear_discriminant_stays_a_piece():
+    # c22**2 + n3**2 = 3 m2**2: every discriminant is a quadratic form
+    found = resolve(AlgebraicSet({}, (c22**2 + n3**2 - 3 * m2**2,)), [c22, n3, m2])
     assert found.sets == [] and len(found.pieces) == 1

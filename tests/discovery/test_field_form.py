@@ -7,6 +7,7 @@ import sympy as sp
 
 from registry.discovery.identification.field_form import L_STATE, field_form
 from tests.helpers.catalog import catalog_case
+from tests.helpers.samples import family
 
 
 def test_a_torque_form_needs_no_shift_and_reads_its_inverse_inertia():
@@ -37,3 +38,17 @@ def test_a_component_that_is_zero_has_no_term_in_the_support():
     assert not any(component == 2 for component, _ in form.support())
     assert (0, (0, 0, 0, 0, 1, 0)) in form.support()  # a gamma2 in dL1/dt
     assert ("L", 0, 0) not in form.profile()  # nor a constant term in the profile
+
+
+def test_coefficients_written_apart_cancel_in_the_angular_velocity():
+    # a moment w**2/4 + 1 enters dgamma/dt as 1/(w**2/4 + 1) in one component and as
+    # 4/(w**2 + 4) in another: the same coefficient, so the form is found
+    from registry.language.forms import with_values
+
+    case = family("quadric-moments")
+    a, c = case.parameters["a"], case.parameters["c"]
+    w = sp.Symbol("w1", real=True)
+    on_curve = with_values(case, {a: 2 * w / (w**2 + 1), c: w**2 / 4 + sp.Rational(1, 4)})
+    form = field_form(on_curve.dynamics)
+    assert form is not None and form.kinetic is not None
+    assert sp.cancel(form.kinetic[0, 0] - 4 / (w**2 + 4)) == 0 == form.kinetic[0, 1]

@@ -111,6 +111,26 @@ def test_the_lagrange_top_has_m3_for_every_lam():
     assert found.special == ()  # the spherical top adds nothing new here: M3 already
 
 
+def test_a_quartic_curve_of_symmetric_bodies_is_searched_with_a_new_parameter():
+    # A = 1 + a**2 c**2 equals B = c + 3/4 on a**2 c**2 = c - 1/4, where no parameter is
+    # rational in the other; through its discriminant, c = (w**2 + 1)/4, a = 2w/(w**2 + 1)
+    found = search("quadric-moments", degree=2, weights={"M": 1, "gamma": 2}, free=("a", "c"))
+    assert found.complete, found.coverage
+    (curve,) = [s for s in found.special if any("w1" in e for e in s.when)]
+    assert curve.integrals == ("M3",) and found.generic.extra == 0
+    case = family("quadric-moments")
+    a, c = case.parameters["a"], case.parameters["c"]
+    w1 = sp.Symbol("w1", real=True)
+    values = {a: sp.sympify(curve.when[0].split(" = ")[1], locals={"w1": w1})}
+    values[c] = sp.sympify(curve.when[1].split(" = ")[1], locals={"w1": w1})
+    # every member of the set is a symmetric body: A = B for every w1
+    inertia = [sp.cancel(e.xreplace(values)) for e in case.system.inertia_exprs]
+    assert sp.cancel(inertia[0] - inertia[1]) == 0
+    symmetric = substituted(case, values)
+    assert symmetric is not None and "w1" in symmetric.parameters
+    assert symmetric.system.inertia[0].text == "w1**2/4 + 1"  # the fractions cancel
+
+
 def test_another_axis_and_normalisation_give_kovalevskaya_at_a_half():
     found = search("heavy-top-axis1", degree=4, free=("a",))
     assert found.complete

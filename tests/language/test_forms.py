@@ -63,6 +63,16 @@ def test_parameter_values_are_put_in_where_the_case_is_defined():
     assert forms.with_values(case, {c: 1 / (kappa - kappa)}) is None  # undefined
 
 
+def test_values_that_bring_a_parameter_in_declare_it_real():
+    # a component of a search's locus parametrised by a new parameter (c = w**2 + 1)
+    case = parse_case_text(SO4)
+    w = sp.Symbol("w", real=True)
+    at = forms.with_values(case, {case.parameters["c"]: w**2 + 1})
+    assert at is not None and at.parameters["w"] == w and "c" not in at.parameters
+    assert str(at.assumptions["w"]) == "real" and w in at.dynamics.parameters
+    assert at.assumptions["kappa"] == case.assumptions["kappa"]
+
+
 def test_the_store_keeps_the_forms_fields_as_written():
     case = load_case(CASES / "zhukovsky-gyrostat.toml")
     columns = forms.columns(case.system)

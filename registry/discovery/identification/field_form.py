@@ -122,7 +122,12 @@ def _angular_velocity(vg: Sequence[sp.Expr]) -> tuple[sp.Matrix, list[sp.Expr]] 
         kinetic[0, col] = polys[1].coeff_monomial(g[2] * m[col])
         kinetic[1, col] = polys[2].coeff_monomial(g[0] * m[col])
     gv = sp.Matrix(g)
-    rest = [sp.expand(e) for e in sp.Matrix(vg) - gv.cross(kinetic * sp.Matrix(m))]
+    # as polynomials in the state, so that coefficients written apart (4/(w**2 + 4) and
+    # 1/(w**2/4 + 1)) cancel
+    rest = [
+        sp.Poly(sp.expand(e), *m, *g).as_expr()
+        for e in sp.Matrix(vg) - gv.cross(kinetic * sp.Matrix(m))
+    ]
     if any(e.has(*m) for e in rest):
         return None
     degree = max([sp.Poly(e, *g).total_degree() for e in rest if e != 0], default=0)
