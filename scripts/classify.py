@@ -7,7 +7,8 @@ Each family is searched with all 19 coefficients of phi free, at weighted degree
 (weights M 1, gamma 2: Kovalevskaya's integral and Goryachev-Chaplygin's are of degree 4
 and 3 there); so is a part of Wolf and Efimovskaya's e(3) setting (issue 33, part 3:
 quadratic Hamiltonians at the Kovalevskaya ratio, eight coefficients free, degree 4 at
-weights M 1, gamma 1). Each search is recorded in the registry
+weights M 1, gamma 1, also on s = 0; and at Goryachev-Chaplygin's ratio on s = 0, degree
+3). Each search is recorded in the registry
 (``Registry.discover(record=True)``; the catalog of data/cases is added first, to
 identify the sets with): its special sets become derived cases whose integrals the next
 audit decides. Printed: one Markdown table per family (each special set, the catalog
@@ -16,7 +17,8 @@ completeness and the time; what docs/classifications.md shows.
 
     python scripts/classify.py [--db URL] [--jobs N] [--scheduler ADDRESS] [--fresh]
                                [--family kovalevskaya|goryachev-chaplygin|lagrange|
-                                         wolf-kovalevskaya-ratio ...]
+                                         wolf-kovalevskaya-ratio|wolf-kovalevskaya-ratio-s0|
+                                         wolf-goryachev-chaplygin-ratio ...]
 """
 
 from __future__ import annotations
@@ -43,16 +45,26 @@ class Family:
     name: str
     degree: int
     weights: dict[str, int]
+    #: the level set searched on (Goryachev-Chaplygin's integrals hold on s = 0)
+    on: tuple[str, ...] = ()
 
 
 #: The torque class on three bodies (weights M 1, gamma 2: Kovalevskaya's integral has
 #: degree 4, Goryachev-Chaplygin's 3), and a part of Wolf and Efimovskaya's e(3) setting
-#: at the Kovalevskaya ratio (weights M 1, gamma 1: its quartic integrals have degree 4).
+#: at the Kovalevskaya ratio (weights M 1, gamma 1: its quartic integrals have degree 4),
+#: on the whole phase space and on s = 0 (Chaplygin's entry), and at Goryachev-Chaplygin's
+#: ratio on s = 0 (its cubic integrals).
 CLASSIFIED = {
     "kovalevskaya": Family("kovalevskaya-gradient-torque", 4, {"M": 1, "gamma": 2}),
     "goryachev-chaplygin": Family("goryachev-chaplygin-gradient-torque", 4, {"M": 1, "gamma": 2}),
     "lagrange": Family("lagrange-gradient-torque", 4, {"M": 1, "gamma": 2}),
     "wolf-kovalevskaya-ratio": Family("wolf-e3-kovalevskaya-ratio", 4, {"M": 1, "gamma": 1}),
+    "wolf-kovalevskaya-ratio-s0": Family(
+        "wolf-e3-kovalevskaya-ratio", 4, {"M": 1, "gamma": 1}, ("s = 0",)
+    ),
+    "wolf-goryachev-chaplygin-ratio": Family(
+        "wolf-e3-goryachev-chaplygin-ratio", 3, {"M": 1, "gamma": 1}, ("s = 0",)
+    ),
 }
 
 
@@ -65,6 +77,7 @@ def classify(reg: Registry, family: Family, *, jobs, scheduler, fresh: bool):
         degree=family.degree,
         weights=family.weights,
         free=free,
+        on=list(family.on),
         record=True,
         fresh=fresh,
         budget=3600,
@@ -76,7 +89,8 @@ def classify(reg: Registry, family: Family, *, jobs, scheduler, fresh: bool):
 def table(name: str, document: dict) -> str:
     """The family's special sets as a Markdown table, with its completeness and time."""
     lines = [
-        f"### {name}: {len(document['free'])} free parameters, degree {document['degree']}",
+        f"### {name}: {len(document['free'])} free parameters, degree {document['degree']}"
+        + (f", on {', '.join(document['on'])}" if document.get("on") else ""),
         "",
         f"complete: {'yes' if document['complete'] else 'no'}; "
         f"{document['seconds']:.0f} s; generic values: "

@@ -92,3 +92,26 @@ def test_wolf_and_efimovskayas_family_at_the_kovalevskaya_ratio_is_classified_co
     assert "wolf-2003-e3-sokolov-linear" in {s.case for s in sokolov.same_as}
     assert not any(st.new for st in sokolov.status)
     assert not any("parametrisation" in c for c in found.coverage)
+
+
+@pytest.mark.slow  # about 10 s of computing (8 free parameters)
+def test_wolfs_family_at_the_goryachev_chaplygin_ratio_on_s_zero_finds_its_cubic_case():
+    # at A = diag(1, 1, 4) the list's integrals are cubic on s = 0: Goryachev-Chaplygin's
+    # case, with its gyrostat n3, any linear potential and M3-gamma terms balanced by
+    # c11 = c22 = (b31**2 + b32**2)/16
+    case = load_case(ROOT / "data" / "families" / "wolf-e3-goryachev-chaplygin-ratio.toml")
+    free = list(case.parameters)
+    options = search_options(case, degree=3, weights={"M": 1, "gamma": 1}, free=free, on=["s = 0"])
+    found = discover(case, options, catalog=catalog_index())
+    assert found.complete, found.coverage
+    (chaplygin,) = [s for s in found.special if "c12 = 0" in s.when and "m1 = 0" not in s.when]
+    assert set(chaplygin.when) == {
+        "c11 = b31**2/16 + b32**2/16",
+        "c12 = 0",
+        "c22 = b31**2/16 + b32**2/16",
+    }
+    assert "wolf-2003-e3-goryachev-chaplygin-all-s" in {s.case for s in chaplygin.same_as}
+    assert not any(st.new for st in chaplygin.status)
+    # the only other set: the body symmetric about its axis, with M3
+    (symmetric,) = [s for s in found.special if s is not chaplygin]
+    assert symmetric.integrals == ("M3",)
