@@ -25,7 +25,7 @@ from sympy.polys.matrices import DomainMatrix
 from sympy.polys.rings import PolyElement
 
 from .components import Piece
-from .splitting import AlgebraicSet, Region, drop_sets
+from .splitting import AlgebraicSet, Region, Spread, drop_sets
 
 Row = dict[int, PolyElement]
 
@@ -131,10 +131,12 @@ def drop_locus(
     *,
     positive: frozenset[int] = frozenset(),
     nonzero: frozenset[int] = frozenset(),
+    spread: Spread | None = None,
 ) -> Locus:
     """Where the rows (generic rank rho; the first ``free`` generators of their ring are
     the free parameters, the others symbolic; ``positive`` and ``nonzero`` the indices
-    the assumptions keep so) lose rank (module docstring)."""
+    the assumptions keep so) lose rank (module docstring); ``spread`` explores the
+    splitting's open branches elsewhere (``splitting.drop_sets``)."""
     locus = Locus()
     rows = [r for r in rows if r]
     if rho == 0 or not rows or free == 0:
@@ -156,7 +158,7 @@ def drop_locus(
         converted.append(
             {k: ctx.from_dict({e: int(c * scale) for e, c in v.items()}) for k, v in r.items()}
         )
-    split = drop_sets(converted, rho, region, rnd)
+    split = drop_sets(converted, rho, region, rnd, spread)
     locus.sets = split.sets
     locus.undecided = split.undecided
     locus.algebraic = split.algebraic

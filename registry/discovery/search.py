@@ -76,7 +76,7 @@ from .known import catalog_statuses, known_generators, named
 from .linear import GF_PRIME, PRIME, Field
 from .locus import Locus, contains, drop_locus, polynomial, same
 from .simplest_form import simplest
-from .splitting import AlgebraicSet
+from .splitting import AlgebraicSet, Spread
 
 #: What a search says of how it works (stored with every recorded search).
 METHOD = (
@@ -118,6 +118,8 @@ class _State:
     decided: list[str] = field(default_factory=list)
     #: the free parameters' values of each special set (by its equations)
     values_of: dict[tuple[str, ...], dict] = field(default_factory=dict)
+    #: the executor's workers, for the splitting of a locus (None: in this process)
+    spread: Spread | None = None
 
     def rnd(self, when: tuple[str, ...]) -> random.Random:
         """A generator seeded by the search and the set searched, so that results do not
@@ -179,6 +181,7 @@ def discover(
         dynamics.field, options.weights, dynamics.vectors, dynamics.shorthands, dynamics.variables
     )
     executor = executor or InProcess()
+    state.spread = _spreader(executor, timed(budget))
     identifying = False
     try:
         with time_limit(budget):
@@ -659,7 +662,9 @@ def _each(state: _State, candidates, executor: Executor, seconds: float | None):
 def _each_elsewhere(state: _State, candidates, executor: Executor, seconds: float | None):
     """``_each`` by an executor, in the candidates' order; a candidate set it could not
     search is undecided."""
-    bare = replace(state, progress=None, found=[], undecided=[], searched=[], used={}, decided=[])
+    bare = replace(
+        state, progress=None, found=[], undecided=[], searched=[], used={}, decided=[], spread=None
+    )
     work = [(bare, *candidate) for candidate in candidates]
     calls = executor.map(_step_apart, work, deadline=seconds, label=_label, name="registry-search")
     for index, value in in_order(calls, len(work)):
@@ -676,6 +681,24 @@ def _each_elsewhere(state: _State, candidates, executor: Executor, seconds: floa
             yield IntegralSet(when, 0), _Level({}, 0), [], [why], {}, {}, []
         else:
             yield value
+
+
+def _spreader(executor: Executor, seconds) -> Spread | None:
+    """The splitting's ``spread`` by ``executor``'s workers (None where it has one): the
+    outcomes in order, a failed call as the text of why."""
+    if executor.workers <= 1:
+        return None
+
+    def spread(fn, items):
+        calls = executor.map(
+            fn, items, deadline=seconds, label=lambda _: "locus branches", name="registry-split"
+        )
+        return [
+            f"{value.kind}: {value.reason}" if isinstance(value, Failure) else value
+            for _, value in in_order(calls, len(items))
+        ]
+
+    return spread
 
 
 def _label(work) -> str:
@@ -791,7 +814,10 @@ def _locus(
 
     def drops(rows, rho) -> None:
         if rows and rho > 0:
-            locus.merge(drop_locus(rows, rho, free, rnd, positive=positive, nonzero=nonzero))
+            found = drop_locus(
+                rows, rho, free, rnd, positive=positive, nonzero=nonzero, spread=state.spread
+            )
+            locus.merge(found)
 
     for b, block in enumerate(system.blocks):
         weights = block.weights

@@ -37,12 +37,19 @@ every free parameter that remains after the others are solved) is returned as an
 algebraic set: its solved parameters, its equations and the factors assumed nonzero
 on it, decided by the search at the points of its components; only a matrix that needs
 more than ``MAX_BRANCHES`` branches is left undecided.
+
+Branches are independent: with a ``spread`` (the search's executor, when it has more
+than one worker), a matrix still open after ``SPREAD_AFTER`` branches has its
+shallowest branches opened until ``SPREAD`` are (the deepest part of the tree stays
+with the earliest branches), and these are explored by other processes, each with a
+generator of its own; their candidate sets are merged in the order one process would
+have found them.
 """
 
 from __future__ import annotations
 
 import random
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field, replace
 from typing import Any, cast
 
@@ -60,6 +67,11 @@ PRIME = (1 << 61) - 1
 MAX_BRANCHES = 20_000
 #: Most entries each memo below keeps before it starts afresh (bounds the memory).
 MEMO_SIZE = 200_000
+
+#: How many open branches the splitting hands to other processes at once (``spread``),
+#: once it has explored SPREAD_AFTER here (a small matrix is split before a call returns).
+SPREAD = 24
+SPREAD_AFTER = 50
 
 Poly = flint.fmpz_mpoly
 Row = dict[int, Poly]
@@ -134,7 +146,8 @@ class Split:
 
 
 class _Splitter:
-    def __init__(self, region: Region, rnd: random.Random):
+    def __init__(self, region: Region, rnd: random.Random, limit: int = MAX_BRANCHES):
+        self.limit = limit
         self.region = region
         self.ctx = region.context
         self.rnd = rnd
@@ -281,17 +294,45 @@ class _Splitter:
 
     # --------------------------------------------------------------- splitting
 
-    def run(self, rows: list[Row], need: int) -> Split:
-        stack = [Branch(rows, need)]
+    def run(self, stack: list[Branch], spread: Spread | None = None) -> Split:
+        """Explore the branches (the last first, each with all its sub-branches before the
+        next), here or, past ``SPREAD`` open ones, by ``spread``."""
         while stack:
+            if spread is not None and len(stack) > 1 and self.out.branches >= SPREAD_AFTER:
+                self.widen(stack)
+                self.spread(stack[::-1], spread)
+                break
             self.out.branches += 1
-            if self.out.branches > MAX_BRANCHES:
+            if self.out.branches > self.limit:
                 self.out.undecided.append(
                     f"the rank-drop locus of a block (more than {MAX_BRANCHES} branches)"
                 )
                 break
             stack.extend(self.explore(stack.pop()))
         return self.out
+
+    def widen(self, stack: list[Branch]) -> None:
+        """Open branches until ``SPREAD`` are: the shallowest (fewest steps) explored
+        first, its place in the stack taken by its sub-branches, in order."""
+        while stack and len(stack) < SPREAD and self.out.branches < self.limit:
+            i = min(range(len(stack)), key=lambda k: len(stack[k].steps) + len(stack[k].units))
+            self.out.branches += 1
+            stack[i : i + 1] = self.explore(stack[i])
+
+    def spread(self, branches: list[Branch], spread: Spread) -> None:
+        """Each branch explored elsewhere (``_explored``), the outcomes merged in order."""
+        work = [
+            (self.region, self.rnd.randrange(2**62), _packed(b), self.limit - self.out.branches)
+            for b in branches
+        ]
+        for found in spread(_explored, work):
+            if isinstance(found, str):  # the call failed: that part is not decided
+                self.out.undecided.append(f"a part of the rank-drop locus of a block ({found})")
+                continue
+            self.out.branches += found.branches
+            self.out.sets.extend(x for x in found.sets if x not in self.out.sets)
+            self.out.algebraic.extend(x for x in found.algebraic if x not in self.out.algebraic)
+            self.out.undecided.extend(x for x in found.undecided if x not in self.out.undecided)
 
     def explore(self, branch: Branch) -> list[Branch]:
         """Eliminate on units; then either the branch is decided (full rank, or a
@@ -677,9 +718,59 @@ def _components(rows: list[Row]) -> list[list[Row]]:
     return list(groups.values())
 
 
-def drop_sets(rows: list[Row], need: int, region: Region, rnd: random.Random) -> Split:
+#: Runs a function on each item elsewhere: the outcomes in the items' order, a failed
+#: call as the text of why it failed.
+Spread = Callable[[Callable[[Any], "Split"], list[Any]], list["Split | str"]]
+
+
+def drop_sets(
+    rows: list[Row],
+    need: int,
+    region: Region,
+    rnd: random.Random,
+    spread: Spread | None = None,
+) -> Split:
     """The candidate sets where ``rows`` (entries in ``region.context``, generic rank
-    ``need``) lose rank (module docstring)."""
+    ``need``) lose rank (module docstring); ``spread`` explores open branches elsewhere."""
     if need <= 0 or not rows:
         return Split()
-    return _Splitter(region, rnd).run([dict(r) for r in rows], need)
+    return _Splitter(region, rnd).run([Branch([dict(r) for r in rows], need)], spread)
+
+
+def _explored(work: tuple[Region, int, tuple, int]) -> Split:
+    """One branch and all its sub-branches, in a process of its own (``spread``)."""
+    region, seed, packed, limit = work
+    return _Splitter(region, random.Random(seed), limit).run([_unpacked(packed, region)])
+
+
+def _packed(branch: Branch) -> tuple:
+    """A branch as plain data (FLINT's polynomials do not pickle): each polynomial as its
+    terms."""
+
+    def terms(p: Poly) -> tuple:
+        return tuple((tuple(int(e) for e in exps), int(c)) for exps, c in p.terms())
+
+    return (
+        [{k: terms(v) for k, v in row.items()} for row in branch.rows],
+        branch.need,
+        {key: terms(u) for key, u in branch.units.items()},
+        tuple((st.variable, terms(st.numerator), terms(st.denominator)) for st in branch.steps),
+        tuple(terms(h) for h in branch.pending),
+    )
+
+
+def _unpacked(packed: tuple, region: Region) -> Branch:
+    """The branch ``_packed`` wrote, in the region's ring."""
+    ctx = region.context
+
+    def poly(terms: tuple) -> Poly:
+        return ctx.from_dict(dict(terms))
+
+    rows, need, units, steps, pending = packed
+    return Branch(
+        [{k: poly(v) for k, v in row.items()} for row in rows],
+        need,
+        {key: poly(u) for key, u in units.items()},
+        tuple(Step(v, poly(n), poly(d)) for v, n, d in steps),
+        tuple(poly(h) for h in pending),
+    )

@@ -130,3 +130,33 @@ def test_entries_with_huge_coefficients_are_split_on():
     assert sorted(split.sets, key=str) == sorted(
         [{z: sp.Integer(big)}, {z: sp.Integer(-big)}, {b: c}], key=str
     )
+
+
+def test_branches_explored_elsewhere_give_the_same_sets_in_the_same_order(monkeypatch):
+    # a spread that runs each call here, through the packing that crosses processes,
+    # and one that fails: the sets are those of one process, in its order
+    from registry.discovery import splitting
+
+    rows = [
+        {0: B, 1: C, 2: Z, 3: Q},
+        {0: C, 1: B, 2: Z + B - C, 3: Z * Q},
+        {0: B * Z, 1: 2 * C, 2: Z**2 + B, 3: C - B},
+        {0: Z - 1, 1: Z * B - C, 2: B, 3: Z**3},
+    ]
+    alone = drop_sets(rows, 4, REGION, random.Random(3))
+    assert alone.branches > 4 and alone.sets
+    monkeypatch.setattr(splitting, "SPREAD_AFTER", 1)
+    monkeypatch.setattr(splitting, "SPREAD", 4)
+    calls: list[int] = []
+
+    def here(fn, items):
+        calls.append(len(items))
+        return [fn(item) for item in items]
+
+    spread = drop_sets(rows, 4, REGION, random.Random(3), here)
+    assert calls and calls[0] > 1  # the branches did go through the spread
+    assert spread.sets == alone.sets and spread.algebraic == alone.algebraic
+    assert spread.branches == alone.branches and not spread.undecided
+
+    failed = drop_sets(rows, 4, REGION, random.Random(3), lambda fn, items: ["lost"] * len(items))
+    assert any("lost" in u for u in failed.undecided)  # never a silent gap
