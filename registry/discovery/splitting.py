@@ -296,7 +296,8 @@ class _Splitter:
 
     def run(self, stack: list[Branch], spread: Spread | None = None) -> Split:
         """Explore the branches (the last first, each with all its sub-branches before the
-        next), here or, past ``SPREAD`` open ones, by ``spread``."""
+        next): here, or by ``spread`` once ``SPREAD_AFTER`` were explored here and more
+        than one is open (module docstring)."""
         while stack:
             if spread is not None and len(stack) > 1 and self.out.branches >= SPREAD_AFTER:
                 self.widen(stack)
