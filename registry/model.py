@@ -481,13 +481,13 @@ class CaseFilter(TypedDict, total=False):
 
 
 def case_filter(filters: Mapping[str, Any]) -> CaseFilter:
-    """``filters`` as a ``CaseFilter`` without its None entries; a TypeError naming any
-    keyword that is not one of its filters (a misspelt filter must not list every case)."""
+    """``filters`` as a ``CaseFilter``; a TypeError naming any keyword that is not one of
+    its filters (a misspelt filter must not list every case)."""
     unknown = sorted(set(filters) - set(CaseFilter.__annotations__))
     if unknown:
         known = ", ".join(CaseFilter.__annotations__)
         raise TypeError(f"no case filter {', '.join(map(repr, unknown))}; the filters are {known}")
-    return CaseFilter(**{k: v for k, v in filters.items() if v is not None})  # type: ignore[typeddict-item]
+    return CaseFilter(**filters)  # type: ignore[typeddict-item]
 
 
 @dataclass(frozen=True)

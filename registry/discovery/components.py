@@ -196,8 +196,7 @@ def _parametrised(
         if found is None:
             return None
         for x, at in found[0].items():
-            solve(x, at, [])
-        misses.extend(g for g in found[1] if sp.sympify(g).free_symbols & names)
+            solve(x, at, found[1])
     out = {x: sp.cancel(sp.sympify(e).xreplace(bound)) for x, e in values.items()}
     out.update(bound)
     out = _unnamed(out)

@@ -313,8 +313,9 @@ class _Splitter:
         return self.out
 
     def widen(self, stack: list[Branch]) -> None:
-        """Open branches until ``SPREAD`` are: the shallowest (fewest steps) explored
-        first, its place in the stack taken by its sub-branches, in order."""
+        """Open branches until ``SPREAD`` are: the shallowest (fewest splits above it:
+        solved parameters and factors assumed nonzero) explored first, its place in the
+        stack taken by its sub-branches, in order."""
         while stack and len(stack) < SPREAD and self.out.branches < self.limit:
             i = min(range(len(stack)), key=lambda k: len(stack[k].steps) + len(stack[k].units))
             self.out.branches += 1

@@ -253,11 +253,8 @@ def with_values(case: Case, values: Mapping[sp.Symbol, sp.Expr]) -> Case | None:
         system=system,
         claims=(),
         parameters=kept,
-        assumptions={
-            n: case.assumptions.get(n, Assumption.REAL)
-            for n in kept
-            if n in case.assumptions or n not in case.parameters
-        },
+        assumptions={n: a for n, a in case.assumptions.items() if n in kept}
+        | {str(s): Assumption.REAL for s in brought},
         dynamics=dynamics(system, kept, case.functions),
     )
 
