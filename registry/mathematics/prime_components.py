@@ -155,6 +155,14 @@ class _Shape:
     coordinates: dict[sp.Symbol, sp.Expr]
 
 
+@dataclass(frozen=True)
+class _Split:
+    """Polynomials f_j whose zero sets split a finite system: its points are those of the
+    systems I + (f_j), each a proper part."""
+
+    factors: list[sp.Expr]
+
+
 class _Decomposition:
     def __init__(self, variables, parameters, rng: random.Random):
         self.variables = variables
@@ -179,6 +187,9 @@ class _Decomposition:
                 continue
             if basis.is_zero_dimensional:
                 points = self._zero_dimensional(basis)
+                if isinstance(points, _Split):
+                    stack.extend([*basis.exprs, f] for f in points.factors)
+                    continue
                 if points is not None:
                     found.extend(points)
                     continue
@@ -190,12 +201,18 @@ class _Decomposition:
             stack.extend(branches)
         return found
 
-    def _zero_dimensional(self, basis: sp.GroebnerBasis) -> list[Component] | None:
+    def _zero_dimensional(self, basis: sp.GroebnerBasis) -> list[Component] | _Split | None:
         """The components of a finite system at once: when a linear form u generates the
         algebra k[x]/I (``_cyclic``), k[x]/I = k[u]/(g) and each irreducible factor of g
         is one component, with no further basis. None when no form does (a multiple point
-        of embedding dimension 2 or more): the system is then split on factors."""
+        of embedding dimension 2 or more): the system is then split on factors. Over
+        Q(p), a system of more than two points is first split by the values of the last
+        variable (``_Algebra.value_split``) when they fall into several factors."""
         algebra = _Algebra(basis, self.variables, self.k)
+        if self.k.is_FractionField and algebra.size > 2:
+            factors = algebra.value_split(self.variables[-1])
+            if factors is not None:
+                return _Split(factors)
         for element in self._forms(list(self.variables)):
             u = element if element in self.variables else sp.Dummy("u")
             cyclic = algebra.cyclic(element, u)
@@ -333,6 +350,46 @@ class _Algebra:
             self._coordinates(tuple(e + (j == i) for j, e in enumerate(m))) for m in self.monomials
         ]
         return DomainMatrix([list(r) for r in zip(*columns, strict=True)], (self.size,) * 2, self.k)
+
+    def value_split(self, element: sp.Expr) -> list[sp.Expr] | None:
+        """The irreducible factors f_j of the characteristic polynomial of multiplication
+        by ``element`` (a linear form l), each as f_j(l(x)), when there are two or more:
+        the points of I are split by the value of l at them, I = cap_j (I + f_j(l)) up to
+        radical. None when it is a power of one factor. Over k = Q(p) this costs one
+        fraction-free determinant det(d u - N) of polynomials whose degree grows like
+        its minors, where solving for the shape position grows like the Krylov matrix's
+        (far higher): splitting first keeps each solve small."""
+        ring = self.k.field.ring
+        names = (*(f"p{i}" for i in range(ring.ngens)), "u")
+        ctx = flint.fmpz_mpoly_ctx.get(names, "lex")
+        form = sp.Poly(element, *self.gens, domain=self.k)
+        times = DomainMatrix.zeros((self.size, self.size), self.k)
+        for i, x in enumerate(self.gens):
+            c = form.coeff_monomial(x)
+            if c:
+                times += self.times[i] * self.k.convert(c)
+        entries = [e for row in times.to_list() for e in row]
+        parts = [_integral(ctx, _lifted(e.numer, ring), _lifted(e.denom, ring)) for e in entries]
+        common = ctx.from_dict({(0,) * len(names): 1})
+        for _, den in parts:
+            common = common * den / common.gcd(den)
+        flat = [num * (common / den) for num, den in parts]
+        u = ctx.gens()[-1]
+        rows = [
+            [common * u * int(i == j) - flat[i * self.size + j] for j in range(self.size)]
+            for i in range(self.size)
+        ]
+        det = _determinant(rows)
+        factors = [f for f, _ in det.factor()[1] if f.degrees()[-1] > 0]
+        if len(factors) < 2:
+            return None
+        symbols = [*ring.symbols, sp.Symbol("u")]
+        found = []
+        for f in factors:
+            expr = sp.Add(*(int(c) * sp.Mul(*(s ** int(e) for s, e in zip(symbols, m, strict=True)))
+                            for m, c in f.to_dict().items()))  # fmt: skip
+            found.append(sp.expand(expr.subs(symbols[-1], element)))
+        return found
 
     def cyclic(self, element: sp.Expr, u: sp.Symbol):
         """(g, {x: h_x}) with g(u) = 0 and x = h_x(u) in k[x]/I for u = ``element`` (a linear
@@ -473,6 +530,36 @@ def _integral(ctx, numer, denom) -> tuple[flint.fmpz_mpoly, flint.fmpz_mpoly]:
         return ctx.from_dict({m: whole(c) * scale for m, c in p.items()})
 
     return poly(numer, whole(d_scale)), poly(denom, whole(n_scale))
+
+
+def _lifted(poly, ring: PolyRing):
+    """A polynomial of ``ring`` (over Q in the parameters) with one more variable, u."""
+    return PolyRing((*ring.symbols, sp.Symbol("u")), ring.domain, ring.order).from_dict(
+        {(*m, 0): c for m, c in poly.items()}
+    )
+
+
+def _determinant(rows: list[list]):
+    """The determinant of a square matrix over an integral domain with exact division, by
+    fraction-free (Bareiss) elimination: every entry met is a minor of the matrix."""
+    size = len(rows)
+    sign, previous = 1, None
+    for col in range(size):
+        pivot = next((i for i in range(col, size) if not rows[i][col].is_zero()), None)
+        if pivot is None:
+            return rows[0][0] * 0
+        if pivot != col:
+            rows[col], rows[pivot] = rows[pivot], rows[col]
+            sign = -sign
+        top = rows[col]
+        for i in range(col + 1, size):
+            row = rows[i]
+            factor = row[col]
+            for j in range(col + 1, size):
+                value = top[col] * row[j] - factor * top[j]
+                row[j] = value if previous is None else value / previous
+        previous = top[col]
+    return rows[size - 1][size - 1] * sign
 
 
 def _bareiss(rows: list[list], size: int) -> tuple[list[list], Any] | None:

@@ -70,3 +70,28 @@ def test_balances_without_closed_forms_are_given_through_a_root_theta():
     assert document["root_of"].startswith("theta**3 + ") and document["root_of"].endswith("= 0")
     assert document["exponents"][0] == "-1" and "theta" in document["exponents"][1]
     assert not balance.exponents.rational and not result.all_rational
+
+
+def test_a_top_with_three_symbolic_parameters_agrees_with_its_members():
+    """Bobylev's top: moments (2C, B, C), centre of mass (a, 0, 0), analysed over
+    Q(B, C, a); specialised at two members it gives the exponents those members' own
+    analyses over Q give, balance by balance (8 balances: 2 integer with 0, 4 with a
+    double 2 and 2 with the pair 1/2 +- sqrt(8B^2 - 16BC + 9C^2)/(2C))."""
+    b, c, a = sp.symbols("B C a", positive=True)
+    with cpu_bound(60.0):
+        generic = exponents(
+            STATE, heavy_top((2 * c, b, c), (a, 0, 0)), HEAVY_WEIGHTS, parameters=[b, c, a]
+        )
+    assert len(generic.balances) == 8
+
+    def texts(analysis, values=None):
+        return sorted(
+            tuple(sorted(str(sp.radsimp(sp.sympify(v).subs(values or {}))) for v in e))
+            for e in (r.exponents.values for r in analysis.balances)
+        )
+
+    for member in ({b: 3, c: 1, a: 5}, {b: 2, c: 3, a: -1}):
+        own = exponents(
+            STATE, heavy_top((2 * member[c], member[b], member[c]), (member[a], 0, 0)), HEAVY_WEIGHTS
+        )
+        assert texts(generic, member) == texts(own)

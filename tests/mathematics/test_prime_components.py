@@ -66,3 +66,27 @@ def test_a_component_over_special_parameter_values_is_found_with_the_parameter_a
     generic, special = components([x * (y - a), x**2 - a], [x, y, a], origin=[x, y])
     assert generic.free == (a,) and generic.vanishes(y - a)
     assert special.free == (y,) and special.vanishes(a) and special.vanishes(x)
+
+
+def test_over_parameters_a_finite_system_is_split_by_the_values_of_its_last_variable():
+    # (y - 1)(y^2 - a) = 0, x^2 = y + a: y = 1 with x = +-sqrt(1 + a) (a pair over Q(a)),
+    # and y = +-sqrt(a) with x^2 = y + a (four conjugate points); y's values fall into the
+    # factors y - 1 and y^2 - a, and each part is decomposed on its own
+    found = components([(y - 1) * (y**2 - a), x**2 - y - a], [x, y], [a])
+    assert sorted(c.degree for c in found) == [2, 4]
+    pair = next(c for c in found if c.degree == 2)
+    assert pair.vanishes(y - 1) and pair.vanishes(x**2 - 1 - a)
+    quartet = next(c for c in found if c.degree == 4)
+    assert quartet.vanishes(y**2 - a) and quartet.vanishes(x**2 - y - a)
+    assert not quartet.vanishes(y - 1)
+
+
+def test_a_split_by_values_keeps_every_point_when_one_value_is_shared():
+    # y takes the value a at three points of different fields: no split by y's values
+    # can separate them, and each is still found; with y = 1 two more points
+    found = components(
+        [(y - a) * (y - 1), (y - 1) * (x**3 - 2), (y - a) * (x**2 - a - 1)], [x, y], [a]
+    )
+    assert sorted(c.degree for c in found) == [2, 3]
+    assert any(c.vanishes(y - 1) and c.vanishes(x**2 - a - 1) for c in found)
+    assert any(c.vanishes(y - a) and c.vanishes(x**3 - 2) for c in found)
