@@ -206,14 +206,16 @@ class _Decomposition:
         algebra k[x]/I (``_cyclic``), k[x]/I = k[u]/(g) and each irreducible factor of g
         is one component, with no further basis. None when no form does (a multiple point
         of embedding dimension 2 or more): the system is then split on factors. Over
-        Q(p), a system of more than two points is first split by the values of the last
-        variable (``_Algebra.value_split``) when they fall into several factors."""
+        Q(p), a system of more than two points is first split by the values of a
+        variable, the last first (``_Algebra.value_split``), where they fall into
+        several factors."""
         algebra = _Algebra(basis, self.variables, self.k)
         if self.k.is_FractionField and algebra.size > 2:
-            factors = algebra.value_split(self.variables[-1])
-            if factors is not None:
-                return _Split(factors)
-        for element in self._forms(list(self.variables)):
+            for x in reversed(self.variables):
+                factors = algebra.value_split(x)
+                if factors is not None:
+                    return _Split(factors)
+        for element in self._forms(list(self.variables), pairs=True):
             u = element if element in self.variables else sp.Dummy("u")
             cyclic = algebra.cyclic(element, u)
             if cyclic is None:
@@ -309,9 +311,14 @@ class _Decomposition:
                 return _Shape(u, element, minimal, coordinates)
         raise DecompositionLimit(f"no shape position found in {MAX_FORMS} linear forms")
 
-    def _forms(self, gens: Sequence[sp.Symbol]):
-        """The variables, last first, then random small combinations of them."""
+    def _forms(self, gens: Sequence[sp.Symbol], *, pairs: bool = False):
+        """The variables, last first, then (with ``pairs``, where a try costs one cheap
+        test) the sums of two of them, whose shape positions are the sparsest after the
+        variables', then random small combinations of them."""
         yield from reversed(gens)
+        if pairs:
+            ordered = list(reversed(gens))
+            yield from (a + b for a, b in itertools.combinations(ordered, 2))
         for _ in range(MAX_FORMS - len(gens)):
             yield sp.Add(*(self.rng.randint(-3, 3) * x for x in gens[:-1]), gens[-1])
 
@@ -352,10 +359,12 @@ class _Algebra:
         return DomainMatrix([list(r) for r in zip(*columns, strict=True)], (self.size,) * 2, self.k)
 
     def value_split(self, element: sp.Expr) -> list[sp.Expr] | None:
-        """The irreducible factors f_j of the characteristic polynomial of multiplication
-        by ``element`` (a linear form l), each as f_j(l(x)), when there are two or more:
-        the points of I are split by the value of l at them, I = cap_j (I + f_j(l)) up to
-        radical. None when it is a power of one factor. Over k = Q(p) this costs one
+        """The powers f_j^m_j of the distinct irreducible factors of the characteristic
+        polynomial of multiplication by ``element`` (a linear form l), each as
+        f_j^m_j(l(x)), when there are two or more: k[x]/I is the direct sum of the
+        k[x]/(I + f_j^m_j(l)) (its generalised eigenspaces), so the points of I are split
+        by the value of l at them and a part is cyclic wherever the whole is. None when
+        it is a power of one factor. Over k = Q(p) this costs one
         fraction-free determinant det(d u - N) of polynomials whose degree grows like
         its minors, where solving for the shape position grows like the Krylov matrix's
         (far higher): splitting first keeps each solve small."""
@@ -380,7 +389,7 @@ class _Algebra:
             for i in range(self.size)
         ]
         det = _determinant(rows)
-        factors = [f for f, _ in det.factor()[1] if f.degrees()[-1] > 0]
+        factors = [f**m for f, m in det.factor()[1] if f.degrees()[-1] > 0]
         if len(factors) < 2:
             return None
         symbols = [*ring.symbols, sp.Symbol("u")]

@@ -91,7 +91,6 @@ def test_a_top_with_three_symbolic_parameters_agrees_with_its_members():
         )
 
     for member in ({b: 3, c: 1, a: 5}, {b: 2, c: 3, a: -1}):
-        own = exponents(
-            STATE, heavy_top((2 * member[c], member[b], member[c]), (member[a], 0, 0)), HEAVY_WEIGHTS
-        )
+        inertia = (2 * member[c], member[b], member[c])
+        own = exponents(STATE, heavy_top(inertia, (member[a], 0, 0)), HEAVY_WEIGHTS)
         assert texts(generic, member) == texts(own)
