@@ -160,7 +160,7 @@ class _Split:
     """Polynomials f_j whose zero sets split a finite system: its points are those of the
     systems I + (f_j), each a proper part."""
 
-    factors: list[sp.Expr]
+    factors: tuple[sp.Expr, ...]
 
 
 class _Decomposition:
@@ -214,7 +214,7 @@ class _Decomposition:
             for x in reversed(self.variables):
                 factors = algebra.value_split(x)
                 if factors is not None:
-                    return _Split(factors)
+                    return _Split(tuple(factors))
         for element in self._forms(list(self.variables), pairs=True):
             u = element if element in self.variables else sp.Dummy("u")
             cyclic = algebra.cyclic(element, u)
@@ -378,7 +378,7 @@ class _Algebra:
             if c:
                 times += self.times[i] * self.k.convert(c)
         entries = [e for row in times.to_list() for e in row]
-        parts = [_integral(ctx, _lifted(e.numer, ring), _lifted(e.denom, ring)) for e in entries]
+        parts = [_integral(ctx, e.numer, e.denom, extra=1) for e in entries]
         common = ctx.from_dict({(0,) * len(names): 1})
         for _, den in parts:
             common = common * den / common.gcd(den)
@@ -526,8 +526,9 @@ def _spans_somewhere(columns: list[list], nvars: int, tries: int = 2) -> bool:
     return False
 
 
-def _integral(ctx, numer, denom) -> tuple[flint.fmpz_mpoly, flint.fmpz_mpoly]:
-    """numer/denom (over Q) as a quotient of polynomials over Z in FLINT."""
+def _integral(ctx, numer, denom, extra: int = 0) -> tuple[flint.fmpz_mpoly, flint.fmpz_mpoly]:
+    """numer/denom (over Q) as a quotient of polynomials over Z in FLINT, in a context
+    with ``extra`` more variables after theirs."""
     n_scale, numer = numer.clear_denoms()
     d_scale, denom = denom.clear_denoms()
 
@@ -536,16 +537,9 @@ def _integral(ctx, numer, denom) -> tuple[flint.fmpz_mpoly, flint.fmpz_mpoly]:
         return int(sp.QQ.numer(q))
 
     def poly(p, scale):
-        return ctx.from_dict({m: whole(c) * scale for m, c in p.items()})
+        return ctx.from_dict({(*m, *(0,) * extra): whole(c) * scale for m, c in p.items()})
 
     return poly(numer, whole(d_scale)), poly(denom, whole(n_scale))
-
-
-def _lifted(poly, ring: PolyRing):
-    """A polynomial of ``ring`` (over Q in the parameters) with one more variable, u."""
-    return PolyRing((*ring.symbols, sp.Symbol("u")), ring.domain, ring.order).from_dict(
-        {(*m, 0): c for m, c in poly.items()}
-    )
 
 
 def _determinant(rows: list[list]):
