@@ -90,6 +90,25 @@ def time_limit(seconds: float | None, *, cpu: bool = False) -> Iterator[None]:
     signal.setitimer(timer, seconds)
     try:
         yield
+    except SystemError as err:
+        # the signal arrived in Python code a C extension called back (symengine asking a
+        # sympy object for its parts): Python reports it as that call's SystemError,
+        # caused by the BudgetExceeded; the time is up all the same
+        if _budget_cause(err):
+            raise BudgetExceeded from err
+        raise
     finally:
         signal.setitimer(timer, 0)
         signal.signal(sig, previous)
+
+
+def _budget_cause(err: BaseException) -> bool:
+    """Whether ``err`` was caused, directly or down its chain, by a BudgetExceeded."""
+    seen: set[int] = set()
+    cause: BaseException | None = err
+    while cause is not None and id(cause) not in seen:
+        if isinstance(cause, BudgetExceeded):
+            return True
+        seen.add(id(cause))
+        cause = cause.__cause__ or cause.__context__
+    return False

@@ -22,6 +22,21 @@ def test_time_limit_interrupts_python_code():
                 pass
 
 
+def test_a_budget_run_out_inside_a_c_extensions_callback_is_still_a_budget_exceeded():
+    # CPython reports an exception raised in Python code a C extension called back
+    # (symengine asking a sympy object for its parts) as a SystemError caused by it
+    with pytest.raises(BudgetExceeded):
+        with time_limit(5):
+            try:
+                raise BudgetExceeded
+            except BudgetExceeded as err:
+                raise SystemError("returned a result with an exception set") from err
+    # any other SystemError is left as it is
+    with pytest.raises(SystemError, match="a bug elsewhere"):
+        with time_limit(5):
+            raise SystemError("a bug elsewhere")
+
+
 def test_time_limit_is_lifted_afterwards():
     handler = signal.getsignal(signal.SIGALRM)
     with time_limit(5):
