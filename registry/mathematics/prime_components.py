@@ -36,7 +36,7 @@ from sympy.polys.orderings import grevlex
 from sympy.polys.rings import PolyRing
 
 from .algebraic import Extension
-from .factoring import factor_list
+from .factoring import factor_list, factor_mpoly
 
 #: The most systems a decomposition visits before it gives up (each a Groebner basis).
 MAX_BRANCHES = 400
@@ -358,6 +358,16 @@ class _Algebra:
         ]
         return DomainMatrix([list(r) for r in zip(*columns, strict=True)], (self.size,) * 2, self.k)
 
+    def multiplication_by(self, element: sp.Expr) -> DomainMatrix:
+        """The matrix of multiplication by a linear form in the variables."""
+        form = sp.Poly(element, *self.gens, domain=self.k)
+        times = DomainMatrix.zeros((self.size, self.size), self.k)
+        for i, x in enumerate(self.gens):
+            c = form.coeff_monomial(x)
+            if c:
+                times += self.times[i] * self.k.convert(c)
+        return times
+
     def value_split(self, element: sp.Expr) -> list[sp.Expr] | None:
         """The powers f_j^m_j of the distinct irreducible factors of the characteristic
         polynomial of multiplication by ``element`` (a linear form l), each as
@@ -369,48 +379,38 @@ class _Algebra:
         its minors, where solving for the shape position grows like the Krylov matrix's
         (far higher): splitting first keeps each solve small."""
         ring = self.k.field.ring
-        names = (*(f"p{i}" for i in range(ring.ngens)), "u")
-        ctx = flint.fmpz_mpoly_ctx.get(names, "lex")
-        form = sp.Poly(element, *self.gens, domain=self.k)
-        times = DomainMatrix.zeros((self.size, self.size), self.k)
-        for i, x in enumerate(self.gens):
-            c = form.coeff_monomial(x)
-            if c:
-                times += self.times[i] * self.k.convert(c)
-        entries = [e for row in times.to_list() for e in row]
-        parts = [_integral(ctx, e.numer, e.denom, extra=1) for e in entries]
-        common = ctx.from_dict({(0,) * len(names): 1})
-        for _, den in parts:
-            common = common * den / common.gcd(den)
-        flat = [num * (common / den) for num, den in parts]
+        ctx = flint.fmpz_mpoly_ctx.get((*(f"p{i}" for i in range(ring.ngens)), "u"), "lex")
+        entries = [e for row in self.multiplication_by(element).to_list() for e in row]
+        flat, d = _numerators(ctx, entries, extra=1)
         u = ctx.gens()[-1]
         rows = [
-            [common * u * int(i == j) - flat[i * self.size + j] for j in range(self.size)]
+            [d * u * int(i == j) - flat[i * self.size + j] for j in range(self.size)]
             for i in range(self.size)
         ]
-        det = _determinant(rows)
-        factors = [f**m for f, m in det.factor()[1] if f.degrees()[-1] > 0]
-        if len(factors) < 2:
+        solved = _bareiss(rows, self.size)  # never singular: monic in u up to d^size
+        if solved is None:
             return None
-        symbols = [*ring.symbols, sp.Symbol("u")]
-        found = []
-        for f in factors:
-            expr = sp.Add(*(int(c) * sp.Mul(*(s ** int(e) for s, e in zip(symbols, m, strict=True)))
-                            for m, c in f.to_dict().items()))  # fmt: skip
-            found.append(sp.expand(expr.subs(symbols[-1], element)))
-        return found
+        _, factors = factor_mpoly(solved[1])  # its sign is not kept: no matter here
+        powers = [f**m for f, m in factors if f.degrees()[-1] > 0]
+        if len(powers) < 2:
+            return None
+        u_symbol = sp.Dummy("u")
+        gens = (*ring.symbols, u_symbol)
+        return [
+            sp.expand(
+                sp.Poly.from_dict({m: int(c) for m, c in f.to_dict().items()}, *gens)
+                .as_expr()
+                .subs(u_symbol, element)
+            )
+            for f in powers
+        ]
 
     def cyclic(self, element: sp.Expr, u: sp.Symbol):
         """(g, {x: h_x}) with g(u) = 0 and x = h_x(u) in k[x]/I for u = ``element`` (a linear
         form), when 1, u, ..., u^(D-1) span the algebra: then k[x]/I = k[u]/(g), the shape
         lemma by linear algebra. None when they do not."""
         k, size = self.k, self.size
-        form = sp.Poly(element, *self.gens, domain=k)
-        times = DomainMatrix.zeros((size, size), k)
-        for i, x in enumerate(self.gens):
-            c = form.coeff_monomial(x)
-            if c:
-                times += self.times[i] * k.convert(c)
+        times = self.multiplication_by(element)
         unit = [tuple(int(j == i) for j in range(len(self.gens))) for i in range(len(self.gens))]
         if k.is_FractionField and k.domain.is_QQ:
             return _cyclic_fraction_free(
@@ -450,19 +450,10 @@ def _cyclic_fraction_free(times: list[list], columns: list[list], k, u: sp.Symbo
     back to k once (T^j (w/e) = N^j w / (d^j e)). None when the powers do not span."""
     ring = k.field.ring
     ctx = flint.fmpz_mpoly_ctx.get(tuple(f"p{i}" for i in range(ring.ngens)), "lex")
-
-    def numerators(entries: list) -> tuple[list, flint.fmpz_mpoly]:
-        """Numerators over one common denominator (the lcm), and that denominator."""
-        parts = [_integral(ctx, e.numer, e.denom) for e in entries]
-        common = ctx.from_dict({(0,) * ring.ngens: 1})
-        for _, den in parts:
-            common = common * den / common.gcd(den)
-        return [num * (common / den) for num, den in parts], common
-
     size = len(times)
-    flat, d = numerators([e for row in times for e in row])
+    flat, d = _numerators(ctx, [e for row in times for e in row])
     matrix = [flat[i * size : (i + 1) * size] for i in range(size)]
-    (w, e), *targets = (numerators(c) for c in columns)
+    (w, e), *targets = (_numerators(ctx, c) for c in columns)
     powers = [w]
     for _ in range(size):
         last = powers[-1]
@@ -526,6 +517,16 @@ def _spans_somewhere(columns: list[list], nvars: int, tries: int = 2) -> bool:
     return False
 
 
+def _numerators(ctx, entries: list, extra: int = 0) -> tuple[list, flint.fmpz_mpoly]:
+    """Elements of Q(p) as numerators in FLINT over one common denominator (the lcm),
+    and that denominator (``extra``: as for ``_integral``)."""
+    parts = [_integral(ctx, e.numer, e.denom, extra) for e in entries]
+    common = ctx.from_dict({(0,) * ctx.nvars(): 1})
+    for _, den in parts:
+        common = common * den / common.gcd(den)
+    return [num * (common / den) for num, den in parts], common
+
+
 def _integral(ctx, numer, denom, extra: int = 0) -> tuple[flint.fmpz_mpoly, flint.fmpz_mpoly]:
     """numer/denom (over Q) as a quotient of polynomials over Z in FLINT, in a context
     with ``extra`` more variables after theirs."""
@@ -540,29 +541,6 @@ def _integral(ctx, numer, denom, extra: int = 0) -> tuple[flint.fmpz_mpoly, flin
         return ctx.from_dict({(*m, *(0,) * extra): whole(c) * scale for m, c in p.items()})
 
     return poly(numer, whole(d_scale)), poly(denom, whole(n_scale))
-
-
-def _determinant(rows: list[list]):
-    """The determinant of a square matrix over an integral domain with exact division, by
-    fraction-free (Bareiss) elimination: every entry met is a minor of the matrix."""
-    size = len(rows)
-    sign, previous = 1, None
-    for col in range(size):
-        pivot = next((i for i in range(col, size) if not rows[i][col].is_zero()), None)
-        if pivot is None:
-            return rows[0][0] * 0
-        if pivot != col:
-            rows[col], rows[pivot] = rows[pivot], rows[col]
-            sign = -sign
-        top = rows[col]
-        for i in range(col + 1, size):
-            row = rows[i]
-            factor = row[col]
-            for j in range(col + 1, size):
-                value = top[col] * row[j] - factor * top[j]
-                row[j] = value if previous is None else value / previous
-        previous = top[col]
-    return rows[size - 1][size - 1] * sign
 
 
 def _bareiss(rows: list[list], size: int) -> tuple[list[list], Any] | None:
