@@ -80,14 +80,14 @@ class Component:
         return self.minimal.domain
 
     def vanishes(self, expr: sp.Expr) -> bool:
-        """Whether a polynomial (or rational function) in the variables vanishes on the
-        component: at its generic point, modulo the minimal polynomial."""
-        value = sp.sympify(expr).xreplace(dict(self.coordinates))
-        try:  # the coordinates are polynomials in u: so is the value, unless expr has a
-            numer = sp.Poly(sp.expand(value), self.symbol, domain=self.domain)
-        except (sp.PolynomialError, sp.CoercionFailed):  # denominator in the variables
-            numer = sp.Poly(sp.fraction(sp.together(value))[0], self.symbol, domain=self.domain)
-        return numer.rem(self.minimal).is_zero
+        """Whether a polynomial (or the numerator of a rational function) in the variables
+        vanishes on the component: at its generic point, modulo the minimal polynomial (by
+        arithmetic on polynomials in u, ``evaluate``: no expanded expressions)."""
+        expr = sp.sympify(expr)
+        try:
+            return self.evaluate(expr).is_zero
+        except (sp.PolynomialError, sp.CoercionFailed):  # a denominator in the variables
+            return self.evaluate(sp.fraction(sp.together(expr))[0]).is_zero
 
     @functools.cached_property
     def point(self) -> tuple[sp.Poly, ...]:
