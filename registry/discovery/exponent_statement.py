@@ -33,14 +33,7 @@ def statement(document: Mapping[str, Any], weights: str, generic: Sequence[str] 
     homogeneous = bool(document["homogeneous"])
     balances = document["balances"]
     where = f" for generic values of {', '.join(generic)}" if generic else ""
-    if homogeneous:
-        scope = f"The field is weighted-homogeneous under weights {weights}"
-    else:
-        scope = (
-            f"The field is not weighted-homogeneous under weights {weights}: its balances and "
-            "exponents are those of its leading part (the terms of the highest shift), the "
-            "lower terms entering only the Painlevé test's series"
-        )
+    scope = _scope(homogeneous, weights)
     if not balances:
         return (
             f"{scope}. Its leading part has no balance (no solution x = c t^(-w)): "
@@ -59,6 +52,17 @@ def statement(document: Mapping[str, Any], weights: str, generic: Sequence[str] 
         )
     parts.append(_painleve(document))
     return "; ".join(parts) + "."
+
+
+def _scope(homogeneous: bool, weights: str) -> str:
+    """Whether the balances and exponents are the field's or its leading part's."""
+    if homogeneous:
+        return f"The field is weighted-homogeneous under weights {weights}"
+    return (
+        f"The field is not weighted-homogeneous under weights {weights}: its balances and "
+        "exponents are those of its leading part (the terms of the highest shift), the "
+        "lower terms entering only the Painlevé test's series"
+    )
 
 
 def _yoshida(document: Mapping[str, Any], homogeneous: bool) -> str:
@@ -111,6 +115,8 @@ def family_statement(document: Mapping[str, Any], weights: str) -> str:
     where they are; "at least" otherwise)."""
     free = ", ".join(document["free"])
     parts = [f"Kovalevskaya exponents of the family in {free} under weights {weights}"]
+    if not document["homogeneous"]:
+        parts[0] = f"{_scope(False, weights)}. {parts[0]}"
     special = document["special"]
     complete = document["complete"]
     everywhere = [s for s in special if s["kind"] == "integer" and _every_value(s)]

@@ -245,6 +245,41 @@ def test_the_symmetric_top_family_selects_kovalevskaya_and_names_goryachev_chapl
     )
 
 
+@pytest.mark.parametrize("kappa", ["1", "-1"])
+def test_the_symmetric_top_on_so4_and_so31_selects_komarov_s_case(tmp_path, kappa):
+    """The same family on {gamma_i, gamma_j} = kappa e_ijk M_k (kappa = 1: so(4), -1:
+    so(3,1)): the kappa terms have lower shift, so the balances and exponents are the
+    e(3) family's and the statement says they are the leading part's; the Painlevé test
+    runs on the whole field and passes at n = 2 (Kovalevskaya's case on so(4) and so(3,1),
+    Komarov 1981) and n = 1, fails at n = 4; complete, within ten seconds of CPU time."""
+    text = (FAMILIES / "so4-symmetric-top-n.toml").read_text(encoding="utf-8")
+    path = tmp_path / "family.toml"
+    path.write_text(text.replace('kappa = "1"', f'kappa = "{kappa}"'), encoding="utf-8")
+    case = load_case(path)
+    with cpu_bound(10.0) as used:
+        result = analyse_case(case, exponent_options(case, free=["n"]))
+    assert used.seconds < 10.0
+    d = result.document
+    assert d["homogeneous"] is False and "kappa" not in str(d["leading"])
+    found = [(s["kind"], s["when"], s.get("painleve", {}).get("passes")) for s in d["special"]]
+    assert found[:3] == [
+        ("integer", ["n = 1"], True),
+        ("integer", ["n = 2"], True),
+        ("half-integer", ["n = 4"], False),
+    ]
+    assert d["special"][1]["exponents"] == (
+        [["-1", "0", "1", "2", "3", "4"]] * 2 + [["-1", "-1", "2", "2", "3", "4"]] * 2
+    )
+    assert d["complete"] == {"integer": True, "half_integer": True, "rational": True}
+    assert d["statement"].startswith(
+        "The field is not weighted-homogeneous under weights M: 1, gamma: 2: its balances "
+        "and exponents are those of its leading part"
+    )
+    assert "is an integer exactly at: n = 1 (ARS test passes); n = 2 (ARS test passes)" in (
+        d["statement"]
+    )
+
+
 def test_a_family_s_painleve_verdict_is_that_of_its_generic_members(tmp_path):
     """Lagrange's top A = B = 1, C = 2 with the centre of mass c on the axis, c free:
     integer exponents for every c and every condition holding over Q(c), so the test
