@@ -334,7 +334,7 @@ def _one_parameter(split, generic, factors, exceptional, invalid, varying, start
         _sorted(found["rational"]),
         int_complete,
         rat_complete,
-        tuple(coverage),
+        tuple(dict.fromkeys(coverage)),
         time.perf_counter() - start,
         _sorted(found["half-integer"]),
         half_complete,

@@ -280,6 +280,35 @@ def test_the_symmetric_top_on_so4_and_so31_selects_komarov_s_case(tmp_path, kapp
     )
 
 
+def kirchhoff_family(name):
+    """The special sets (kind, values, ARS verdict) and completeness of a Kirchhoff
+    family in t, with its statement."""
+    case = load_case(FAMILIES / f"{name}.toml")
+    d = analyse_case(case, exponent_options(case, free=["t"])).document
+    found = [(s["kind"], s["when"], s.get("painleve", {}).get("passes")) for s in d["special"]]
+    return found, d["complete"], d["statement"]
+
+
+def test_the_axisymmetric_kirchhoff_family_selects_kirchhoff_s_case():
+    """Moments (1, 1, 1/3), potential (gamma1^2 + t gamma2^2)/2: every exponent is an
+    integer exactly at t = 1 (Kirchhoff's case, b1 = b2), where the ARS test passes."""
+    found, complete, statement = kirchhoff_family("kirchhoff-axisymmetric-t")
+    assert [f for f in found if f[0] != "rational"] == [("integer", ["t = 1"], True)]
+    assert complete["integer"] and complete["half_integer"]
+    assert "every exponent of every balance is an integer exactly at: t = 1 (ARS" in statement
+
+
+@pytest.mark.slow  # about 45 s of computing
+def test_the_kirchhoff_family_with_distinct_moments_selects_clebsch_s_condition():
+    """Moments (1, 1/2, 1/3): every exponent is an integer exactly on Clebsch's
+    condition (b2 - b3)/a1 + (b3 - b1)/a2 + (b1 - b2)/a3 = 0, t = 1/4, where the ARS
+    test passes (Clebsch's case is algebraically integrable, Kötter 1892)."""
+    found, complete, statement = kirchhoff_family("kirchhoff-clebsch-t")
+    assert [f for f in found if f[0] != "rational"] == [("integer", ["t = 1/4"], True)]
+    assert complete["integer"] and complete["half_integer"]
+    assert "no value makes every exponent of every balance half an integer" in statement
+
+
 def test_a_family_s_painleve_verdict_is_that_of_its_generic_members(tmp_path):
     """Lagrange's top A = B = 1, C = 2 with the centre of mass c on the axis, c free:
     integer exponents for every c and every condition holding over Q(c), so the test
