@@ -283,10 +283,24 @@ class _Decomposition:
     def _shape(self, generators, gens, field, known=None) -> _Shape | list[sp.Expr]:
         """Shape position over ``field`` through a linear form, or the polynomials (in the
         variables) whose vanishing splits the system, when the form's eliminant factors.
-        ``known``: the generators' graded basis in ``gens``, reused for the last variable."""
+        ``known``: the generators' graded basis in ``gens``. The forms are tried on the
+        algebra of one graded basis (``_Algebra.cyclic``: linear algebra, no basis per
+        form); where none generates it (a multiple point), each through its own basis."""
         if not gens:  # every variable is free: the component is the whole space
             u = sp.Dummy("u")
             return _Shape(u, sp.Integer(0), sp.Poly(u, u, domain=field), {})
+        graded = known
+        if graded is None:
+            graded = sp.groebner(generators, *gens, order="grevlex", domain=field)
+        if graded.is_zero_dimensional:
+            algebra = _Algebra(graded, gens, field)
+            for element in self._forms(gens):
+                u = element if element in gens else sp.Dummy("u")
+                cyclic = algebra.cyclic(element, u)
+                if cyclic is not None:
+                    eliminant, solved = cyclic
+                    coordinates = {x: h.as_expr() for x, h in solved.items()}
+                    return self._shaped(eliminant.as_expr(), u, element, coordinates, field)
         for element in self._forms(gens):
             if element in gens:
                 u, order = element, [x for x in gens if x != element] + [element]
@@ -294,22 +308,28 @@ class _Decomposition:
             else:
                 u = sp.Dummy("u")
                 order, system = [*gens, u], [*generators, u - element]
-            if known is not None and order == list(gens):
-                graded = known
+            if order == list(gens):
+                graded_u = graded
             else:
-                graded = sp.groebner(system, *order, order="grevlex", domain=field)
-            lex = graded.fglm("lex")
-            eliminant = lex.exprs[-1]
-            factors = self._factors(eliminant, [u])
-            if len(factors) > 1 or factors[0][1] > 1:
-                return [sp.fraction(sp.together(f.subs(u, element)))[0] for f, _ in factors]
+                graded_u = sp.groebner(system, *order, order="grevlex", domain=field)
+            lex = graded_u.fglm("lex")
             coordinates = _solved(lex.exprs[:-1], order[:-1])
-            if coordinates is not None:
-                minimal = sp.Poly(eliminant, u, domain=field).monic()
-                if element in gens:
-                    coordinates[element] = element
-                return _Shape(u, element, minimal, coordinates)
+            shaped = self._shaped(lex.exprs[-1], u, element, coordinates, field)
+            if isinstance(shaped, list) or coordinates is not None:
+                return shaped
         raise DecompositionLimit(f"no shape position found in {MAX_FORMS} linear forms")
+
+    def _shaped(self, eliminant, u, element, coordinates, field) -> _Shape | list[sp.Expr]:
+        """The shape position x = h_x(u), g(u) = 0 where the eliminant g is irreducible,
+        else the numerators of its factors at u = ``element`` (the system splits on them)."""
+        factors = self._factors(eliminant, [u])
+        if len(factors) > 1 or factors[0][1] > 1:
+            return [sp.fraction(sp.together(f.subs(u, element)))[0] for f, _ in factors]
+        minimal = sp.Poly(eliminant, u, domain=field).monic()
+        coordinates = dict(coordinates or {})
+        if element in self.variables:  # u is that variable itself
+            coordinates[element] = element
+        return _Shape(u, element, minimal, coordinates)
 
     def _forms(self, gens: Sequence[sp.Symbol], *, pairs: bool = False):
         """The variables, last first, then (with ``pairs``, where a try costs one cheap
