@@ -37,6 +37,7 @@ from sympy.polys.rings import PolyRing
 
 from .algebraic import Extension
 from .factoring import factor_list, factor_mpoly
+from .groebner import groebner
 
 #: The most systems a decomposition visits before it gives up (each a Groebner basis).
 MAX_BRANCHES = 400
@@ -176,7 +177,7 @@ class _Decomposition:
         stack = [equations]
         while stack:
             system = stack.pop()
-            basis = sp.groebner(system, *self.variables, order="grevlex", domain=self.k)
+            basis = groebner(system, self.variables, self.k)
             key = frozenset(basis.exprs)
             if key in seen:
                 continue
@@ -255,7 +256,7 @@ class _Decomposition:
         generators = list(basis.exprs)
         remainder: list[list[sp.Expr]] = []
         if free:
-            lex = sp.groebner(generators, *others, *free, order="lex", domain=self.k)
+            lex = groebner(generators, [*others, *free], self.k, "lex")
             generators = list(lex.exprs)
             leading = [sp.Poly(e, *others).LC() for e in generators]
             for f, _ in self._factors(sp.Mul(*leading), free):
@@ -291,7 +292,7 @@ class _Decomposition:
             return _Shape(u, sp.Integer(0), sp.Poly(u, u, domain=field), {})
         graded = known
         if graded is None:
-            graded = sp.groebner(generators, *gens, order="grevlex", domain=field)
+            graded = groebner(generators, gens, field)
         if graded.is_zero_dimensional:
             algebra = _Algebra(graded, gens, field)
             for element in self._forms(gens):
@@ -311,7 +312,7 @@ class _Decomposition:
             if order == list(gens):
                 graded_u = graded
             else:
-                graded_u = sp.groebner(system, *order, order="grevlex", domain=field)
+                graded_u = groebner(system, order, field)
             lex = graded_u.fglm("lex")
             coordinates = _solved(lex.exprs[:-1], order[:-1])
             shaped = self._shaped(lex.exprs[-1], u, element, coordinates, field)
@@ -643,9 +644,9 @@ def _independent_set(basis: list[sp.Expr], variables: Sequence[sp.Symbol]) -> tu
 def _saturate(ideal, h: sp.Expr, variables, k) -> tuple[sp.Expr, ...]:
     """Generators of I : h^oo, by eliminating y from I + (1 - y h)."""
     y = sp.Dummy("y")
-    basis = sp.groebner([*ideal, 1 - y * h], y, *variables, order="lex", domain=k)
+    basis = groebner([*ideal, 1 - y * h], [y, *variables], k, "lex")
     kept = [e for e in basis.exprs if not e.has(y)]
-    return tuple(sp.groebner(kept, *variables, order="grevlex", domain=k).exprs)
+    return tuple(groebner(kept, variables, k).exprs)
 
 
 def _maximal(found: list[Component]) -> tuple[Component, ...]:
