@@ -284,16 +284,20 @@ class _Decomposition:
     def _shape(self, generators, gens, field, known=None) -> _Shape | list[sp.Expr]:
         """Shape position over ``field`` through a linear form, or the polynomials (in the
         variables) whose vanishing splits the system, when the form's eliminant factors.
-        ``known``: the generators' graded basis in ``gens``. The forms are tried on the
-        algebra of one graded basis (``_Algebra.cyclic``: linear algebra, no basis per
-        form); where none generates it (a multiple point), each through its own basis."""
+        ``known``: the generators' graded basis in ``gens``. Over Q or Q(one symbol) the
+        forms are tried on the algebra of one graded basis (``_Algebra.cyclic``: linear
+        algebra, no basis per form); over more symbols the Krylov matrix's degrees grow
+        too fast for it (and FLINT's long steps would overrun a time budget, which cannot
+        interrupt them), and where no form generates the algebra (a multiple point), each
+        form gets its own basis."""
         if not gens:  # every variable is free: the component is the whole space
             u = sp.Dummy("u")
             return _Shape(u, sp.Integer(0), sp.Poly(u, u, domain=field), {})
         graded = known
         if graded is None:
             graded = groebner(generators, gens, field)
-        if graded.is_zero_dimensional:
+        symbols = field.symbols if field.is_FractionField else ()
+        if len(symbols) <= 1 and graded.is_zero_dimensional:
             algebra = _Algebra(graded, gens, field)
             for element in self._forms(gens):
                 u = element if element in gens else sp.Dummy("u")
