@@ -75,7 +75,7 @@ def _integral(expr, gens, parameters, ctx) -> _Poly | None:
         x, p = monomial[:n], monomial[n:] or (0,)
         term = ctx.from_dict({p: int(c)})
         found[x] = found[x] + term if x in found else term
-    return {m: c for m, c in found.items() if c != 0}
+    return {m: c for m, c in found.items() if not c.is_zero()}
 
 
 def _monic(g: _Poly, key, domain) -> dict:
@@ -152,9 +152,7 @@ class _Buchberger:
             (lcm, i, j)
             for lcm, i, j in self.pairs
             if not (
-                _divides(lead, lcm)
-                and _lcm(leads[i], lead) != lcm
-                and _lcm(lead, leads[j]) != lcm
+                _divides(lead, lcm) and _lcm(leads[i], lead) != lcm and _lcm(lead, leads[j]) != lcm
             )
         ] + new
         self.basis = [g for g in self.basis if not _divides(lead, leads[g])] + [h]
@@ -170,7 +168,8 @@ class _Buchberger:
     def reduce(self, f: _Poly, among: Sequence[int]) -> _Poly:
         """The primitive normal form of f by the basis elements ``among``: each term
         reduced in turn, largest first, by pseudo-division."""
-        f, done = dict(f), {}
+        f = dict(f)
+        done: _Poly = {}
         divisors = [(self.polys[g], self.leads[g]) for g in among]
         while f:
             m = self.lead(f)
@@ -179,7 +178,7 @@ class _Buchberger:
                     c, lc = f[m], g[lead]
                     d = c.gcd(lc)
                     a = lc / d
-                    if a != 1:
+                    if not a.is_one():
                         f = {k: v * a for k, v in f.items()}
                         done = {k: v * a for k, v in done.items()}
                     _subtract(f, g, c / d, _minus(m, lead))
@@ -200,9 +199,9 @@ def _primitive(f: _Poly) -> _Poly:
     content = None
     for c in f.values():
         content = c if content is None else content.gcd(c)
-        if content == 1:
+        if content.is_one():
             return f
-    if content is None or content == 1:
+    if content is None or content.is_one():
         return f
     return {m: c / content for m, c in f.items()}
 
@@ -216,7 +215,7 @@ def _subtract(f: _Poly, g: _Poly, c, shift) -> None:
     for m, v in g.items():
         k = _plus(m, shift)
         value = f[k] - c * v if k in f else -c * v
-        if value == 0:
+        if value.is_zero():
             f.pop(k, None)
         else:
             f[k] = value

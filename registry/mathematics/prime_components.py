@@ -318,9 +318,9 @@ class _Decomposition:
             else:
                 graded_u = groebner(system, order, field)
             lex = graded_u.fglm("lex")
-            coordinates = _solved(lex.exprs[:-1], order[:-1])
-            shaped = self._shaped(lex.exprs[-1], u, element, coordinates, field)
-            if isinstance(shaped, list) or coordinates is not None:
+            solved = _solved(lex.exprs[:-1], order[:-1])
+            shaped = self._shaped(lex.exprs[-1], u, element, solved, field)
+            if isinstance(shaped, list) or solved is not None:
                 return shaped
         raise DecompositionLimit(f"no shape position found in {MAX_FORMS} linear forms")
 

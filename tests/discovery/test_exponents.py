@@ -275,8 +275,9 @@ def test_the_symmetric_top_on_so4_and_so31_selects_komarov_s_case(tmp_path, kapp
         "The field is not weighted-homogeneous under weights M: 1, gamma: 2: its balances "
         "and exponents are those of its leading part"
     )
-    assert "is an integer exactly at: n = 1 (ARS test passes); n = 2 (ARS test passes)" in (
-        d["statement"]
+    assert (
+        "is an integer exactly at: n = 1 (ARS test passes); n = 2 (ARS test passes)"
+        in (d["statement"])
     )
 
 

@@ -1,0 +1,110 @@
+"""Benchmark of the fraction-free Gröbner bases (``registry.mathematics.groebner``)
+against sympy's ``groebner`` in the same run, on the balance equations of heavy tops
+and Kirchhoff systems over Q(parameters) (graded reverse lexicographic order).
+
+For each system: the processor time of each (the best of ``--repeat``; sympy's under a
+limit of ``--timeout`` s of processor time), their ratio, and whether the two bases are
+the same (they must be: both are the reduced basis).
+
+Usage: python scripts/bench_groebner.py [--timeout 60] [--repeat 3]
+Nothing here is asserted by the tests: machines are shared and noisy.
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+
+import sympy as sp
+from sympy.core.cache import clear_cache
+
+from registry.execution.time_budget import BudgetExceeded, time_limit
+from registry.mathematics import mechanics as mech
+from registry.mathematics.balances import balance_equations
+from registry.mathematics.groebner import groebner
+from registry.mathematics.weighted import split_field
+
+B, C, A, X, Y, Z = sp.symbols("B C a x0 y0 z0")
+B1, B2, B3 = sp.symbols("b1 b2 b3")
+g1, g2, g3 = mech.AXIS
+
+
+def heavy_top(inertia, potential, parameters):
+    """The balance equations of a heavy top (weights M: 1, gamma: 2)."""
+    field = [sp.expand(v) for v in mech.vector_field(inertia, potential, (0, 0, 0))]
+    split = split_field(mech.STATE, field, (1, 1, 1, 2, 2, 2), parameters=parameters)
+    return balance_equations(split), parameters
+
+
+def kirchhoff(inertia, potential, parameters):
+    """The balance equations of Kirchhoff's equations (weights M: 1, gamma: 1)."""
+    field = [sp.expand(v) for v in mech.vector_field(inertia, potential, (0, 0, 0))]
+    split = split_field(mech.STATE, field, (1, 1, 1, 1, 1, 1), parameters=parameters)
+    return balance_equations(split), parameters
+
+
+SYSTEMS = {
+    "heavy top (1, B, C), centre (a, 0, 0)": heavy_top((1, B, C), A * g1, (B, C, A)),
+    "heavy top (1, B, C), centre (1, y0, z0)": heavy_top(
+        (1, B, C), g1 + Y * g2 + Z * g3, (B, C, Y, Z)
+    ),
+    "heavy top (1, B, C), centre (x0, y0, z0)": heavy_top(
+        (1, B, C), X * g1 + Y * g2 + Z * g3, (B, C, X, Y, Z)
+    ),
+    "Kirchhoff (1, 1/2, 1/3), potential b": kirchhoff(
+        (1, sp.Rational(1, 2), sp.Rational(1, 3)),
+        (B1 * g1**2 + B2 * g2**2 + B3 * g3**2) / 2,
+        (B1, B2, B3),
+    ),
+    "Kirchhoff (1, B, C), potential (g1^2 + b2 g2^2)/2": kirchhoff(
+        (1, B, C), (g1**2 + B2 * g2**2) / 2, (B, C, B2)
+    ),
+}
+
+
+def best(repeat: int, timeout: float, fn):
+    """The least processor time of ``repeat`` runs of fn and its value; (None, None)
+    past ``timeout`` s of processor time."""
+    times, value = [], None
+    for _ in range(repeat):
+        clear_cache()
+        start = time.process_time()
+        try:
+            with time_limit(timeout, cpu=True):
+                value = fn()
+        except BudgetExceeded:
+            return None, None
+        times.append(time.process_time() - start)
+    return min(times), value
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--timeout", type=float, default=60.0)
+    parser.add_argument("--repeat", type=int, default=3)
+    args = parser.parse_args()
+    print(f"{'system':52} {'ours':>8} {'sympy':>8} {'ratio':>7}  same")
+    for name, (equations, parameters) in SYSTEMS.items():
+        domain = sp.QQ.frac_field(*parameters)
+        ours_time, ours = best(
+            args.repeat, args.timeout, lambda e=equations, d=domain: groebner(e, mech.STATE, d)
+        )
+        theirs_time, theirs = best(
+            args.repeat,
+            args.timeout,
+            lambda e=equations, d=domain: sp.groebner(e, *mech.STATE, order="grevlex", domain=d),
+        )
+        if ours_time is None:
+            print(f"{name:52} {'> ' + str(int(args.timeout)):>8}")
+            continue
+        if theirs_time is None:
+            print(f"{name:52} {ours_time:8.2f} {'> ' + str(int(args.timeout)):>8} "
+                  f"{'> ' + format(args.timeout / ours_time, '.0f'):>7}  -")  # fmt: skip
+            continue
+        same = ours.exprs == theirs.exprs
+        ratio = theirs_time / max(ours_time, 1e-9)
+        print(f"{name:52} {ours_time:8.2f} {theirs_time:8.2f} {ratio:7.1f}  {same}")
+
+
+if __name__ == "__main__":
+    main()
