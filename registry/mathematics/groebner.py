@@ -63,12 +63,15 @@ def groebner(
 
 
 def _integral(expr, gens, parameters, ctx) -> _Poly | None:
-    """The numerator of ``expr`` with coefficients in Z[p]; None when its denominator
-    involves the gens."""
+    """The numerator of ``expr`` with coefficients in Z[p]; None when it is not one (a
+    denominator in the gens, a coefficient that is not rational)."""
     numer, denom = sp.fraction(sp.together(sp.sympify(expr)))
     if denom.free_symbols & set(gens):
         return None
-    poly = sp.Poly(sp.expand(numer), *gens, *parameters, domain=sp.ZZ)
+    try:
+        poly = sp.Poly(sp.expand(numer), *gens, *parameters, domain=sp.ZZ)
+    except (sp.PolynomialError, sp.CoercionFailed):  # a float, another symbol: sympy's
+        return None
     n = len(gens)
     found: _Poly = {}
     for monomial, c in poly.terms():

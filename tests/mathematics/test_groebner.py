@@ -59,9 +59,16 @@ def test_a_basis_keeps_working_as_sympy_s():
     assert ours.fglm("lex").exprs == sp.groebner(system, x, y, order="lex", domain=Q_AB).exprs
 
 
-def test_a_denominator_in_the_variables_is_left_to_sympy():
+def test_what_is_not_a_polynomial_over_z_p_is_left_to_sympy():
+    """A denominator in the variables (sympy refuses it), a float (sympy converts it)."""
     with pytest.raises(sp.PolynomialError):
         groebner([1 / x - a], [x], Q_AB)
+    system = [0.5 * x - y, x**2 - 1]
+    assert (
+        groebner(system, [x, y], sp.QQ).exprs
+        == sp.groebner(system, x, y, order="grevlex", domain=sp.QQ).exprs
+        == [y**2 - sp.Rational(1, 4), x - 2 * y]
+    )
 
 
 def test_the_balances_of_a_heavy_top_with_a_parameter():
