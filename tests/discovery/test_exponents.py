@@ -299,7 +299,7 @@ def test_the_axisymmetric_kirchhoff_family_selects_kirchhoff_s_case():
     assert "every exponent of every balance is an integer exactly at: t = 1 (ARS" in statement
 
 
-@pytest.mark.slow  # about 45 s of computing
+@pytest.mark.slow  # about 30 s of computing
 def test_the_kirchhoff_family_with_distinct_moments_selects_clebsch_s_condition():
     """Moments (1, 1/2, 1/3): every exponent is an integer exactly on Clebsch's
     condition (b2 - b3)/a1 + (b3 - b1)/a2 + (b1 - b2)/a3 = 0, t = 1/4, where the ARS
