@@ -16,12 +16,15 @@ basis of an ideal is unique, so the result is sympy's own, as a ``sympy.Groebner
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Sequence
 
 import flint
 import sympy as sp
 from sympy.polys.polyerrors import PolificationFailed
 from sympy.polys.polytools import parallel_poly_from_expr
+
+from .flint_polys import numerators, to_ring
 
 #: A polynomial in the variables: exponent tuple -> coefficient in Z[p].
 _Poly = dict[tuple[int, ...], flint.fmpz_mpoly]
@@ -43,42 +46,37 @@ def groebner(
     ``groebner(equations, *gens, order=order, domain=domain)``, computed fraction-free
     (module doc). Anything else (another domain or order, a denominator in the gens) is
     left to sympy."""
-    parameters = tuple(domain.symbols) if domain.is_FractionField else ()
     exact = domain.is_QQ or (domain.is_FractionField and domain.domain.is_QQ)
     if order not in ORDERS or not exact:
         return sp.groebner(equations, *gens, order=order, domain=domain)
     try:
-        _, options = parallel_poly_from_expr(equations, *gens, domain=domain, order=order)
+        polys, options = parallel_poly_from_expr(equations, *gens, domain=domain, order=order)
     except PolificationFailed:
         return sp.groebner(equations, *gens, order=order, domain=domain)
-    ctx = flint.fmpz_mpoly_ctx.get(tuple(f"p{i}" for i in range(len(parameters))) or ("p",))
-    inputs = [_integral(e, tuple(gens), parameters, ctx) for e in equations]
-    if any(f is None for f in inputs):
-        return sp.groebner(equations, *gens, order=order, domain=domain)
-    basis = _Buchberger(ORDERS[order]).run([f for f in inputs if f])
+    count = len(domain.symbols) if domain.is_FractionField else 0
+    ctx = flint.fmpz_mpoly_ctx.get(tuple(f"p{i}" for i in range(count)) or ("p",), "lex")
     key = ORDERS[order]
+    basis = _Buchberger(key).run([_integral(p, domain, ctx) for p in polys if not p.is_zero])
     basis.sort(key=lambda g: key(max(g, key=key)), reverse=True)  # as sympy lists it
-    polys = [sp.Poly._from_dict(_monic(g, key, domain), options) for g in basis]
-    return sp.GroebnerBasis._new(polys, options)
+    return sp.GroebnerBasis._new(
+        [sp.Poly._from_dict(_monic(g, key, domain), options) for g in basis], options
+    )
 
 
-def _integral(expr, gens, parameters, ctx) -> _Poly | None:
-    """The numerator of ``expr`` with coefficients in Z[p]; None when it is not one (a
-    denominator in the gens, a coefficient that is not rational)."""
-    numer, denom = sp.fraction(sp.together(sp.sympify(expr)))
-    if denom.free_symbols & set(gens):
-        return None
-    try:
-        poly = sp.Poly(sp.expand(numer), *gens, *parameters, domain=sp.ZZ)
-    except (sp.PolynomialError, sp.CoercionFailed):  # a float, another symbol: sympy's
-        return None
-    n = len(gens)
-    found: _Poly = {}
-    for monomial, c in poly.terms():
-        x, p = monomial[:n], monomial[n:] or (0,)
-        term = ctx.from_dict({p: int(c)})
-        found[x] = found[x] + term if x in found else term
-    return {m: c for m, c in found.items() if not c.is_zero()}
+def _integral(poly: sp.Poly, domain, ctx) -> _Poly:
+    """A polynomial over k (Q or Q(p)) times a common denominator: over Z[p] in ctx."""
+    terms = poly.rep.to_dict()
+    if domain.is_QQ:
+        scale = 1
+        for c in terms.values():
+            scale = math.lcm(scale, int(domain.denom(c)))
+        one = (0,) * ctx.nvars()
+        return {
+            m: ctx.from_dict({one: int(domain.numer(c)) * (scale // int(domain.denom(c)))})
+            for m, c in terms.items()
+        }
+    flat, _ = numerators(ctx, list(terms.values()))
+    return dict(zip(terms, flat, strict=True))
 
 
 def _monic(g: _Poly, key, domain) -> dict:
@@ -86,23 +84,18 @@ def _monic(g: _Poly, key, domain) -> dict:
     ``key``."""
     lead = g[max(g, key=key)]
     if domain.is_QQ:
-        scale = int(_constant(lead))
-        return {m: domain(int(_constant(c)), scale) for m, c in g.items()}
+        scale = _constant(lead)
+        return {m: domain(_constant(c), scale) for m, c in g.items()}
     field = domain.field
     found = {}
     for m, c in g.items():
         d = c.gcd(lead)
-        found[m] = field.new(_element(c / d, field.ring), _element(lead / d, field.ring))
+        found[m] = field.new(to_ring(field.ring, c / d), to_ring(field.ring, lead / d))
     return found
 
 
 def _constant(c: flint.fmpz_mpoly) -> int:
     return int(c.to_dict().get((0,) * c.context().nvars(), 0))
-
-
-def _element(c: flint.fmpz_mpoly, ring):
-    """A polynomial of Z[p] in FLINT as an element of sympy's ring Q[p]."""
-    return ring.from_dict({tuple(int(e) for e in m): int(v) for m, v in c.to_dict().items()})
 
 
 class _Buchberger:

@@ -37,6 +37,7 @@ from sympy.polys.rings import PolyRing
 
 from .algebraic import Extension
 from .factoring import factor_list, factor_mpoly
+from .flint_polys import numerators, to_ring
 from .groebner import groebner
 
 #: The most systems a decomposition visits before it gives up (each a Groebner basis).
@@ -406,7 +407,7 @@ class _Algebra:
         ring = self.k.field.ring
         ctx = flint.fmpz_mpoly_ctx.get((*(f"p{i}" for i in range(ring.ngens)), "u"), "lex")
         entries = [e for row in self.multiplication_by(element).to_list() for e in row]
-        flat, d = _numerators(ctx, entries, extra=1)
+        flat, d = numerators(ctx, entries, extra=1)
         u = ctx.gens()[-1]
         rows = [
             [d * u * int(i == j) - flat[i * self.size + j] for j in range(self.size)]
@@ -476,9 +477,9 @@ def _cyclic_fraction_free(times: list[list], columns: list[list], k, u: sp.Symbo
     ring = k.field.ring
     ctx = flint.fmpz_mpoly_ctx.get(tuple(f"p{i}" for i in range(ring.ngens)), "lex")
     size = len(times)
-    flat, d = _numerators(ctx, [e for row in times for e in row])
+    flat, d = numerators(ctx, [e for row in times for e in row])
     matrix = [flat[i * size : (i + 1) * size] for i in range(size)]
-    (w, e), *targets = (_numerators(ctx, c) for c in columns)
+    (w, e), *targets = (numerators(ctx, c) for c in columns)
     powers = [w]
     for _ in range(size):
         last = powers[-1]
@@ -496,7 +497,7 @@ def _cyclic_fraction_free(times: list[list], columns: list[list], k, u: sp.Symbo
     numerators_, det = solved
 
     def element(num, den):
-        return k.field.new(_plain(ring, num), _plain(ring, den))
+        return k.field.new(to_ring(ring, num), to_ring(ring, den))
 
     d_powers = [ctx.from_dict({(0,) * ring.ngens: 1})]
     for _ in range(size):
@@ -540,32 +541,6 @@ def _spans_somewhere(columns: list[list], nvars: int, tries: int = 2) -> bool:
         if matrix.rank() == size:
             return True
     return False
-
-
-def _numerators(ctx, entries: list, extra: int = 0) -> tuple[list, flint.fmpz_mpoly]:
-    """Elements of Q(p) as numerators in FLINT over one common denominator (the lcm),
-    and that denominator (``extra``: as for ``_integral``)."""
-    parts = [_integral(ctx, e.numer, e.denom, extra) for e in entries]
-    common = ctx.from_dict({(0,) * ctx.nvars(): 1})
-    for _, den in parts:
-        common = common * den / common.gcd(den)
-    return [num * (common / den) for num, den in parts], common
-
-
-def _integral(ctx, numer, denom, extra: int = 0) -> tuple[flint.fmpz_mpoly, flint.fmpz_mpoly]:
-    """numer/denom (over Q) as a quotient of polynomials over Z in FLINT, in a context
-    with ``extra`` more variables after theirs."""
-    n_scale, numer = numer.clear_denoms()
-    d_scale, denom = denom.clear_denoms()
-
-    def whole(q) -> int:
-        # an integer of QQ, whatever sympy's ground types (gmpy, flint or pure Python)
-        return int(sp.QQ.numer(q))
-
-    def poly(p, scale):
-        return ctx.from_dict({(*m, *(0,) * extra): whole(c) * scale for m, c in p.items()})
-
-    return poly(numer, whole(d_scale)), poly(denom, whole(n_scale))
 
 
 def _bareiss(rows: list[list], size: int) -> tuple[list[list], Any] | None:
@@ -661,11 +636,3 @@ def _maximal(found: list[Component]) -> tuple[Component, ...]:
         if not any(all(c.vanishes(q) for q in other.equations()) for other in kept):
             kept.append(c)
     return tuple(kept)
-
-
-def _plain(ring: PolyRing, poly: flint.fmpz_mpoly):
-    """A FLINT polynomial over Z in ``ring``, its exponents and coefficients made Python
-    integers (FLINT's own would not convert under sympy's pure-Python ground types)."""
-    return ring.from_dict(
-        {tuple(int(e) for e in m): ring.domain.convert(int(c)) for m, c in poly.to_dict().items()}
-    )

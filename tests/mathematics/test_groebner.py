@@ -59,8 +59,9 @@ def test_a_basis_keeps_working_as_sympy_s():
     assert ours.fglm("lex").exprs == sp.groebner(system, x, y, order="lex", domain=Q_AB).exprs
 
 
-def test_what_is_not_a_polynomial_over_z_p_is_left_to_sympy():
-    """A denominator in the variables (sympy refuses it), a float (sympy converts it)."""
+def test_a_denominator_in_the_variables_is_refused_and_a_float_converted_as_by_sympy():
+    """A denominator in the variables is left to sympy (which refuses it); a float
+    becomes the rational sympy makes of it."""
     with pytest.raises(sp.PolynomialError):
         groebner([1 / x - a], [x], Q_AB)
     system = [0.5 * x - y, x**2 - 1]
