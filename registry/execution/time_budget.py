@@ -67,15 +67,16 @@ def default_budget(
     )
 
 
-def _interrupt(signum, frame):
-    raise BudgetExceeded
-
-
 @contextmanager
 def time_limit(seconds: float | None, *, cpu: bool = False) -> Iterator[None]:
     """Raise BudgetExceeded in this thread after ``seconds`` (no limit if None or 0) of
     wall clock, or with ``cpu`` of this process's processor time (what a benchmark on a
     shared machine counts: the load does not eat it).
+
+    A block that the signal interrupted always ends in BudgetExceeded, also when code
+    inside it caught the exception and went on (sympy's ``except Exception`` around a C
+    extension's callback, where the exception arrives as a SystemError): what it then
+    computed came after its time.
 
     Timers are per process and only the main thread receives the signal; elsewhere
     (a notebook's worker thread) the block runs without a limit.
@@ -86,10 +87,18 @@ def time_limit(seconds: float | None, *, cpu: bool = False) -> Iterator[None]:
     sig, timer = (
         (signal.SIGPROF, signal.ITIMER_PROF) if cpu else (signal.SIGALRM, signal.ITIMER_REAL)
     )
-    previous = signal.signal(sig, _interrupt)
+    fired: list[bool] = []
+
+    def interrupt(signum, frame):
+        fired.append(True)
+        raise BudgetExceeded
+
+    previous = signal.signal(sig, interrupt)
     signal.setitimer(timer, seconds)
     try:
         yield
+        if fired:  # the BudgetExceeded was caught inside the block, and it went on
+            raise BudgetExceeded
     except SystemError as err:
         # the signal arrived in Python code a C extension called back (symengine asking a
         # sympy object for its parts): Python reports it as that call's SystemError,

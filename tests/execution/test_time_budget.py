@@ -37,6 +37,22 @@ def test_a_budget_run_out_inside_a_c_extensions_callback_is_still_a_budget_excee
             raise SystemError("a bug elsewhere")
 
 
+def test_a_budget_exceeded_swallowed_inside_the_block_still_ends_it_so():
+    # sympy catches Exception around some C callbacks: a BudgetExceeded arriving there as
+    # a SystemError is swallowed and the computation goes on past its time
+    finished = []
+    with cpu_bound(1.5), pytest.raises(BudgetExceeded):
+        with time_limit(0.1):
+            try:
+                while True:
+                    pass
+            except BudgetExceeded as err:  # what sympy's except Exception does to it
+                swallowed = SystemError("returned a result with an exception set")
+                swallowed.__cause__ = err
+            finished.append(True)
+    assert finished == [True]
+
+
 def test_time_limit_is_lifted_afterwards():
     handler = signal.getsignal(signal.SIGALRM)
     with time_limit(5):
