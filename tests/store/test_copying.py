@@ -13,6 +13,7 @@ from __future__ import annotations
 import random
 import shutil
 import signal
+import sqlite3
 import subprocess
 import time
 from pathlib import Path
@@ -264,10 +265,14 @@ def target_state(target: str, expected: dict[str, list[dict]]) -> str:
 
 
 def transaction_open(databases, target: str) -> bool:
-    """Whether the copy's transaction into ``target`` has begun (its temporary file
-    exists; on PostgreSQL, a connection of the registry is in a transaction there)."""
+    """Whether the copy's transaction into ``target`` has begun: on SQLite, its
+    temporary file exists (a new target) or some connection holds the target's write
+    lock (an existing one); on PostgreSQL, a connection of the registry is in a
+    transaction there."""
     if not is_url(target):
-        return bool(list(Path(target).parent.glob(f".{Path(target).name}.copy-*.tmp")))
+        if list(Path(target).parent.glob(f".{Path(target).name}.copy-*.tmp")):
+            return True
+        return Path(target).exists() and write_locked(Path(target))
     with databases.server.connect() as conn:
         found = conn.execute(
             "SELECT 1 FROM pg_stat_activity WHERE datname = %s AND "
@@ -275,6 +280,24 @@ def transaction_open(databases, target: str) -> bool:
             (database_name(target),),
         )
         return found.fetchone() is not None
+
+
+def write_locked(file: Path) -> bool:
+    """Whether a connection holds ``file``'s one write lock (a write transaction is
+    open there): BEGIN IMMEDIATE without waiting fails exactly then. A probe that gets
+    the lock gives it back at once; the copy's busy timeout covers that instant."""
+    probe = sqlite3.connect(file, timeout=0, isolation_level=None)
+    try:
+        probe.execute("BEGIN IMMEDIATE")
+    except sqlite3.OperationalError as err:
+        if "locked" in str(err) or "busy" in str(err):
+            return True
+        raise
+    else:
+        probe.execute("ROLLBACK")
+        return False
+    finally:
+        probe.close()
 
 
 def wait_for_server_sessions(databases, target: str) -> None:
