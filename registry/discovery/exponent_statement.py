@@ -115,7 +115,7 @@ def family_statement(document: Mapping[str, Any], weights: str) -> str:
     where they are; "at least" otherwise)."""
     free = ", ".join(document["free"])
     parts = [f"Kovalevskaya exponents of the family in {free} under weights {weights}"]
-    if not document["homogeneous"]:
+    if document["homogeneous"] is False:  # None: the generic analysis was not made
         parts[0] = f"{_scope(False, weights)}. {parts[0]}"
     special = document["special"]
     complete = document["complete"]
@@ -145,7 +145,30 @@ def family_statement(document: Mapping[str, Any], weights: str) -> str:
         parts.append(f"every exponent of every balance is {label} {how} at: {listed}")
     if not all(complete.values()):
         parts.append("not complete: " + "; ".join(document["coverage"]))
+    if "painleve_sets" in document:
+        parts.append(_painleve_sets(document["painleve_sets"]))
     return "; ".join(parts) + "."
+
+
+def _painleve_sets(found: Mapping[str, Any]) -> str:
+    """Where the ARS test passes with several free parameters (``painleve_strata``), and
+    whether the list is complete."""
+    listed = "; ".join(
+        ", ".join(s["when"]) + (f" ({', '.join(s['free'])} free)" if s["free"] else "")
+        for s in found["passing"]
+    )
+    text = (
+        f"{ARS} passes for the generic members of: {listed}"
+        if listed
+        else f"{ARS} passes on no set that was analysed"
+    )
+    if found["complete"]:
+        return (
+            f"{text}; at every admissible real value outside these sets it fails (the "
+            "stratification by the conditions of the balances with constant integer "
+            "exponents was completed)"
+        )
+    return f"{text}; not complete: {len(found['undecided'])} set(s) were not decided"
 
 
 def _generic(document: Mapping[str, Any]) -> str:

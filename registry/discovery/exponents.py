@@ -33,6 +33,7 @@ from ..mathematics.grading import candidates, per_variable, shift
 from ..mathematics.weighted import split_field
 from ..model import Case, ExponentOptions, ExponentResult, Weights, as_weights
 from .exponent_statement import family_statement, statement
+from .painleve_strata import Strata, painleve_strata
 
 #: What the analysis says of how it works (in every document).
 METHOD = (
@@ -41,8 +42,11 @@ METHOD = (
     "k[u]/(g); the ARS recursion to the last resonance, its conditions decided exactly"
 )
 
-#: With several free parameters: the share of the budget the generic analysis over
-#: Q(free) may take before the grid of small values is searched without it.
+#: With several free parameters: the share of the budget the search for the sets where
+#: the Painlevé test can pass may take (``painleve_strata``), first.
+STRATA_SHARE = 0.5
+#: Then the share of what is left that the generic analysis over Q(free) may take
+#: before the grid of small values is searched without it.
 GENERIC_SHARE = 0.3
 
 
@@ -205,8 +209,8 @@ def analyse_case(
                 analysis = _exponents(case, found, seed)
             document = _document(case, options, found, analysis)
         else:
-            family = _family(case, found, executor or InProcess(), budget, seed)
-            document = _family_document(case, options, found, family)
+            family, strata = _family(case, found, executor or InProcess(), budget, seed)
+            document = _family_document(case, options, found, family, strata)
     except BudgetExceeded:
         document = undecided_document(
             case, options, f"time budget exceeded ({budget:g} s) before the analysis ended"
@@ -378,9 +382,10 @@ def _obstructions(resonance: Mapping[str, Any]) -> list[dict[str, Any]]:
 
 def _family(
     case: Case, found: CaseField, executor: Executor, budget: float | None, seed: int
-) -> ExponentFamily:
+) -> tuple[ExponentFamily, Strata | None]:
     """The family's special values, the exact analyses at its candidates run by the
-    executor (each bounded by what is left of the budget)."""
+    executor (each bounded by what is left of the budget); with several free parameters
+    also the sets where the Painlevé test can pass (``painleve_strata``)."""
     started = time.perf_counter()
 
     def left() -> float | None:
@@ -390,7 +395,7 @@ def _family(
     try:
         if len(found.free) == 1:
             with time_limit(budget):
-                return exponent_family(
+                family = exponent_family(
                     found.variables,
                     found.field,
                     found.weights,
@@ -398,9 +403,20 @@ def _family(
                     seed=seed,
                     mapper=mapper,
                 )
+            return family, None
+        strata = painleve_strata(
+            found.variables,
+            found.field,
+            found.weights,
+            found.free,
+            seed=seed,
+            budget=None if budget is None else STRATA_SHARE * budget,
+            mapper=mapper,
+        )
         generic = None
         try:
-            with time_limit(None if budget is None else GENERIC_SHARE * budget):
+            share = left()
+            with time_limit(None if share is None else GENERIC_SHARE * share):
                 generic = exponents(
                     found.variables,
                     found.field,
@@ -410,23 +426,26 @@ def _family(
                 )
         except BudgetExceeded:
             pass
-        with time_limit(left()):
-            family = exponent_family(
-                found.variables,
-                found.field,
-                found.weights,
-                found.free,
-                seed=seed,
-                mapper=mapper,
-                grid=_grid(found.free),
-                generic=False,
-            )
+        try:
+            with time_limit(left()):
+                family = exponent_family(
+                    found.variables,
+                    found.field,
+                    found.weights,
+                    found.free,
+                    seed=seed,
+                    mapper=mapper,
+                    grid=_grid(found.free),
+                    generic=False,
+                )
+        except BudgetExceeded:  # the sets where the test can pass are kept
+            family = _grid_out_of_time(found.free, budget)
     except WeightedFieldError as err:
         raise _named(case, found, err) from None
     if generic is None:
-        return family
+        return family, strata
     coverage = tuple(c for c in family.coverage if "generic analysis" not in c)
-    return ExponentFamily(
+    family = ExponentFamily(
         family.free,
         generic,
         family.factors,
@@ -441,6 +460,13 @@ def _family(
         family.half_integer,
         False,
     )
+    return family, strata
+
+
+def _grid_out_of_time(free: Sequence[sp.Symbol], budget: float | None) -> ExponentFamily:
+    """A family whose grid of small values was not searched within the budget."""
+    note = f"several free parameters: the grid of small values was not searched within {budget:g} s"
+    return ExponentFamily(tuple(free), None, (), (), (), (), (), False, False, (note,))
 
 
 def _mapper(executor: Executor, left: Callable[[], float | None]):
@@ -484,7 +510,11 @@ def _allowed(p: sp.Symbol, value: sp.Expr) -> bool:
 
 
 def _family_document(
-    case: Case, options: ExponentOptions, found: CaseField, family: ExponentFamily
+    case: Case,
+    options: ExponentOptions,
+    found: CaseField,
+    family: ExponentFamily,
+    strata: Strata | None = None,
 ) -> dict[str, Any]:
     """The JSON document of a family: the generic analysis (where it was made) and the
     ``special`` list, each set with its exponents and Painlevé test."""
@@ -521,6 +551,8 @@ def _family_document(
     if dropped:
         coverage.append(f"left out, against the declared assumptions: {', '.join(dropped)}")
     document["coverage"] = coverage
+    if strata is not None:
+        document["painleve_sets"] = _painleve_sets(strata)
     document["statement"] = family_statement(document, options.weights_text())
     document["notes"] = list(generic.notes) if generic is not None else []
     document["method"] = METHOD
@@ -551,6 +583,29 @@ def _special(s: SpecialSet) -> dict[str, Any]:
         entry |= _member(s.analysis)
     entry["notes"] = list(s.notes)
     return entry
+
+
+def _painleve_sets(strata: Strata) -> dict[str, Any]:
+    """The sets where the Painlevé test passes (``painleve_strata``): each with its
+    equations, the parameters left free on it, and its exponents and test."""
+    passing = []
+    for s in strata.passing:
+        entry: dict[str, Any] = {
+            "when": [f"{p} = {sp.sstr(v)}" for p, v in s.values.items()],
+            "free": [str(p) for p in s.free],
+        }
+        if s.analysis is not None:
+            entry |= _member(s.analysis)
+        integers = [f"{p} runs over the integers" for p in s.free if p.is_integer]
+        entry["notes"] = [*s.notes, *integers]
+        passing.append(entry)
+    return {
+        "passing": passing,
+        "complete": strata.complete,
+        "undecided": list(strata.undecided),
+        "strata": strata.visited,
+        "seconds": round(strata.seconds, 3),
+    }
 
 
 def _member(analysis: ExponentAnalysis) -> dict[str, Any]:

@@ -48,6 +48,8 @@ def _lines(result: ExponentResult) -> list[str]:
         lines.append(f"Painlevé (ARS) test{' for generic values' if d['free'] else ''}: {verdict}")
     if "special" in d:
         lines += _special(d["special"], d["complete"], d["coverage"])
+    if "painleve_sets" in d:
+        lines += _painleve_sets(d["painleve_sets"])
     lines.append(result.statement)
     lines.append(f"{result.seconds:.2f} s")
     return lines
@@ -92,6 +94,21 @@ def _painleve(resonances: Sequence[Mapping[str, Any]]) -> list[str]:
         orders = ", ".join(str(r["order"]) for r in resonances)
         return [f"Painlevé: every compatibility condition holds (resonances {orders})"]
     return []
+
+
+def _painleve_sets(found: Mapping[str, Any]) -> list[str]:
+    """The sets where the ARS test passes for generic members, and what was not decided."""
+    lines = [f"Painlevé (ARS) test passes on ({found['strata']} strata analysed):"]
+    for s in found["passing"]:
+        free = f" ({', '.join(s['free'])} free)" if s["free"] else ""
+        lines.append(f"  {', '.join(s['when'])}{free}")
+        for exponents in s.get("exponents", ()):
+            lines.append(f"      exponents {', '.join(exponents)}")
+    if not found["passing"]:
+        lines.append("  no set that was analysed")
+    lines.append(f"complete: {'yes' if found['complete'] else 'no'}")
+    lines += [f"  not decided: {u}" for u in found["undecided"]]
+    return lines
 
 
 def _special(

@@ -1,0 +1,680 @@
+"""Where a family with several free parameters can pass the Painlevé test: the parameter
+space stratified by necessary conditions, each stratum analysed again with fewer free
+parameters, down to the sets where the test passes for every member.
+
+*Necessary conditions.* The test passes at a value p0 only if it passes at every balance.
+Take a component of balances over Q(p) whose exponents are integers that do not depend
+on p (the heavy top's balances with gamma = 0: -1, 1, 2, 2, 2, 3 for every top). Its
+Laurent series (``painleve``) is computed once over Q(p), in k[u]/(g). Outside an
+*exceptional* hypersurface E, everything in that computation specialises at p0: the
+denominators of the balance's coordinates and of g's coefficients, the discriminant of
+g (conjugate balances meet), the norm of a coordinate (the balance runs into the
+origin) and the norms of every pivot of the series' eliminations (where one vanishes
+the rank of K - k can drop) are not zero there. So at p0 outside E:
+
+* a resonance that lacks a free coefficient lacks it at p0 too (the rank of K - r is
+  the generic one), and the test fails;
+* a compatibility condition c, reduced modulo g, holds at every conjugate balance
+  exactly when each of its coefficients (in u, the free coefficients and the family's
+  free coordinates) vanishes at p0: these are the equations J;
+* an exponent that is a constant non-integer stays one, and the test fails;
+* for a pair of complex conjugate balances (g of degree 2 whose discriminant is never
+  positive: its negative is a sum of squares) whose exponents vary, integer exponents
+  make every coefficient of their characteristic polynomial real at a non-real u, so
+  its parts in u vanish: more equations in J (and where the discriminant vanishes, a
+  system of its own).
+
+Hence the values where the test passes lie in V(J) union E (in E alone when a
+resonance lacks a coefficient). Balances are first taken from the coordinate
+hyperplanes (the components of the balance equations with one variable set to 0),
+which are small; only where those give no condition are all the balances computed.
+
+*Recursion.* Each irreducible component of V(J) and of E over Q (``components``:
+those with real points, rationally parametrised, a new parameter w1, w2, ... where
+needed) is a family with fewer free parameters, analysed the same way. A stratum
+whose balances all have constant integer exponents and no condition passes for its
+generic members; it is reported, and its own exceptional subsets are not explored (a
+smaller set inside a passing one). A stratum with no free parameter left is analysed
+exactly. Where the conditions cut nothing and the exponents that vary depend on one
+parameter p only, the values of p where they can be integers (``integrality``) are the
+next strata: points, and infinite families p = P(n) through an integer index n1, a
+parameter of its own (a family whose resonances move with the index is left undecided:
+the series cannot be written for a symbolic resonance). With one free parameter this is
+``exponent_family``, whose integer list is complete there.
+
+*What is guaranteed.* ``complete`` says that every admissible real parameter value
+where the ARS test passes lies in one of the ``passing`` sets: every stratum was
+decided, none was left without a rational parametrisation, and the time sufficed.
+Passing is necessary for the Painlevé property, not a proof of it.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import sympy as sp
+
+from ..execution.time_budget import BudgetExceeded, time_limit
+from ..mathematics import painleve
+from ..mathematics.balances import balance_equations
+from ..mathematics.exponent_analysis import ExponentAnalysis, analyse
+from ..mathematics.exponent_families import exponent_family
+from ..mathematics.factoring import factor_list
+from ..mathematics.flint_gcd import flint_gcd
+from ..mathematics.integrality import integer_candidates
+from ..mathematics.kovalevskaya import LAMBDA, characteristic_polynomial, kovalevskaya_matrix
+from ..mathematics.prime_components import Component, DecompositionLimit, components
+from ..mathematics.weighted import WeightedField, split_field
+from .components import NEW, resolve
+from .splitting import AlgebraicSet
+
+#: The most strata one stratification visits before it stops (not complete).
+MAX_STRATA = 400
+#: Runs ``fn`` on every item and returns the results in order (None where a call failed).
+Mapper = Callable[[Callable[[Any], Any], Sequence[Any]], list[Any]]
+#: How often a set's equations may be replaced by their real points before it is left.
+MAX_REAL_STEPS = 8
+
+
+@dataclass(frozen=True)
+class Stratum:
+    """A set of parameter values: the free parameters it fixes (``values``, in terms of
+    the others and of new parameters), the ones left free, and its analysis there (the
+    generic member's, or the point's)."""
+
+    values: dict[sp.Symbol, sp.Expr]
+    free: tuple[sp.Symbol, ...]
+    analysis: ExponentAnalysis | None = None
+    notes: tuple[str, ...] = ()
+
+    def text(self) -> str:
+        """Its equations, ``b = 1, z0 = 0`` (``every value`` for the whole space), and
+        which of its free parameters run over the integers."""
+        text = ", ".join(f"{k} = {sp.sstr(v)}" for k, v in self.values.items()) or "every value"
+        integers = [str(p) for p in self.free if p.is_integer]
+        return text + (f" ({', '.join(integers)} integer)" if integers else "")
+
+
+@dataclass(frozen=True)
+class Strata:
+    """The outcome: the ``passing`` sets, what was left undecided (each in words), how
+    many strata were analysed, and whether the list is complete (module doc)."""
+
+    free: tuple[sp.Symbol, ...]
+    passing: tuple[Stratum, ...]
+    undecided: tuple[str, ...]
+    visited: int
+    seconds: float = field(default=0.0, compare=False)
+
+    @property
+    def complete(self) -> bool:
+        return not self.undecided
+
+
+@dataclass
+class _Necessary:
+    """What a stratum's balances impose: equations J in the parameters (``fails``: none
+    can hold, V(J) is empty), the exceptional factors E, and whether every balance was
+    seen with constant integer exponents (``decided``)."""
+
+    equations: list[sp.Expr] = field(default_factory=list)
+    exceptional: list[sp.Expr] = field(default_factory=list)
+    fails: bool = False
+    decided: bool = True
+    #: factors (in lambda, over Q(p)) whose roots vary with the parameters
+    varying: list[sp.Expr] = field(default_factory=list)
+    #: some exponent varies along a family of balances
+    undecidable: bool = False
+    #: further systems whose zero sets may hold passing values (beyond V(J) and E)
+    systems: list[tuple[sp.Expr, ...]] = field(default_factory=list)
+
+    @property
+    def cuts(self) -> bool:
+        return self.fails or bool(self.equations)
+
+
+def painleve_strata(
+    variables: Sequence[sp.Symbol],
+    field_: Sequence[sp.Expr],
+    weights: Sequence[int],
+    free: Sequence[sp.Symbol],
+    *,
+    seed: int = 0,
+    budget: float | None = None,
+    mapper: Mapper | None = None,
+) -> Strata:
+    """The sets of values of ``free`` where the ARS test passes for the field
+    dx/dt = ``field_`` under ``weights`` (module doc), each set once (none inside
+    another). The strata of one depth are examined together, by ``mapper`` (a worker
+    pool's map, in order; default: here, one after the other). Past ``budget`` seconds
+    the strata not yet examined are left undecided, and the list is then not complete."""
+    start = time.perf_counter()
+    field_ = tuple(sp.sympify(f) for f in field_)
+    seen: set[tuple] = set()
+    passing: list[Stratum] = []
+    undecided: list[str] = []
+    level: list[tuple[dict, tuple]] = [({}, tuple(free))]
+    visited = 0
+    try:
+        with time_limit(budget):
+            while level:
+                todo = []
+                for values, left in level:
+                    key = tuple(sorted((str(k), sp.srepr(v)) for k, v in values.items()))
+                    if key not in seen:
+                        seen.add(key)
+                        todo.append((values, left))
+                if visited + len(todo) > MAX_STRATA:
+                    undecided.append(f"more than {MAX_STRATA} strata: the others not examined")
+                    todo = todo[: MAX_STRATA - visited]
+                items = [(tuple(variables), field_, tuple(weights), v, f, seed) for v, f in todo]
+                results = (mapper or _in_order)(examine_stratum, items)
+                visited += len(todo)
+                level = []
+                for (values, left), result in zip(todo, results, strict=True):
+                    if result is None:
+                        text = Stratum(values, left).text()
+                        undecided.append(f"{text}: its examination did not come back")
+                        continue
+                    passing += result.passing
+                    undecided += result.undecided
+                    level += result.children
+    except BudgetExceeded:
+        undecided.append(
+            f"the time ({budget:g} s) ran out after {visited} strata: the others not examined"
+        )
+    return Strata(
+        tuple(free),
+        tuple(sorted(_maximal(passing), key=lambda s: (-len(s.free), s.text()))),
+        tuple(dict.fromkeys(undecided)),
+        visited,
+        time.perf_counter() - start,
+    )
+
+
+def _in_order(fn, items):
+    return [fn(item) for item in items]
+
+
+@dataclass
+class Examined:
+    """What one stratum gave: the sets found passing in it, what it left undecided, and
+    the smaller strata to examine next (each its values and free parameters)."""
+
+    passing: list[Stratum] = field(default_factory=list)
+    undecided: list[str] = field(default_factory=list)
+    children: list[tuple[dict[sp.Symbol, sp.Expr], tuple[sp.Symbol, ...]]] = field(
+        default_factory=list
+    )
+
+
+def examine_stratum(item) -> Examined:
+    """One stratum (variables, field, weights, values, free, seed): passing, a point
+    analysed, or the smaller strata its necessary conditions leave (module doc). One call
+    of a mapper."""
+    variables, field_, weights, values, free, seed = item
+    with flint_gcd():
+        walk = _Walk(variables, field_, weights)
+        walk.seed = seed
+        walk.visit(values, free)
+    return walk.found
+
+
+class _Walk:
+    def __init__(self, variables, field_, weights):
+        self.variables, self.field, self.weights = variables, field_, weights
+        self.seed = 0
+        self.found = Examined()
+        self.parameters = set().union(*(f.free_symbols for f in field_)) - set(variables)
+
+    def _merged(self, values, chosen) -> dict[sp.Symbol, sp.Expr]:
+        """``values`` with ``chosen`` put in, for the family's own parameters only (a new
+        parameter w1 or index n1 that a value fixes is not one of the family's)."""
+        merged = {k: sp.cancel(sp.sympify(v).xreplace(chosen)) for k, v in values.items()}
+        merged.update(chosen)
+        return {k: v for k, v in merged.items() if k in self.parameters}
+
+    @property
+    def passing(self) -> list[Stratum]:
+        return self.found.passing
+
+    @property
+    def undecided(self) -> list[str]:
+        return self.found.undecided
+
+    def visit(self, values: dict[sp.Symbol, sp.Expr], free: tuple[sp.Symbol, ...]) -> None:
+        here = Stratum(values, free)
+        concrete = [sp.expand(sp.sympify(f).xreplace(values)) for f in self.field]
+        if any(c.has(sp.zoo, sp.nan) for c in concrete):
+            return
+        split = split_field(self.variables, concrete, self.weights, parameters=free)
+        if not free:
+            analysis = analyse(split, seed=self.seed)
+            if analysis.painleve_passes:
+                self.passing.append(Stratum(values, free, analysis))
+            return
+        necessary = self._necessary(split, _hyperplane_components(split, self.seed))
+        if not necessary.cuts:
+            whole = _all_components(split, self.seed)
+            if whole is None:
+                self.undecided.append(f"{here.text()}: its balances were not found")
+                return
+            necessary = self._necessary(split, whole)
+        if not necessary.cuts:
+            if necessary.decided:
+                analysis = analyse(split, seed=self.seed)
+                if not analysis.painleve_passes:  # pragma: no cover - the same computation
+                    self.undecided.append(f"{here.text()}: its two analyses disagree")
+                    return
+                why = "passes for generic members; its smaller exceptional sets not explored"
+                self.passing.append(Stratum(values, free, analysis, (why,)))
+                return
+            if len(free) == 1:
+                self._one_parameter(values, free, concrete)
+                return
+            varying = set().union(*(f.free_symbols for f in necessary.varying)) & set(free)
+            if not necessary.undecidable and len(varying) == 1:
+                self._integer_values(values, free, necessary, varying.pop())
+                return
+            self.undecided.append(
+                f"{here.text()}: some exponents vary with the parameters and no "
+                "condition cuts the set"
+            )
+            return
+        for equations in self._candidates(necessary):
+            self._descend(values, free, equations)
+
+    def _necessary(self, split: WeightedField, found: Sequence[Component]) -> _Necessary:
+        """J and E of the components ``found`` (module doc)."""
+        out = _Necessary()
+        params = set(split.parameters)
+        matrix = kovalevskaya_matrix(split)
+        for component in found:
+            _exceptional_of_component(component, params, out.exceptional)
+            polynomial = characteristic_polynomial(component, matrix)
+            roots = _constant_roots(polynomial)
+            if roots is None:
+                out.decided = False
+                if polynomial.varying:  # along a family of balances: not handled
+                    out.undecidable = True
+                    continue
+                conjugate = _conjugate_parts(polynomial.rest, component.symbol, params)
+                nonreal = _nonreal_pair(component) if conjugate else None
+                if nonreal is not None:  # integer exponents need the conjugate parts to vanish
+                    out.equations += conjugate
+                    out.systems += [nonreal] if nonreal else []
+                out.varying += [f for f, _ in polynomial.common if f.free_symbols & params]
+                continue
+            if any(not r.is_integer for r in roots):
+                out.fails = True
+                continue
+            resonances: dict[int, int] = {}
+            for r in roots:
+                if r >= 1:
+                    resonances[int(r)] = resonances.get(int(r), 0) + 1
+            if not resonances:
+                continue
+            recursion = _Pivots(split, component, matrix, resonances)
+            series = recursion.run(max(resonances))
+            for pivot in recursion.pivots:
+                _add_factors(_norm(component, pivot), params, out.exceptional)
+            for step in series.resonances:
+                if step.missing:
+                    out.fails = True
+                for condition in step.conditions:
+                    out.equations += _coefficients(condition, params)
+                    _add_factors(sp.fraction(sp.together(condition))[1], params, out.exceptional)
+        return out
+
+    def _candidates(self, necessary: _Necessary) -> list[tuple[sp.Expr, ...]]:
+        """The systems whose zero sets hold every value that may pass: V(J) (unless the
+        test fails outright) and each exceptional hypersurface."""
+        systems: list[tuple[sp.Expr, ...]] = []
+        if not necessary.fails:
+            equations = tuple(dict.fromkeys(e for e in necessary.equations if e != 0))
+            if not any(e.is_number for e in equations):
+                systems.append(equations)
+        systems += [(q,) for q in dict.fromkeys(necessary.exceptional)]
+        return systems + list(dict.fromkeys(necessary.systems))
+
+    def _descend(self, values, free, equations: tuple[sp.Expr, ...], depth: int = 0) -> None:
+        """Each real component of equations = 0 (in the free parameters), rationally
+        parametrised, visited as a stratum of its own."""
+        real = _real_system(equations)
+        if real is None:
+            return  # no real point
+        try:
+            found = resolve(AlgebraicSet({}, real), list(free))
+        except DecompositionLimit as err:  # pragma: no cover - resolve reports these
+            self.undecided.append(f"{_text(real)}: its components were not found ({err})")
+            return
+        self.undecided.extend([f"{u}: not decided" for u in found.undecided])
+        for piece in found.pieces:
+            system = (
+                *(sp.numer(sp.together(p - v)) for p, v in piece.values.items()),
+                *piece.component.equations(),
+            )
+            smaller = _real_system(system)
+            if smaller is None:
+                continue
+            if smaller != system and depth < MAX_REAL_STEPS:
+                self._descend(values, free, smaller, depth + 1)
+                continue
+            where = Stratum(values, free).text()
+            self.undecided.append(
+                f"{piece.text} (within {where}): no rational parametrisation, not analysed"
+            )
+        for chosen in found.sets:
+            if NEW in set().union(*(sp.sympify(v).free_symbols for v in chosen.values())):
+                fresh = _fresh(free)
+                chosen = {k: sp.sympify(v).xreplace({NEW: fresh}) for k, v in chosen.items()}
+            else:
+                fresh = None
+            merged = self._merged(values, chosen)
+            if not _admissible(merged):
+                continue  # where the stratum's parametrisation is not defined, or not allowed
+            left = tuple(p for p in free if p not in chosen) + ((fresh,) if fresh else ())
+            self.found.children.append((merged, left))
+
+    def _integer_values(self, values, free, necessary: _Necessary, p: sp.Symbol) -> None:
+        """The exponents that vary depend on one parameter p only: the values of p where
+        they can all be integers (``integer_candidates``), each a stratum; and the
+        exceptional hypersurfaces, as always."""
+        found = integer_candidates(list(dict.fromkeys(necessary.varying)), p, LAMBDA)
+        for v in found.values:
+            if v.is_rational:
+                self._descend(values, free, (sp.numer(sp.together(p - v)),))
+            else:
+                text = Stratum({**values, p: v}, free).text()
+                self.undecided.append(f"{text}: an irrational value, not analysed")
+        for expr, index, ranges in found.families:
+            if expr == p or ranges != "n in Z" or p.is_integer:  # resonances that move
+                text = Stratum(values, free).text()
+                self.undecided.append(
+                    f"{text}: integer exponents that move with {p}, the test not made"
+                )
+                continue
+            n = _fresh(free, "n", integer=True)  # the index, a parameter of its own
+            chosen = {p: expr.xreplace({index: n})}
+            merged = self._merged(values, chosen)
+            if _admissible(merged):
+                self.found.children.append((merged, (*(q for q in free if q != p), n)))
+        if not found.complete:
+            text = Stratum(values, free).text()
+            self.undecided.append(f"{text}: the values of {p} were not all found")
+        for q in dict.fromkeys(necessary.exceptional):
+            self._descend(values, free, (q,))
+
+    def _one_parameter(self, values, free, concrete) -> None:
+        """One free parameter whose exponents vary: ``exponent_family``'s integer sets
+        (complete there), the passing ones kept; where every value has integer exponents,
+        the whole set when its generic member passes."""
+        family = exponent_family(self.variables, concrete, self.weights, free, seed=self.seed)
+        for s in family.integer:
+            point = {k: sp.cancel(sp.sympify(v).xreplace(s.values)) for k, v in values.items()}
+            point.update(s.values)
+            if s.index is not None and not s.values:  # integer exponents for every value
+                generic = family.generic
+                if generic is not None and generic.painleve_passes:
+                    why = "passes for generic members; its exceptional values not explored"
+                    self.passing.append(Stratum(values, free, generic, (why,)))
+            elif s.index is not None:
+                text = f"{Stratum(point, free).text()} ({s.index} {s.ranges})"
+                self.undecided.append(f"{text}: infinitely many values, not all tested")
+            elif s.analysis is not None and s.analysis.painleve_passes and _admissible(point):
+                left = tuple(p for p in free if p not in s.values)
+                self.passing.append(Stratum(point, left, s.analysis))
+        if not family.complete_integer:
+            self.undecided.append(
+                f"{Stratum(values, free).text()}: the values of {free[0]} with integer "
+                "exponents were not all found"
+            )
+
+
+class _Pivots(painleve._Recursion):
+    """The ARS recursion, keeping every pivot it divides by."""
+
+    def __init__(self, *args):
+        super().__init__(*args)
+        self.pivots: list = []
+
+    def inverse(self, value):
+        self.pivots.append(value)
+        return super().inverse(value)
+
+
+def _maximal(found: Sequence[Stratum]) -> list[Stratum]:
+    """The passing sets that lie in no other one (a point of Euler's family, a line of
+    the spherical top's), each once."""
+    kept: list[Stratum] = []
+    for i, s in enumerate(found):
+        if not any(
+            j != i and _inside(s, t) and (j < i or not _inside(t, s)) for j, t in enumerate(found)
+        ):
+            kept.append(s)
+    return kept
+
+
+def _inside(small: Stratum, big: Stratum) -> bool:
+    """Whether every point of ``small`` satisfies the equations of ``big``."""
+    for p, v in big.values.items():
+        here = small.values.get(p, p)
+        there = sp.sympify(v).xreplace(small.values)
+        if sp.cancel(here - there) != 0:
+            return False
+    return True
+
+
+def _real_system(equations: Sequence[sp.Expr]) -> tuple[sp.Expr, ...] | None:
+    """The system with each equation that is a sum of squares replaced by the squares'
+    roots (the same real points), again until nothing changes; None when an equation
+    has no real point."""
+    system = tuple(sp.expand(e) for e in equations)
+    for _ in range(MAX_REAL_STEPS):
+        out: list[sp.Expr] = []
+        for e in system:
+            roots = _squares(e)
+            if roots is None:
+                roots = _squares(-e)
+            if roots == [sp.Integer(1)]:
+                return None
+            out += [sp.expand(r) for r in roots] if roots is not None else [e]
+        found = tuple(dict.fromkeys(e for e in out if e != 0))
+        if found == system:
+            break
+        system = found
+    return system
+
+
+def _squares(e: sp.Expr) -> list[sp.Expr] | None:
+    """Polynomials h_i with e = sum of c_i h_i**2, c_i > 0 (so e's real zeros are their
+    common zeros): a positive multiple of a square, e = A v**2 + B with no odd power of
+    v and A, B such sums again, or a v**2 + b v + c with a > 0 a number, its square
+    completed. [1] when e > 0 everywhere, [] when e = 0; None when no such form was
+    found."""
+    if e.is_number:
+        return [] if e == 0 else ([sp.Integer(1)] if e > 0 else None)
+    symbols = sorted(e.free_symbols, key=str)
+    factors = factor_list(e, symbols)
+    if factors and all(m % 2 == 0 for _, m in factors):
+        square = sp.Mul(*(f**m for f, m in factors))
+        if sp.cancel(e / square) > 0:
+            return [sp.Mul(*(f for f, _ in factors))]
+    for v in symbols:
+        poly = sp.Poly(e, v)
+        if poly.degree() != 2:
+            continue
+        a, b, c = (sp.sympify(poly.nth(k)) for k in (2, 1, 0))
+        if b != 0 and a.is_number and a > 0:  # a (v + b/2a)**2 + (c - b**2/4a)
+            shifted, rest = v + b / (2 * a), sp.expand(c - b**2 / (4 * a))
+            tail = _squares(rest)
+            if tail is None:
+                continue
+            return tail if tail == [sp.Integer(1)] else [shifted, *tail]
+        if b != 0:
+            continue
+        head, tail = _squares(a), _squares(c)
+        if head is None or tail is None:
+            continue
+        if tail == [sp.Integer(1)]:
+            return tail  # A v**2 >= 0 plus something positive
+        return [*([v] if head == [sp.Integer(1)] else [h * v for h in head]), *tail]
+    return None
+
+
+def _fresh(free: Sequence[sp.Symbol], stem: str = "w", *, integer: bool = False) -> sp.Symbol:
+    """A new parameter w1, w2, ... (n1, n2, ... for an integer index) that no parameter
+    of the stratum is named."""
+    taken = {str(p) for p in free}
+    k = 1
+    while f"{stem}{k}" in taken:
+        k += 1
+    return sp.Symbol(f"{stem}{k}", integer=True) if integer else sp.Symbol(f"{stem}{k}", real=True)
+
+
+def _admissible(values: dict[sp.Symbol, sp.Expr]) -> bool:
+    """Values that are defined (no division by zero) and respect the parameters'
+    declared signs where they are numbers."""
+    for p, v in values.items():
+        if v.has(sp.zoo, sp.nan, sp.oo, -sp.oo):
+            return False
+        if v.is_number and ((p.is_positive and not v > 0) or (p.is_nonzero and v == 0)):
+            return False
+        if v.is_number and p.is_integer and not v.is_integer:
+            return False
+    return True
+
+
+def _hyperplane_components(split: WeightedField, seed: int) -> list[Component]:
+    """The balances on the coordinate hyperplanes: the components of the balance
+    equations with one variable set to 0, each found once."""
+    equations = balance_equations(split)
+    found: dict[str, Component] = {}
+    for x in split.variables:
+        try:
+            parts = components([*equations, x], split.variables, split.parameters, seed=seed)
+        except DecompositionLimit:
+            continue
+        for c in parts:
+            found.setdefault(sp.sstr((c.free, c.minimal.as_expr(), dict(c.coordinates))), c)
+    return list(found.values())
+
+
+def _all_components(split: WeightedField, seed: int) -> list[Component] | None:
+    try:
+        return list(
+            components(balance_equations(split), split.variables, split.parameters, seed=seed)
+        )
+    except DecompositionLimit:
+        return None
+
+
+def _constant_roots(polynomial) -> list[sp.Expr] | None:
+    """The exponents with multiplicity when every one is a number the same for all the
+    parameter values and balances of the component, else None."""
+    if sp.degree(polynomial.rest, LAMBDA) > 0:
+        return None
+    roots: list[sp.Expr] = []
+    for f, m in polynomial.common:
+        poly = sp.Poly(f, LAMBDA)
+        if poly.degree() != 1 or not all(c.is_number for c in poly.all_coeffs()):
+            return None
+        a1, a0 = poly.all_coeffs()
+        roots += [-a0 / a1] * m
+    return roots
+
+
+def _exceptional_of_component(component: Component, params: set, out: list) -> None:
+    """Where the component's representation fails to specialise: denominators of g and of
+    the coordinates, the discriminant of g, and a coordinate's norm (the origin)."""
+    u, g = component.symbol, component.minimal
+    for c in g.all_coeffs():
+        _add_factors(sp.fraction(sp.cancel(c))[1], params, out)
+    if g.degree() > 1:
+        _add_factors(sp.discriminant(g.as_expr(), u), params, out)
+    shortest = None
+    for x, h in component.coordinates.items():
+        if x in component.free:
+            continue
+        poly = sp.Poly(sp.together(h), u) if h.has(u) else None
+        for c in poly.all_coeffs() if poly is not None else [h]:
+            _add_factors(sp.fraction(sp.cancel(c))[1], params, out)
+        if not component.vanishes(x):
+            size = len(sp.sstr(h))
+            if shortest is None or size < shortest[0]:
+                shortest = (size, x)
+    if shortest is not None:
+        _add_factors(_norm(component, component.evaluate(shortest[1])), params, out)
+
+
+def _norm(component: Component, value) -> sp.Expr:
+    """The product of an element of k[u]/(g) over the conjugate balances: Res_u(g, value)
+    (the element itself where it does not involve u)."""
+    u = component.symbol
+    expr = value.as_expr() if hasattr(value, "as_expr") else sp.sympify(value)
+    if not expr.has(u):
+        return expr
+    return sp.resultant(component.minimal.as_expr(), expr, u)
+
+
+def _add_factors(expr: sp.Expr, params: set, out: list) -> None:
+    """The irreducible factors of numerator and denominator that involve only the
+    parameters (at least one), each added once."""
+    numer, denom = sp.fraction(sp.together(sp.sympify(expr)))
+    for part in (numer, denom):
+        symbols = sorted(part.free_symbols, key=str)
+        if not symbols or not set(symbols) <= params:
+            continue
+        for f, _ in factor_list(part, symbols):
+            f = sp.expand(f)
+            if f.free_symbols and f not in out:
+                out.append(f)
+
+
+def _coefficients(condition: sp.Expr, params: set) -> list[sp.Expr]:
+    """A condition's numerator as polynomials in the parameters: its coefficients in every
+    other symbol (u, the free coefficients, a family's free coordinates)."""
+    numer = sp.expand(sp.fraction(sp.together(condition))[0])
+    others = sorted(numer.free_symbols - params, key=str)
+    if not others:
+        return [numer]
+    return [sp.expand(c) for c in sp.Poly(numer, *others).coeffs()]
+
+
+def _conjugate_parts(rest: sp.Expr, u: sp.Symbol, params: set) -> list[sp.Expr]:
+    """The parts in u, u**2, ... (in k[u]/(g)) of the coefficients of the factor of the
+    characteristic polynomial that differs between conjugate balances, as equations in
+    the parameters: where the two balances are complex conjugate (``_nonreal_pair``),
+    integer exponents make each coefficient a real number at a non-real u, so these
+    parts vanish."""
+    found = []
+    for c in sp.Poly(sp.expand(rest), LAMBDA).all_coeffs():
+        if not c.has(u):
+            continue
+        for (j,), a in sp.Poly(sp.together(c), u).terms():
+            if j:
+                found += _coefficients(a, params)
+    return found
+
+
+def _nonreal_pair(component: Component) -> tuple[sp.Expr, ...] | None:
+    """For a component of two balances (g of degree 2) whose discriminant is never
+    positive at real parameter values (its negative a sum of squares): the system where
+    it may vanish (the two balances real and equal), empty when it never does. None
+    otherwise: the balances may be real, and then their exponents' conjugate parts may
+    differ without any condition."""
+    g = component.minimal
+    if g.degree() != 2 or component.free:
+        return None
+    numer, denom = sp.fraction(sp.together(sp.discriminant(g.as_expr(), component.symbol)))
+    roots = _squares(-sp.expand(numer * denom))
+    if roots is None:
+        return None
+    return () if roots == [sp.Integer(1)] else tuple(roots)
+
+
+def _text(equations: Sequence[sp.Expr]) -> str:
+    return ", ".join(f"{sp.sstr(e)} = 0" for e in equations)

@@ -1,0 +1,126 @@
+"""Where a family with several free parameters can pass the Painlevé test: the parameter
+space stratified by the necessary conditions of its balances (``painleve_strata``).
+
+The passing sets are checked against what is known of each family independently of the
+method: a planted field whose one compatibility condition is written into it, and the
+heavy top, where Kovalevskaya (Acta Math. 12 (1889) 177) found that the general
+solution is single-valued only for Euler's top (centre of mass at the fixed point),
+Lagrange's (two equal moments, the centre on the symmetry axis) and her own (moments
+(2, 2, 1) up to scale, the centre in the plane of the equal ones), the spherical top
+(all moments equal) being Lagrange's about any axis. With moments (1, b, c) each of
+Lagrange's and Kovalevskaya's cases appears once per choice of the equal pair.
+"""
+
+from __future__ import annotations
+
+import pytest
+import sympy as sp
+
+from registry.discovery.exponents import analyse_case, case_field, exponent_options
+from registry.discovery.painleve_strata import _real_system, painleve_strata
+from registry.language.casefile import load_case
+from tests.helpers.samples import FAMILIES, TEST_DATA
+
+EXPONENTS = TEST_DATA / "exponents"
+
+
+def strata_of(path, free):
+    case = load_case(path)
+    found = case_field(case, exponent_options(case, free=free))
+    return painleve_strata(found.variables, found.field, found.weights, found.free)
+
+
+def sets(strata) -> set[frozenset]:
+    """The passing sets as sets of equations 'p = value' (order-free)."""
+    return {frozenset(f"{p} = {sp.sstr(v)}" for p, v in s.values.items()) for s in strata.passing}
+
+
+# ------------------------------------------------------------------ real points
+
+
+def test_a_sum_of_squares_is_replaced_by_the_squares_roots():
+    x, y, z, b = sp.symbols("x y z b")
+    assert _real_system([x**2 + y**2 / 2 - y * z + z**2 / 2]) == (x, y - z)
+    assert _real_system([x**2 * (b - sp.Rational(1, 2)) ** 2 + b**2 * z**2 / 2]) == (
+        2 * b * x - x,
+        b * z,
+    )
+    assert _real_system([-(x**2) - (y - 1) ** 2]) == (x, y - 1)  # the negative of one
+
+
+def test_an_equation_without_real_points_empties_the_system_and_others_stay():
+    x, y, b = sp.symbols("x y b")
+    assert _real_system([x**2 + sp.Rational(9, 4)]) is None
+    assert _real_system([x - 1, (y - 1) ** 2 + x**2 * (b**2 + 1) + 2]) is None
+    # indefinite, or with real points of their own: left as they are
+    assert _real_system([x**2 - y**2]) == (x**2 - y**2,)
+    assert _real_system([b**2 - sp.Rational(1, 2)]) == (b**2 - sp.Rational(1, 2),)
+    assert _real_system([x**2 + y**2 - 1]) == (x**2 + y**2 - 1,)
+
+
+# ------------------------------------------------------------------ families
+
+
+def test_a_planted_condition_gives_exactly_its_parabola():
+    """y' = 5xy + (a - b^2) z^2: the condition at resonance 8 is -(a - b^2) f4^2 = 0, so
+    the test passes on a = b^2 and nowhere else, and the list is complete."""
+    found = strata_of(EXPONENTS / "planted-family.toml", ["a", "b"])
+    assert sets(found) == {frozenset({"a = b**2"})}
+    (parabola,) = found.passing
+    assert parabola.free == (sp.Symbol("b", real=True),) or str(parabola.free[0]) == "b"
+    assert parabola.analysis is not None and parabola.analysis.painleve_passes
+    assert found.complete and not found.undecided
+
+
+def test_a_mutated_condition_moves_the_passing_set(tmp_path):
+    """The same field with the coupling a - b^2 - 1: the set moves to a = b^2 + 1."""
+    text = (EXPONENTS / "planted-family.toml").read_text()
+    path = tmp_path / "mutated.toml"
+    path.write_text(text.replace("(a - b**2)*z**2", "(a - b**2 - 1)*z**2"))
+    found = strata_of(path, ["a", "b"])
+    assert sets(found) == {frozenset({"a = b**2 + 1"})}
+    assert found.complete
+
+
+def test_the_symmetric_top_with_its_centre_off_the_plane_keeps_lagrange_and_the_sphere():
+    """Moments (1, 1, c), centre (x0, 0, 1): Lagrange's top x0 = 0 and the spherical top
+    c = 1 pass; Kovalevskaya's c = 1/2 does not (its centre must lie in the equatorial
+    plane); complete."""
+    found = strata_of(FAMILIES / "heavy-top-c-x0.toml", ["c", "x0"])
+    assert sets(found) == {frozenset({"x0 = 0"}), frozenset({"c = 1"})}
+    assert found.complete
+    by_set = {frozenset(map(str, s.values)): s for s in found.passing}
+    lagrange = by_set[frozenset({"x0"})].analysis
+    assert lagrange is not None and lagrange.painleve_passes
+
+
+def test_the_family_document_carries_the_passing_sets_and_says_what_they_prove():
+    case = load_case(FAMILIES / "heavy-top-c-x0.toml")
+    result = analyse_case(case, exponent_options(case, free=["c", "x0"]), budget=120)
+    found = result.document["painleve_sets"]
+    assert sorted(s["when"] for s in found["passing"]) == [["c = 1"], ["x0 = 0"]]
+    assert found["complete"] and found["undecided"] == [] and found["strata"] >= 3
+    assert all(s["painleve"]["passes"] for s in found["passing"])
+    statement = result.document["statement"]
+    assert "passes for the generic members of: " in statement
+    assert "at every admissible real value outside these sets it fails" in statement
+
+
+@pytest.mark.slow
+def test_the_heavy_top_with_all_its_parameters_selects_euler_lagrange_and_kovalevskaya():
+    """Moments (1, b, c), centre (x0, y0, z0): the passing sets are Euler's, the spherical
+    top, and Lagrange's and Kovalevskaya's once for each pair of equal moments; the sets
+    left undecided are only those without a rational parametrisation (irrational or
+    non-rational hypersurfaces), named one by one."""
+    found = strata_of(FAMILIES / "heavy-top-five.toml", ["b", "c", "x0", "y0", "z0"])
+    assert sets(found) == {
+        frozenset({"x0 = 0", "y0 = 0", "z0 = 0"}),  # Euler
+        frozenset({"b = 1", "c = 1"}),  # the spherical top
+        frozenset({"b = 1", "x0 = 0", "y0 = 0"}),  # Lagrange, moments (1, 1, c)
+        frozenset({"c = 1", "x0 = 0", "z0 = 0"}),  # Lagrange, moments (1, b, 1)
+        frozenset({"b = c", "y0 = 0", "z0 = 0"}),  # Lagrange, moments (1, c, c)
+        frozenset({"b = 1", "c = 1/2", "z0 = 0"}),  # Kovalevskaya (2, 2, 1)
+        frozenset({"b = 1/2", "c = 1", "y0 = 0"}),  # Kovalevskaya (2, 1, 2)
+        frozenset({"b = 2", "c = 2", "x0 = 0"}),  # Kovalevskaya (1, 2, 2)
+    }
+    assert all("no rational parametrisation" in u for u in found.undecided), found.undecided
