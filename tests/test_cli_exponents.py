@@ -77,6 +77,19 @@ def test_a_family_runs_its_candidates_in_worker_processes():
     assert d["complete"]["integer"] is True
 
 
+def test_several_free_parameters_list_the_sets_where_the_test_passes_on_workers():
+    """Two free parameters on two worker processes: the text lists the sets where the
+    Painlevé test passes (Lagrange's top and the spherical top) and says it is complete."""
+    path = str(TEST_DATA / "families" / "heavy-top-c-x0.toml")
+    result = run("exponents", path, "--free", "c,x0", "--jobs", "2", "--budget", "120")
+    assert result.exit_code == 0, result.output
+    lines = result.stdout.splitlines()
+    start = next(i for i, line in enumerate(lines) if line.startswith("Painlevé (ARS) test passes"))
+    end = lines.index("complete: yes", start)  # complete: every other value fails
+    found = [line.strip() for line in lines[start + 1 : end] if not line.startswith("      ")]
+    assert found == ["c = 1 (x0 free)", "x0 = 0 (c free)"]
+
+
 def test_user_errors_are_one_line_each_naming_file_field_and_text():
     result = run("exponents", KOVALEVSKAYA, "--weights", "omega=1", "--free", "q")
     assert result.exit_code == 1
