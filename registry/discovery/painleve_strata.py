@@ -216,10 +216,13 @@ def examine_stratum(item) -> Examined:
     analysed, or the smaller strata its necessary conditions leave (module doc). One call
     of a mapper."""
     variables, field_, weights, values, free, seed = item
-    with flint_gcd():
-        walk = _Walk(variables, field_, weights)
-        walk.seed = seed
-        walk.visit(values, free)
+    walk = _Walk(variables, field_, weights)
+    walk.seed = seed
+    try:
+        with flint_gcd():
+            walk.visit(values, free)
+    except DecompositionLimit as err:  # a system too large for the decomposition
+        walk.undecided.append(f"{Stratum(values, free).text()}: not decided ({err})")
     return walk.found
 
 

@@ -13,12 +13,15 @@ Lagrange's and Kovalevskaya's cases appears once per choice of the equal pair.
 
 from __future__ import annotations
 
+import random
+
 import pytest
 import sympy as sp
 
 from registry.discovery.exponents import analyse_case, case_field, exponent_options
 from registry.discovery.painleve_strata import _real_system, painleve_strata
 from registry.language.casefile import load_case
+from registry.mathematics.exponent_analysis import exponents
 from tests.helpers.samples import FAMILIES, TEST_DATA
 
 EXPONENTS = TEST_DATA / "exponents"
@@ -33,6 +36,22 @@ def strata_of(path, free):
 def sets(strata) -> set[frozenset]:
     """The passing sets as sets of equations 'p = value' (order-free)."""
     return {frozenset(f"{p} = {sp.sstr(v)}" for p, v in s.values.items()) for s in strata.passing}
+
+
+def members_pass(strata, path, free) -> None:
+    """Two members of each passing set, at small rational values of its free parameters,
+    analysed on their own (the plain analysis of a field with numbers): each passes."""
+    case = load_case(path)
+    found = case_field(case, exponent_options(case, free=free))
+    rng = random.Random(7)
+    for s in strata.passing:
+        for _ in range(2):
+            pick = {p: sp.Rational(rng.randint(1, 9), rng.randint(1, 5)) for p in s.free}
+            values = {k: sp.sympify(v).xreplace(pick) for k, v in s.values.items()}
+            values |= {p: v for p, v in pick.items() if p in set(found.free)}
+            field = [sp.sympify(e).xreplace(values) for e in found.field]
+            analysis = exponents(found.variables, field, found.weights)
+            assert analysis.painleve_passes, (s.text(), values, analysis.conditions)
 
 
 # ------------------------------------------------------------------ real points
@@ -92,6 +111,22 @@ def test_the_symmetric_top_with_its_centre_off_the_plane_keeps_lagrange_and_the_
     by_set = {frozenset(map(str, s.values)): s for s in found.passing}
     lagrange = by_set[frozenset({"x0"})].analysis
     assert lagrange is not None and lagrange.painleve_passes
+    members_pass(found, FAMILIES / "heavy-top-c-x0.toml", ["c", "x0"])
+
+
+@pytest.mark.slow
+def test_a_curve_without_a_solvable_parameter_is_parametrised_and_passes():
+    """Moments (1 + a^2 c^2, c + 3/4, 1), centre on the third axis: Lagrange's top on the
+    quartic a^2 c^2 = c - 1/4, reached through a new parameter w1; the spherical top
+    (a = 0, c = 1/4) and Kovalevskaya's (1, 1/2, 1) at a = 0, c = -1/4."""
+    path = FAMILIES / "quadric-moments.toml"
+    found = strata_of(path, ["a", "c"])
+    assert sets(found) == {
+        frozenset({"c = w1**2/4 + 1/4", "a = 2*w1/(w1**2 + 1)"}),
+        frozenset({"a = 0", "c = 1/4"}),
+        frozenset({"a = 0", "c = -1/4"}),
+    }
+    members_pass(found, path, ["a", "c"])
 
 
 def test_the_family_document_carries_the_passing_sets_and_says_what_they_prove():
@@ -150,6 +185,7 @@ def test_the_heavy_top_with_all_its_parameters_selects_euler_lagrange_and_kovale
         frozenset({"b = 1/2", "c = 1", "y0 = 0"}),  # Kovalevskaya (2, 1, 2)
         frozenset({"b = 2", "c = 2", "x0 = 0"}),  # Kovalevskaya (1, 2, 2)
     }
+    members_pass(found, FAMILIES / "heavy-top-five.toml", ["b", "c", "x0", "y0", "z0"])
     kinds = (
         "no rational parametrisation",  # b**2 = 1/2, quartics in the centre's coordinates
         "integer exponents that move with",  # infinite families through an integer index
