@@ -133,7 +133,8 @@ class _Necessary:
 
     @property
     def cuts(self) -> bool:
-        return self.fails or bool(self.equations)
+        """Whether the passing values lie in a smaller set: V(J) (J not zero) or E."""
+        return self.fails or any(e != 0 for e in self.equations)
 
 
 def painleve_strata(
@@ -427,7 +428,11 @@ class _Walk:
             elif s.index is not None:
                 text = f"{Stratum(point, free).text()} ({s.index} {s.ranges})"
                 self.undecided.append(f"{text}: infinitely many values, not all tested")
-            elif s.analysis is not None and s.analysis.painleve_passes and _admissible(point):
+            elif s.analysis is None:  # an irrational value: its exponents only
+                if _admissible(point):
+                    text = Stratum(point, free).text()
+                    self.undecided.append(f"{text}: an irrational value, not analysed")
+            elif s.analysis.painleve_passes and _admissible(point):
                 left = tuple(p for p in free if p not in s.values)
                 self.passing.append(Stratum(point, left, s.analysis))
         if not family.complete_integer:
