@@ -392,23 +392,14 @@ def _family(
         return None if budget is None else max(1.0, budget - (time.perf_counter() - started))
 
     mapper = _mapper(executor, left)
+    system = (found.variables, found.field, found.weights, found.free)
     try:
         if len(found.free) == 1:
             with time_limit(budget):
-                family = exponent_family(
-                    found.variables,
-                    found.field,
-                    found.weights,
-                    found.free,
-                    seed=seed,
-                    mapper=mapper,
-                )
+                family = exponent_family(*system, seed=seed, mapper=mapper)
             return family, None
         strata = painleve_strata(
-            found.variables,
-            found.field,
-            found.weights,
-            found.free,
+            *system,
             seed=seed,
             budget=None if budget is None else STRATA_SHARE * budget,
             mapper=mapper,
@@ -429,14 +420,7 @@ def _family(
         try:
             with time_limit(left()):
                 family = exponent_family(
-                    found.variables,
-                    found.field,
-                    found.weights,
-                    found.free,
-                    seed=seed,
-                    mapper=mapper,
-                    grid=_grid(found.free),
-                    generic=False,
+                    *system, seed=seed, mapper=mapper, grid=_grid(found.free), generic=False
                 )
         except BudgetExceeded:  # the sets where the test can pass are kept
             family = _grid_out_of_time(found.free)

@@ -51,9 +51,8 @@ Passing is necessary for the Painlevé property, not a proof of it.
 from __future__ import annotations
 
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import Any
 
 import sympy as sp
 
@@ -61,7 +60,7 @@ from ..execution.time_budget import BudgetExceeded, time_limit
 from ..mathematics import painleve
 from ..mathematics.balances import balance_equations
 from ..mathematics.exponent_analysis import ExponentAnalysis, analyse
-from ..mathematics.exponent_families import exponent_family
+from ..mathematics.exponent_families import Mapper, exponent_family
 from ..mathematics.factoring import factor_list
 from ..mathematics.flint_gcd import flint_gcd
 from ..mathematics.integrality import integer_candidates
@@ -73,8 +72,6 @@ from .splitting import AlgebraicSet
 
 #: The most strata one stratification visits before it stops (not complete).
 MAX_STRATA = 400
-#: Runs ``fn`` on every item and returns the results in order (None where a call failed).
-Mapper = Callable[[Callable[[Any], Any], Sequence[Any]], list[Any]]
 #: How often a set's equations may be replaced by their real points before it is left.
 MAX_REAL_STEPS = 8
 
