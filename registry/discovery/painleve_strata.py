@@ -19,10 +19,10 @@ the rank of K - k can drop) are not zero there. So at p0 outside E:
   free coordinates) vanishes at p0: these are the equations J;
 * an exponent that is a constant non-integer stays one, and the test fails;
 * for a pair of complex conjugate balances (g of degree 2 whose discriminant is never
-  positive: its negative is a sum of squares) whose exponents vary, integer exponents
-  make every coefficient of their characteristic polynomial real at a non-real u, so
-  its parts in u vanish: more equations in J (and where the discriminant vanishes, a
-  system of its own).
+  positive: each of its factors a square, or of one sign as a sum of squares) whose
+  exponents vary, integer exponents make every coefficient of their characteristic
+  polynomial real at a non-real u, so its parts in u vanish: more equations in J (and
+  where the discriminant vanishes, systems of their own).
 
 Hence the values where the test passes lie in V(J) union E (in E alone when a
 resonance lacks a coefficient). Balances are first taken from the coordinate
@@ -306,7 +306,7 @@ class _Walk:
                 nonreal = _nonreal_pair(component) if conjugate else None
                 if nonreal is not None:  # integer exponents need the conjugate parts to vanish
                     out.equations += conjugate
-                    out.systems += [nonreal] if nonreal else []
+                    out.systems += nonreal
                 out.varying += [f for f, _ in polynomial.common if f.free_symbols & params]
                 continue
             if any(not r.is_integer for r in roots):
@@ -665,20 +665,44 @@ def _conjugate_parts(rest: sp.Expr, u: sp.Symbol, params: set) -> list[sp.Expr]:
     return found
 
 
-def _nonreal_pair(component: Component) -> tuple[sp.Expr, ...] | None:
+def _nonreal_pair(component: Component) -> list[tuple[sp.Expr, ...]] | None:
     """For a component of two balances (g of degree 2) whose discriminant is never
-    positive at real parameter values (its negative a sum of squares): the system where
-    it may vanish (the two balances real and equal), empty when it never does. None
-    otherwise: the balances may be real, and then their exponents' conjugate parts may
-    differ without any condition."""
+    positive at real parameter values (``_never_positive``): the systems where it may
+    vanish (the two balances real and equal), none when it never does. None otherwise:
+    the balances may be real, and then their exponents' conjugate parts may differ
+    without any condition."""
     g = component.minimal
     if g.degree() != 2 or component.free:
         return None
     numer, denom = sp.fraction(sp.together(sp.discriminant(g.as_expr(), component.symbol)))
-    roots = _squares(-sp.expand(numer * denom))
-    if roots is None:
-        return None
-    return () if roots == [sp.Integer(1)] else tuple(roots)
+    return _never_positive(sp.expand(numer * denom))
+
+
+def _never_positive(e: sp.Expr) -> list[tuple[sp.Expr, ...]] | None:
+    """For a polynomial that is <= 0 at every real point, proven factor by factor (a
+    factor of even multiplicity is a square; one of odd multiplicity must have a sign
+    of its own, its negative or itself a sum of squares, ``_squares``): the systems
+    whose real points are its real zeros, one per factor. None when no such proof was
+    found."""
+    if e.is_number:
+        return [] if e < 0 else None
+    symbols = sorted(e.free_symbols, key=str)
+    constant, factors = sp.factor_list(e, *symbols)
+    sign = sp.sign(constant)
+    systems: list[tuple[sp.Expr, ...]] = []
+    for f, m in factors:
+        if m % 2 == 0:
+            systems.append((f,))
+            continue
+        roots, below = _squares(f), False
+        if roots is None:
+            roots, below = _squares(-f), True
+        if roots is None:
+            return None
+        sign = -sign if below else sign
+        if roots != [sp.Integer(1)]:
+            systems.append(tuple(roots))
+    return systems if sign < 0 else None
 
 
 def _text(equations: Sequence[sp.Expr]) -> str:
