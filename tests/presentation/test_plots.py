@@ -69,8 +69,10 @@ def test_the_report_image_is_the_plot_in_a_few_colours(reg):
     assert len(image.getcolors()) <= PALETTE_COLOURS
     assert np.abs(_pixels(small).astype(int) - full).mean() < 3  # grey levels of 255
     colours = {c for _, c in image.convert("RGB").getcolors()}
+    # hues, not exact shades: the dashed blue line is anti-aliased to a lighter blue
+    # (about (114, 169, 207) in the full image with matplotlib 3.11)
     reddish = any(r > 150 and g < 100 and b < 100 for r, g, b in colours)
-    bluish = any(b > 120 and r < 100 for r, g, b in colours)
+    bluish = any(b > 120 and b - r > 60 and b > g for r, g, b in colours)
     assert reddish and bluish
 
 
