@@ -147,6 +147,8 @@ def family_statement(document: Mapping[str, Any], weights: str) -> str:
         parts.append("not complete: " + "; ".join(document["coverage"]))
     if "painleve_sets" in document:
         parts.append(_painleve_sets(document["painleve_sets"]))
+    if "half_integer_sets" in document:
+        parts.append(_half_integer_sets(document["half_integer_sets"]))
     return "; ".join(parts) + "."
 
 
@@ -167,6 +169,35 @@ def _painleve_sets(found: Mapping[str, Any]) -> str:
             f"{text}; at every admissible real value outside these sets it fails (the "
             "stratification by the conditions of the balances with constant integer "
             "exponents was completed)"
+        )
+    return f"{text}; not complete: {len(found['undecided'])} set(s) were not decided"
+
+
+def _half_integer_sets(found: Mapping[str, Any]) -> str:
+    """Where every exponent is in (1/2)Z with several free parameters
+    (``half_integer_strata``), those with some exponent not an integer named apart, and
+    whether the list is complete."""
+
+    def listed(sets) -> str:
+        return "; ".join(
+            ", ".join(s["when"]) + (f" ({', '.join(s['free'])} free)" if s["free"] else "")
+            for s in sets
+        )
+
+    sets = found["sets"]
+    if not sets:
+        text = "no set that was analysed has every exponent in (1/2)Z"
+    else:
+        text = "every exponent of every balance is in (1/2)Z for the generic members of: " + listed(
+            sets
+        )
+        half = [s for s in sets if s["kind"] == "half-integer"]
+        if half:
+            text += f" (some exponent half an odd integer on: {listed(half)})"
+    if found["complete"]:
+        return (
+            f"{text}; at every admissible real value outside these sets some exponent is "
+            "not in (1/2)Z"
         )
     return f"{text}; not complete: {len(found['undecided'])} set(s) were not decided"
 

@@ -28,12 +28,18 @@ from ..execution.executor import Executor, InProcess, in_order, timed
 from ..execution.serving import Failure
 from ..execution.time_budget import BudgetExceeded, time_limit
 from ..mathematics.exponent_analysis import BalanceResult, ExponentAnalysis, exponents
-from ..mathematics.exponent_families import GRID, ExponentFamily, SpecialSet, exponent_family
+from ..mathematics.exponent_families import (
+    GRID,
+    ExponentFamily,
+    SpecialSet,
+    exponent_family,
+    kind_of,
+)
 from ..mathematics.grading import candidates, per_variable, shift
 from ..mathematics.weighted import split_field
 from ..model import Case, ExponentOptions, ExponentResult, Weights, as_weights
 from .exponent_statement import family_statement, statement
-from .painleve_strata import Strata, painleve_strata
+from .painleve_strata import Strata, half_integer_strata, painleve_strata
 
 #: What the analysis says of how it works (in every document).
 METHOD = (
@@ -43,8 +49,16 @@ METHOD = (
 )
 
 #: With several free parameters: the share of the budget the search for the sets where
-#: the Painlevé test can pass may take (``painleve_strata``), first.
+#: the Painlevé test can pass may take (``painleve_strata``), first; then the same share
+#: of what is left for the sets where every exponent is in (1/2)Z (``half_integer_strata``).
 STRATA_SHARE = 0.5
+#: Why the grid of small values was not searched: the budget ran out, or both
+#: stratifications were complete (the grid's points would only repeat their sets).
+OUT_OF_TIME = "several free parameters: the grid of small values was not searched within the budget"
+SUPERSEDED = (
+    "several free parameters: small values not searched one by one (the sets where the "
+    "Painlevé test passes and where every exponent is in (1/2)Z are complete below)"
+)
 #: Then the share of what is left that the generic analysis over Q(free) may take
 #: before the grid of small values is searched without it.
 GENERIC_SHARE = 0.3
@@ -210,7 +224,7 @@ def analyse_case(
             document = _document(case, options, found, analysis)
         else:
             family, strata = _family(case, found, executor or InProcess(), budget, seed)
-            document = _family_document(case, options, found, family, strata)
+            document = _family_document(case, options, found, family, *strata)
     except BudgetExceeded:
         document = undecided_document(
             case, options, f"time budget exceeded ({budget:g} s) before the analysis ended"
@@ -382,14 +396,18 @@ def _obstructions(resonance: Mapping[str, Any]) -> list[dict[str, Any]]:
 
 def _family(
     case: Case, found: CaseField, executor: Executor, budget: float | None, seed: int
-) -> tuple[ExponentFamily, Strata | None]:
+) -> tuple[ExponentFamily, tuple[Strata, ...]]:
     """The family's special values, the exact analyses at its candidates run by the
     executor (each bounded by what is left of the budget); with several free parameters
-    also the sets where the Painlevé test can pass (``painleve_strata``)."""
+    also the sets where the Painlevé test can pass (``painleve_strata``) and those where
+    every exponent is in (1/2)Z (``half_integer_strata``)."""
     started = time.perf_counter()
 
-    def left() -> float | None:
-        return None if budget is None else max(1.0, budget - (time.perf_counter() - started))
+    def left(share: float = 1.0) -> float | None:
+        """The given share of what is left of the budget (None: no budget)."""
+        if budget is None:
+            return None
+        return share * max(1.0, budget - (time.perf_counter() - started))
 
     mapper = _mapper(executor, left)
     system = (found.variables, found.field, found.weights, found.free)
@@ -397,17 +415,14 @@ def _family(
         if len(found.free) == 1:
             with time_limit(budget):
                 family = exponent_family(*system, seed=seed, mapper=mapper)
-            return family, None
-        strata = painleve_strata(
-            *system,
-            seed=seed,
-            budget=None if budget is None else STRATA_SHARE * budget,
-            mapper=mapper,
+            return family, ()
+        strata = tuple(
+            stratify(*system, seed=seed, budget=left(STRATA_SHARE), mapper=mapper)
+            for stratify in (painleve_strata, half_integer_strata)
         )
         generic = None
         try:
-            share = left()
-            with time_limit(None if share is None else GENERIC_SHARE * share):
+            with time_limit(left(GENERIC_SHARE)):
                 generic = exponents(
                     found.variables,
                     found.field,
@@ -418,12 +433,15 @@ def _family(
         except BudgetExceeded:
             pass
         try:
-            with time_limit(left()):
-                family = exponent_family(
-                    *system, seed=seed, mapper=mapper, grid=_grid(found.free), generic=False
-                )
+            if all(s.complete for s in strata):
+                family = _grid_not_searched(found.free, SUPERSEDED)
+            else:
+                with time_limit(left()):
+                    family = exponent_family(
+                        *system, seed=seed, mapper=mapper, grid=_grid(found.free), generic=False
+                    )
         except BudgetExceeded:  # the sets where the test can pass are kept
-            family = _grid_out_of_time(found.free)
+            family = _grid_not_searched(found.free, OUT_OF_TIME)
     except WeightedFieldError as err:
         raise _named(case, found, err) from None
     if generic is None:
@@ -447,9 +465,8 @@ def _family(
     return family, strata
 
 
-def _grid_out_of_time(free: Sequence[sp.Symbol]) -> ExponentFamily:
-    """A family whose grid of small values was not searched within the budget."""
-    note = "several free parameters: the grid of small values was not searched within the budget"
+def _grid_not_searched(free: Sequence[sp.Symbol], note: str) -> ExponentFamily:
+    """A family whose grid of small values was not searched, and why."""
     return ExponentFamily(tuple(free), None, (), (), (), (), (), False, False, (note,))
 
 
@@ -499,6 +516,7 @@ def _family_document(
     found: CaseField,
     family: ExponentFamily,
     strata: Strata | None = None,
+    half: Strata | None = None,
 ) -> dict[str, Any]:
     """The JSON document of a family: the generic analysis (where it was made) and the
     ``special`` list, each set with its exponents and Painlevé test."""
@@ -537,6 +555,8 @@ def _family_document(
     document["coverage"] = coverage
     if strata is not None:
         document["painleve_sets"] = _painleve_sets(strata)
+    if half is not None:
+        document["half_integer_sets"] = _half_integer_sets(half)
     document["statement"] = family_statement(document, options.weights_text())
     document["notes"] = list(generic.notes) if generic is not None else []
     document["method"] = METHOD
@@ -572,19 +592,36 @@ def _special(s: SpecialSet) -> dict[str, Any]:
 def _painleve_sets(strata: Strata) -> dict[str, Any]:
     """The sets where the Painlevé test passes (``painleve_strata``): each with its
     equations, the parameters left free on it, and its exponents and test."""
-    passing = []
+    return {"passing": [_stratum(s) for s in strata.passing], **_coverage(strata)}
+
+
+def _half_integer_sets(strata: Strata) -> dict[str, Any]:
+    """The sets where every exponent is in (1/2)Z (``half_integer_strata``), each as in
+    ``_painleve_sets`` with its ``kind``: "integer", "half-integer", or None where the
+    set's exponents vary (an infinite family) and no single analysis stands for it."""
+    sets = []
     for s in strata.passing:
-        entry: dict[str, Any] = {
-            "when": [f"{p} = {sp.sstr(v)}" for p, v in s.values.items()],
-            "free": [str(p) for p in s.free],
-        }
-        if s.analysis is not None:
-            entry |= _member(s.analysis)
-        integers = [f"{p} runs over the integers" for p in s.free if p.is_integer]
-        entry["notes"] = [*s.notes, *integers]
-        passing.append(entry)
+        kind = kind_of(s.analysis) if s.analysis is not None else None
+        sets.append({**_stratum(s), "kind": kind if kind in ("integer", "half-integer") else None})
+    return {"sets": sets, **_coverage(strata)}
+
+
+def _stratum(s) -> dict[str, Any]:
+    """One set found by a stratification: equations, free parameters, analysis, notes."""
+    entry: dict[str, Any] = {
+        "when": [f"{p} = {sp.sstr(v)}" for p, v in s.values.items()],
+        "free": [str(p) for p in s.free],
+    }
+    if s.analysis is not None:
+        entry |= _member(s.analysis)
+    integers = [f"{p} runs over the integers" for p in s.free if p.is_integer]
+    entry["notes"] = [*s.notes, *integers]
+    return entry
+
+
+def _coverage(strata: Strata) -> dict[str, Any]:
+    """Whether a stratification's list is complete, and what it left undecided."""
     return {
-        "passing": passing,
         "complete": strata.complete,
         "undecided": list(strata.undecided),
         "strata": strata.visited,

@@ -60,7 +60,7 @@ from ..execution.time_budget import BudgetExceeded, time_limit
 from ..mathematics import painleve
 from ..mathematics.balances import balance_equations
 from ..mathematics.exponent_analysis import ExponentAnalysis, analyse
-from ..mathematics.exponent_families import Mapper, exponent_family
+from ..mathematics.exponent_families import Mapper, doubled, exponent_family, kind_of
 from ..mathematics.factoring import factor_list
 from ..mathematics.flint_gcd import flint_gcd
 from ..mathematics.integrality import integer_candidates
@@ -127,6 +127,9 @@ class _Necessary:
     undecidable: bool = False
     #: further systems whose zero sets may hold passing values (beyond V(J) and E)
     systems: list[tuple[sp.Expr, ...]] = field(default_factory=list)
+    #: some exponents that vary are not among ``varying`` (a part that differs between
+    #: conjugate balances)
+    partial: bool = False
 
     @property
     def cuts(self) -> bool:
@@ -149,6 +152,28 @@ def painleve_strata(
     another). The strata of one depth are examined together, by ``mapper`` (a worker
     pool's map, in order; default: here, one after the other). Past ``budget`` seconds
     the strata not yet examined are left undecided, and the list is then not complete."""
+    return _stratify(variables, field_, weights, free, seed, budget, mapper, half=False)
+
+
+def half_integer_strata(
+    variables: Sequence[sp.Symbol],
+    field_: Sequence[sp.Expr],
+    weights: Sequence[int],
+    free: Sequence[sp.Symbol],
+    *,
+    seed: int = 0,
+    budget: float | None = None,
+    mapper: Mapper | None = None,
+) -> Strata:
+    """The sets of values of ``free`` where every exponent of every balance is in (1/2)Z
+    (the weak Painlevé property's necessary condition: Goryachev-Chaplygin's top has
+    exponents 1/2, 3/2), by the same stratification without the series: the
+    conditions are the constant exponents' and the conjugate balances' (module doc).
+    Each set's ``analysis`` (where made) says whether its exponents are all integers."""
+    return _stratify(variables, field_, weights, free, seed, budget, mapper, half=True)
+
+
+def _stratify(variables, field_, weights, free, seed, budget, mapper, *, half: bool) -> Strata:
     start = time.perf_counter()
     field_ = tuple(sp.sympify(f) for f in field_)
     seen: set[tuple] = set()
@@ -168,7 +193,9 @@ def painleve_strata(
                 if visited + len(todo) > MAX_STRATA:
                     undecided.append(f"more than {MAX_STRATA} strata: the others not examined")
                     todo = todo[: MAX_STRATA - visited]
-                items = [(tuple(variables), field_, tuple(weights), v, f, seed) for v, f in todo]
+                items = [
+                    (tuple(variables), field_, tuple(weights), v, f, seed, half) for v, f in todo
+                ]
                 results = (mapper or _in_order)(examine_stratum, items)
                 visited += len(todo)
                 level = []
@@ -210,12 +237,12 @@ class Examined:
 
 
 def examine_stratum(item) -> Examined:
-    """One stratum (variables, field, weights, values, free, seed): passing, a point
-    analysed, or the smaller strata its necessary conditions leave (module doc). One call
-    of a mapper."""
-    variables, field_, weights, values, free, seed = item
+    """One stratum (variables, field, weights, values, free, seed, half): passing, a point
+    analysed, or the smaller strata its necessary conditions leave (module doc); with
+    ``half``, where the exponents are in (1/2)Z instead. One call of a mapper."""
+    variables, field_, weights, values, free, seed, half = item
     walk = _Walk(variables, field_, weights)
-    walk.seed = seed
+    walk.seed, walk.half = seed, half
     try:
         with flint_gcd():
             walk.visit(values, free)
@@ -228,6 +255,9 @@ class _Walk:
     def __init__(self, variables, field_, weights):
         self.variables, self.field, self.weights = variables, field_, weights
         self.seed = 0
+        #: the sets sought: where the ARS test passes (False), or where every exponent is
+        #: in (1/2)Z (True: no series, only the exponents)
+        self.half = False
         self.found = Examined()
         self.parameters = set().union(*(f.free_symbols for f in field_)) - set(variables)
 
@@ -253,8 +283,8 @@ class _Walk:
             return
         split = split_field(self.variables, concrete, self.weights, parameters=free)
         if not free:
-            analysis = analyse(split, seed=self.seed)
-            if analysis.painleve_passes:
+            analysis = analyse(split, seed=self.seed, painleve=not self.half)
+            if self._passes(analysis):
                 self.passing.append(Stratum(values, free, analysis))
             return
         necessary = self._necessary(split, _hyperplane_components(split, self.seed))
@@ -266,11 +296,12 @@ class _Walk:
             necessary = self._necessary(split, whole)
         if not necessary.cuts:
             if necessary.decided:
-                analysis = analyse(split, seed=self.seed)
-                if not analysis.painleve_passes:  # pragma: no cover - the same computation
+                analysis = analyse(split, seed=self.seed, painleve=not self.half)
+                if not self._passes(analysis):  # pragma: no cover - the same computation
                     self.undecided.append(f"{here.text()}: its two analyses disagree")
                     return
-                why = "passes for generic members; its smaller exceptional sets not explored"
+                what = "in (1/2)Z" if self.half else "passes"
+                why = f"{what} for generic members; its smaller exceptional sets not explored"
                 self.passing.append(Stratum(values, free, analysis, (why,)))
                 return
             if len(free) == 1:
@@ -288,6 +319,22 @@ class _Walk:
         for equations in self._candidates(necessary):
             self._descend(values, free, equations)
 
+    def _passes(self, analysis: ExponentAnalysis) -> bool:
+        """Whether an analysis is of a set sought: the ARS test passes, or (``half``)
+        every exponent is in (1/2)Z."""
+        if self.half:
+            return kind_of(analysis) in ("integer", "half-integer")
+        return analysis.painleve_passes
+
+    def _fits(self, factor: sp.Expr) -> bool:
+        """Whether the roots of an irreducible factor over Q (in lambda) are integers, or
+        (``half``) in (1/2)Z: it is linear, and its root is."""
+        poly = sp.Poly(factor, LAMBDA)
+        if poly.degree() != 1:
+            return False  # irrational roots
+        root = -poly.nth(0) / poly.nth(1)
+        return bool((2 * root if self.half else root).is_integer)
+
     def _necessary(self, split: WeightedField, found: Sequence[Component]) -> _Necessary:
         """J and E of the components ``found`` (module doc)."""
         out = _Necessary()
@@ -296,12 +343,19 @@ class _Walk:
         for component in found:
             _exceptional_of_component(component, params, out.exceptional)
             polynomial = characteristic_polynomial(component, matrix)
+            fixed = _fixed_exponents(polynomial, component)
+            if fixed is not None and not all(self._fits(f) for f in fixed):
+                out.fails = True  # the same numbers at every value, one not of the kind
+                continue
+            if fixed is not None and self.half:
+                continue  # every exponent a constant in (1/2)Z
             roots = _constant_roots(polynomial)
             if roots is None:
                 out.decided = False
                 if polynomial.varying:  # along a family of balances: not handled
                     out.undecidable = True
                     continue
+                out.partial |= bool(sp.sympify(polynomial.rest).free_symbols & params)
                 conjugate = _conjugate_parts(polynomial.rest, component.symbol, params)
                 nonreal = _nonreal_pair(component) if conjugate else None
                 if nonreal is not None:  # integer exponents need the conjugate parts to vanish
@@ -309,9 +363,11 @@ class _Walk:
                     out.systems += nonreal
                 out.varying += [f for f, _ in polynomial.common if f.free_symbols & params]
                 continue
-            if any(not r.is_integer for r in roots):
+            if any(not (2 * r if self.half else r).is_integer for r in roots):
                 out.fails = True
                 continue
+            if self.half:
+                continue  # the exponents only: no series
             resonances: dict[int, int] = {}
             for r in roots:
                 if r >= 1:
@@ -384,7 +440,10 @@ class _Walk:
         """The exponents that vary depend on one parameter p only: the values of p where
         they can all be integers (``integer_candidates``), each a stratum; and the
         exceptional hypersurfaces, as always."""
-        found = integer_candidates(list(dict.fromkeys(necessary.varying)), p, LAMBDA)
+        varying = list(dict.fromkeys(necessary.varying))
+        found = integer_candidates(
+            [doubled(f) for f in varying] if self.half else varying, p, LAMBDA
+        )
         for v in found.values:
             if v.is_rational:
                 self._descend(values, free, (sp.numer(sp.together(p - v)),))
@@ -392,6 +451,9 @@ class _Walk:
                 text = Stratum({**values, p: v}, free).text()
                 self.undecided.append(f"{text}: an irrational value, not analysed")
         for expr, index, ranges in found.families:
+            if self.half:
+                self._half_integer_family(values, free, necessary, p, expr, index)
+                continue
             if expr == p or ranges != "n in Z" or p.is_integer:  # resonances that move
                 text = Stratum(values, free).text()
                 self.undecided.append(
@@ -409,19 +471,42 @@ class _Walk:
         for q in dict.fromkeys(necessary.exceptional):
             self._descend(values, free, (q,))
 
+    def _half_integer_family(self, values, free, necessary: _Necessary, p, expr, index) -> None:
+        """Where the exponents that vary (in p only) are in (1/2)Z for p = expr(n), n in
+        Z: the stratum itself where that is every value of p and no other exponent varies;
+        else the family, with its index n1 a parameter of its own."""
+        text = Stratum(values, free).text()
+        whole = expr == p or (
+            p.is_integer and sp.Poly(expr, index).degree() == 1 and abs(expr.coeff(index)) == 1
+        )
+        if whole and necessary.partial:
+            self.undecided.append(f"{text}: some exponents vary with {p} and were not decided")
+        elif whole:
+            what = "every integer value" if p.is_integer else "every value"
+            self.passing.append(Stratum(values, free, None, (f"in (1/2)Z for {what} of {p}",)))
+        else:
+            n = _fresh(free, "n", integer=True)
+            merged = self._merged(values, {p: expr.xreplace({index: n})})
+            if _admissible(merged):
+                self.found.children.append((merged, (*(q for q in free if q != p), n)))
+
     def _one_parameter(self, values, free, concrete) -> None:
         """One free parameter whose exponents vary: ``exponent_family``'s integer sets
         (complete there), the passing ones kept; where every value has integer exponents,
         the whole set when its generic member passes."""
         family = exponent_family(self.variables, concrete, self.weights, free, seed=self.seed)
-        for s in family.integer:
+        sets = (*family.integer, *family.half_integer) if self.half else family.integer
+        for s in sets:
             point = {k: sp.cancel(sp.sympify(v).xreplace(s.values)) for k, v in values.items()}
             point.update(s.values)
             if s.index is not None and not s.values:  # integer exponents for every value
                 generic = family.generic
-                if generic is not None and generic.painleve_passes:
-                    why = "passes for generic members; its exceptional values not explored"
+                if generic is not None and (self.half or generic.painleve_passes):
+                    what = "in (1/2)Z" if self.half else "passes"
+                    why = f"{what} for generic members; its exceptional values not explored"
                     self.passing.append(Stratum(values, free, generic, (why,)))
+            elif s.index is not None and self.half:  # exponents only: the family is the set
+                self.passing.append(Stratum(point, (s.index,), None, (f"{s.index} {s.ranges}",)))
             elif s.index is not None:
                 text = f"{Stratum(point, free).text()} ({s.index} {s.ranges})"
                 self.undecided.append(f"{text}: infinitely many values, not all tested")
@@ -429,12 +514,13 @@ class _Walk:
                 if _admissible(point):
                     text = Stratum(point, free).text()
                     self.undecided.append(f"{text}: an irrational value, not analysed")
-            elif s.analysis.painleve_passes and _admissible(point):
+            elif self._passes(s.analysis) and _admissible(point):
                 left = tuple(p for p in free if p not in s.values)
                 self.passing.append(Stratum(point, left, s.analysis))
-        if not family.complete_integer:
+        if not family.complete_integer or (self.half and not family.complete_half_integer):
+            kind = "half-integer" if self.half else "integer"
             self.undecided.append(
-                f"{Stratum(values, free).text()}: the values of {free[0]} with integer "
+                f"{Stratum(values, free).text()}: the values of {free[0]} with {kind} "
                 "exponents were not all found"
             )
 
@@ -575,6 +661,26 @@ def _all_components(split: WeightedField, seed: int) -> list[Component] | None:
         )
     except DecompositionLimit:
         return None
+
+
+def _fixed_exponents(polynomial, component: Component) -> list[sp.Expr] | None:
+    """The irreducible factors over Q of the product of the exponent polynomials of the
+    component's conjugate balances, where it does not depend on the parameters: the
+    common factors times the norm Res_u(g, H) of the rest (its roots are every exponent
+    of every conjugate balance). None where it depends on them, or where the exponents
+    vary along a family of balances."""
+    found: list[sp.Expr] = []
+    for f, _ in polynomial.common:
+        if f.free_symbols - {LAMBDA}:
+            return None
+        found.append(f)
+    rest = sp.sympify(polynomial.rest)
+    if sp.degree(rest, LAMBDA) > 0:
+        norm = sp.cancel(_norm(component, rest))
+        if norm.free_symbols - {LAMBDA}:
+            return None
+        found += [f for f, _ in factor_list(norm, [LAMBDA]) if f.has(LAMBDA)]
+    return found
 
 
 def _constant_roots(polynomial) -> list[sp.Expr] | None:

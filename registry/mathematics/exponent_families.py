@@ -277,7 +277,7 @@ def _one_parameter(split, generic, factors, exceptional, invalid, varying, start
     roots = _roots(exceptional, p, invalid)
     unexamined = tuple(v for v in roots if not v.is_rational)
     integer_candidates_ = integer_candidates(polys, p, LAMBDA)
-    half_candidates = integer_candidates([_doubled(f) for f in polys], p, LAMBDA)
+    half_candidates = integer_candidates([doubled(f) for f in polys], p, LAMBDA)
     rational_candidates_ = rational_candidates(polys, p, LAMBDA)
     analyses.prefetch(
         [
@@ -397,7 +397,7 @@ def _complete(flag: bool) -> str:
     return "complete" if flag else "not complete"
 
 
-def _doubled(f: sp.Expr) -> sp.Expr:
+def doubled(f: sp.Expr) -> sp.Expr:
     """f(lambda / 2), monic in lambda: its roots are twice those of f (a half-integer
     root of f is an integer root here)."""
     poly = sp.Poly(sp.expand(f.subs(LAMBDA, LAMBDA / 2)), LAMBDA)

@@ -50,6 +50,8 @@ def _lines(result: ExponentResult) -> list[str]:
         lines += _special(d["special"], d["complete"], d["coverage"])
     if "painleve_sets" in d:
         lines += _painleve_sets(d["painleve_sets"])
+    if "half_integer_sets" in d:
+        lines += _half_integer_sets(d["half_integer_sets"])
     lines.append(result.statement)
     lines.append(f"{result.seconds:.2f} s")
     return lines
@@ -98,13 +100,26 @@ def _painleve(resonances: Sequence[Mapping[str, Any]]) -> list[str]:
 
 def _painleve_sets(found: Mapping[str, Any]) -> list[str]:
     """The sets where the ARS test passes for generic members, and what was not decided."""
-    lines = [f"Painlevé (ARS) test passes on ({found['strata']} strata analysed):"]
-    for s in found["passing"]:
+    head = f"Painlevé (ARS) test passes on ({found['strata']} strata analysed):"
+    return _strata([head], found["passing"], found)
+
+
+def _half_integer_sets(found: Mapping[str, Any]) -> list[str]:
+    """The sets where every exponent is in (1/2)Z, each with its kind where known."""
+    head = f"every exponent in (1/2)Z on ({found['strata']} strata analysed):"
+    return _strata([head], found["sets"], found, kinds=True)
+
+
+def _strata(
+    lines: list[str], sets: Sequence[Mapping[str, Any]], found: Mapping[str, Any], kinds=False
+) -> list[str]:
+    for s in sets:
         free = f" ({', '.join(s['free'])} free)" if s["free"] else ""
-        lines.append(f"  {', '.join(s['when'])}{free}")
+        kind = f" [{s['kind']}]" if kinds and s.get("kind") else ""
+        lines.append(f"  {', '.join(s['when'])}{free}{kind}")
         for exponents in s.get("exponents", ()):
             lines.append(f"      exponents {', '.join(exponents)}")
-    if not found["passing"]:
+    if not sets:
         lines.append("  no set that was analysed")
     lines.append(f"complete: {'yes' if found['complete'] else 'no'}")
     lines += [f"  not decided: {u}" for u in found["undecided"]]

@@ -100,3 +100,23 @@ def test_a_family_integer_everywhere_says_where_the_painleve_test_passes():
         "-a*f4**2 = 0)" in text  # fmt: skip
     assert text.endswith("passes exactly at: a = 0; no value makes every exponent of every "
                          "balance half an integer (not all integers).")  # fmt: skip
+
+
+def test_the_half_integer_sets_say_complete_only_where_they_are():
+    """The sets where every exponent is in (1/2)Z: those with an exponent half an odd
+    integer named apart; "outside these sets" only for a complete list."""
+    done = {"integer": False, "half_integer": False, "rational": False}
+    gc = {"when": ["c = 1/4", "z0 = 0"], "free": ["x0"], "kind": "half-integer"}
+    axis = {"when": ["x0 = 0"], "free": ["c", "z0"], "kind": "integer"}
+    found = {"sets": [gc, axis], "complete": True, "undecided": [], "strata": 9}
+    text = family_statement({**family(done, []), "half_integer_sets": found}, "M: 1, gamma: 2")
+    assert "is in (1/2)Z for the generic members of: c = 1/4, z0 = 0 (x0 free); x0 = 0 " in text
+    assert "(some exponent half an odd integer on: c = 1/4, z0 = 0 (x0 free))" in text
+    assert text.endswith("outside these sets some exponent is not in (1/2)Z.")
+    found |= {"complete": False, "undecided": ["b**2 - 1/2 = 0: not analysed"]}
+    text = family_statement({**family(done, []), "half_integer_sets": found}, "M: 1, gamma: 2")
+    assert "outside these sets" not in text
+    assert text.endswith("not complete: 1 set(s) were not decided.")
+    found |= {"sets": []}
+    text = family_statement({**family(done, []), "half_integer_sets": found}, "M: 1, gamma: 2")
+    assert "no set that was analysed has every exponent in (1/2)Z" in text
