@@ -10,7 +10,7 @@ import json
 from click.testing import CliRunner
 
 from registry.cli import main
-from tests.helpers.samples import CLASSICAL, TEST_DATA
+from tests.helpers.samples import CASES, CLASSICAL, TEST_DATA
 
 KOVALEVSKAYA = str(CLASSICAL / "kovalevskaya-top.toml")
 EXPONENTS = TEST_DATA / "exponents"
@@ -111,6 +111,31 @@ def test_the_sets_with_half_integer_exponents_name_goryachev_chaplygins_plane():
     d = json.loads(run("exponents", path, "--free", "x0,y0,z0", "--json").stdout)
     assert d["special"] == [] and d["half_integer_sets"]["complete"]
     assert [s["when"] for s in d["painleve_sets"]["passing"]] == [["x0 = 0", "y0 = 0"]]
+
+
+def test_with_a_registry_each_set_found_is_named_by_the_cases_it_is(tmp_path):
+    """With Goryachev and Chaplygin's and Lagrange's tops stored, the plane z0 = 0 of the
+    family with moments (1, 1, 1/4) is the same system as the first (its centre rotated
+    onto the first axis and scaled) and not the second, and Lagrange's axis the second."""
+    db = str(tmp_path / "r.sqlite")
+    tops = [
+        CASES / "goryachev-chaplygin-1900.toml",
+        CASES / "heavy-top/lagrange-1788-heavy-top.toml",
+    ]
+    assert run("--db", db, "add", *map(str, tops)).exit_code == 0
+    path = str(TEST_DATA / "families" / "goryachev-chaplygin-moments-centre.toml")
+    result = run("--db", db, "exponents", path, "--free", "x0,y0,z0", "--json")
+    assert result.exit_code == 0, result.output
+    d = json.loads(result.stdout)
+    named = {tuple(s["when"]): s["same_as"] for s in d["half_integer_sets"]["sets"]}
+    assert named == {
+        ("z0 = 0",): ["goryachev-chaplygin-1900"],
+        ("x0 = 0", "y0 = 0"): ["lagrange-1788-heavy-top"],
+    }
+    (axis,) = d["painleve_sets"]["passing"]
+    assert axis["same_as"] == ["lagrange-1788-heavy-top"]
+    text = run("--db", db, "exponents", path, "--free", "x0,y0,z0").stdout
+    assert "      same as goryachev-chaplygin-1900" in text.splitlines()
 
 
 def test_user_errors_are_one_line_each_naming_file_field_and_text():

@@ -27,6 +27,7 @@ from ..errors import ExponentError, Problem, WeightedFieldError
 from ..execution.executor import Executor, InProcess, in_order, timed
 from ..execution.serving import Failure
 from ..execution.time_budget import BudgetExceeded, time_limit
+from ..language.forms import with_values
 from ..mathematics.exponent_analysis import BalanceResult, ExponentAnalysis, exponents
 from ..mathematics.exponent_families import (
     GRID,
@@ -39,6 +40,8 @@ from ..mathematics.grading import candidates, per_variable, shift
 from ..mathematics.weighted import split_field
 from ..model import Case, ExponentOptions, ExponentResult, Weights, as_weights
 from .exponent_statement import family_statement, statement
+from .identification.catalog_index import CatalogIndex
+from .identification.identify import identify
 from .painleve_strata import Strata, half_integer_strata, painleve_strata
 
 #: What the analysis says of how it works (in every document).
@@ -210,11 +213,14 @@ def analyse_case(
     budget: float | None = None,
     executor: Executor | None = None,
     seed: int = 0,
+    catalog: CatalogIndex | None = None,
 ) -> ExponentResult:
     """The analysis of ``case`` (module doc); with ``options.free``, the family's special
-    values, their exact analyses run by ``executor`` (default: in this process). Past
-    ``budget`` seconds the analysis stops and the result is not decided (its reason
-    says so); ExponentError for a system the method cannot analyse."""
+    values, their exact analyses run by ``executor`` (default: in this process), and with
+    a ``catalog`` each set of a stratification named by the catalog cases it is
+    (``identification``). Past ``budget`` seconds the analysis stops and the result is
+    not decided (its reason says so); ExponentError for a system the method cannot
+    analyse."""
     start = time.perf_counter()
     found = case_field(case, options)
     try:
@@ -225,6 +231,8 @@ def analyse_case(
         else:
             family, strata = _family(case, found, executor or InProcess(), budget, seed)
             document = _family_document(case, options, found, family, *strata)
+            if catalog is not None:
+                _name_sets(case, strata, document, catalog)
     except BudgetExceeded:
         document = undecided_document(
             case, options, f"time budget exceeded ({budget:g} s) before the analysis ended"
@@ -617,6 +625,30 @@ def _stratum(s) -> dict[str, Any]:
     integers = [f"{p} runs over the integers" for p in s.free if p.is_integer]
     entry["notes"] = [*s.notes, *integers]
     return entry
+
+
+def _name_sets(
+    case: Case, strata: Sequence[Strata], document: dict[str, Any], catalog: CatalogIndex
+) -> None:
+    """Each set of the stratifications (its generic member: the case at the set's values)
+    with ``same_as``, the catalog cases it is the same system as, most specific first;
+    an empty list says it is none of them. A set given through a new parameter (w1, an
+    index n1), where the case is not defined, or whose identification could not compare
+    every catalog case, gets no ``same_as``."""
+    own = set(case.parameters.values())
+    keys = (("painleve_sets", "passing"), ("half_integer_sets", "sets"))
+    for found, (key, inner) in zip(strata, keys, strict=False):
+        for s, entry in zip(found.passing, document[key][inner], strict=True):
+            if not all(sp.sympify(v).free_symbols <= own for v in s.values.values()):
+                continue
+            sub = with_values(case, s.values)
+            if sub is None:
+                continue
+            result = identify(sub.dynamics, catalog, exclude=(case.id,))
+            if result.skipped or result.failed:
+                entry["notes"].append("not identified with the whole catalog in time")
+                continue
+            entry["same_as"] = [same.case for same in result.same]
 
 
 def _coverage(strata: Strata) -> dict[str, Any]:

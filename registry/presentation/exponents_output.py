@@ -117,6 +117,8 @@ def _strata(
         free = f" ({', '.join(s['free'])} free)" if s["free"] else ""
         kind = f" [{s['kind']}]" if kinds and s.get("kind") else ""
         lines.append(f"  {', '.join(s['when'])}{free}{kind}")
+        if "same_as" in s:
+            lines.append(f"      {_same_as(s['same_as'])}")
         for exponents in s.get("exponents", ()):
             lines.append(f"      exponents {', '.join(exponents)}")
     if not sets:
@@ -124,6 +126,14 @@ def _strata(
     lines.append(f"complete: {'yes' if found['complete'] else 'no'}")
     lines += [f"  not decided: {u}" for u in found["undecided"]]
     return lines
+
+
+def _same_as(cases: Sequence[str], shown: int = 3) -> str:
+    """The catalog cases a set is, the most specific first (a few, then how many more)."""
+    if not cases:
+        return "same as no catalog case"
+    more = f" and {len(cases) - shown} more" if len(cases) > shown else ""
+    return f"same as {', '.join(cases[:shown])}{more}"
 
 
 def _special(

@@ -32,6 +32,7 @@ from ..presentation.terminal import terminal_width
 from ..settings import BESIDE_SEARCH_EXPONENT_SECONDS, DEFAULT_EXPONENT_SECONDS
 from ..store.database import Store, StoredCase
 from ..version import code_version
+from .identify_run import catalog_index
 from .targets import stored_target
 
 
@@ -90,7 +91,8 @@ def exponents_run(
 ) -> ExponentReport:
     """``Registry.analyse_exponents``: analyse a case file, a stored case or a ``Case``;
     reuse an analysis recorded before, record this one if asked. Without a store (a case
-    file or a ``Case`` analysed on its own), nothing is reused or recorded."""
+    file or a ``Case`` analysed on its own), nothing is reused or recorded, and the sets
+    a family's stratifications find are not named by catalog cases."""
     if request.record and store is not None:
         store.require_writer("record an exponent analysis")
     if store is None:
@@ -102,7 +104,9 @@ def exponents_run(
         found = store.stored_exponents(stored.pk, options, code_version())
         if found is not None and not _outgrown(found[1], request.budget):
             return ExponentReport(found[1], found[0], reused=True)
-    result = analyse_case(case, options, budget=request.budget, executor=executor)
+    # with several free parameters each set found is named by the stored cases it is
+    catalog = catalog_index(store) if store is not None and len(options.free) > 1 else None
+    result = analyse_case(case, options, budget=request.budget, executor=executor, catalog=catalog)
     events = tuple(executor.events)
     if not request.record or store is None:
         return ExponentReport(result, events=events)
