@@ -631,10 +631,10 @@ def _name_sets(
     case: Case, strata: Sequence[Strata], document: dict[str, Any], catalog: CatalogIndex
 ) -> None:
     """Each set of the stratifications (its generic member: the case at the set's values)
-    with ``same_as``, the catalog cases it is the same system as, most specific first;
-    an empty list says it is none of them. A set given through a new parameter (w1, an
-    index n1), where the case is not defined, or whose identification could not compare
-    every catalog case, gets no ``same_as``."""
+    with ``same_as``, the catalog cases it is the same system as, most specific first
+    (empty: none matched under the equivalences ``identification`` tries). A set given
+    through a new parameter (w1, an index n1), where the case is not defined, or whose
+    identification could not compare every catalog case, gets no ``same_as``."""
     own = set(case.parameters.values())
     keys = (("painleve_sets", "passing"), ("half_integer_sets", "sets"))
     for found, (key, inner) in zip(strata, keys, strict=False):

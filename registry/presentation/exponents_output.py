@@ -131,7 +131,7 @@ def _strata(
 def _same_as(cases: Sequence[str], shown: int = 3) -> str:
     """The catalog cases a set is, the most specific first (a few, then how many more)."""
     if not cases:
-        return "same as no catalog case"
+        return "matches no catalog case"
     more = f" and {len(cases) - shown} more" if len(cases) > shown else ""
     return f"same as {', '.join(cases[:shown])}{more}"
 

@@ -77,3 +77,29 @@ def test_a_family_lists_its_special_sets_and_completeness():
 def test_an_undecided_analysis_says_why():
     text = exponents_text(result({"decided": False, "reason": "too slow"}))
     assert text.splitlines()[1:] == ["not decided: too slow", "S."]
+
+
+def test_the_sets_of_a_stratification_with_their_kinds_and_the_cases_they_are():
+    """Each set with its free parameters and kind; the catalog cases it is, three shown
+    and the others counted; a set that matched none says so; one not identified (no
+    registry) has no such line."""
+    sets = [
+        {"when": ["z0 = 0"], "free": ["x0"], "kind": "half-integer",
+         "same_as": ["gc", "gc-all-s", "sretensky", "birtea", "grioli"]},
+        {"when": ["x0 = 0"], "free": ["z0"], "kind": "integer", "same_as": []},
+        {"when": ["n1 = 0"], "free": [], "kind": None},
+    ]  # fmt: skip
+    found = {"sets": sets, "complete": False, "undecided": ["b**2 = 1/2: not analysed"],
+             "strata": 7}  # fmt: skip
+    document = {"balances": [], "painleve": {"passes": False}, "half_integer_sets": found}
+    lines = exponents_text(result(document)).splitlines()
+    start = lines.index("every exponent in (1/2)Z on (7 strata analysed):")
+    assert lines[start + 1 : start + 8] == [
+        "  z0 = 0 (x0 free) [half-integer]",
+        "      same as gc, gc-all-s, sretensky and 2 more",
+        "  x0 = 0 (z0 free) [integer]",
+        "      matches no catalog case",
+        "  n1 = 0",
+        "complete: no",
+        "  not decided: b**2 = 1/2: not analysed",
+    ]
