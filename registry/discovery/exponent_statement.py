@@ -188,9 +188,8 @@ def _half_integer_sets(found: Mapping[str, Any]) -> str:
     if not sets:
         text = "no set that was analysed has every exponent in (1/2)Z"
     else:
-        text = "every exponent of every balance is in (1/2)Z for the generic members of: " + listed(
-            sets
-        )
+        head = "every exponent of every balance is in (1/2)Z for the generic members of: "
+        text = head + listed(sets)
         half = [s for s in sets if s["kind"] == "half-integer"]
         if half:
             text += f" (some exponent half an odd integer on: {listed(half)})"

@@ -167,7 +167,7 @@ def half_integer_strata(
 ) -> Strata:
     """The sets of values of ``free`` where every exponent of every balance is in (1/2)Z
     (the weak Painlevé property's necessary condition: Goryachev-Chaplygin's top has
-    exponents 1/2, 3/2), by the same stratification without the series: the
+    exponents -1/2, 3/2), by the same stratification without the series: the
     conditions are the constant exponents' and the conjugate balances' (module doc).
     Each set's ``analysis`` (where made) says whether its exponents are all integers."""
     return _stratify(variables, field_, weights, free, seed, budget, mapper, half=True)
@@ -354,6 +354,10 @@ class _Walk:
                 out.decided = False
                 if polynomial.varying:  # along a family of balances: not handled
                     out.undecidable = True
+                    continue
+                numbers = [f for f, _ in polynomial.common if f.free_symbols == {LAMBDA}]
+                if not all(self._fits(f) for f in numbers):
+                    out.fails = True  # a shared exponent the same number everywhere, unfit
                     continue
                 out.partial |= bool(sp.sympify(polynomial.rest).free_symbols & params)
                 conjugate = _conjugate_parts(polynomial.rest, component.symbol, params)
