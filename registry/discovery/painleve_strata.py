@@ -17,7 +17,10 @@ the rank of K - k can drop) are not zero there. So at p0 outside E:
 * a compatibility condition c, reduced modulo g, holds at every conjugate balance
   exactly when each of its coefficients (in u, the free coefficients and the family's
   free coordinates) vanishes at p0: these are the equations J;
-* an exponent that is a constant non-integer stays one, and the test fails;
+* an exponent that is a constant non-integer stays one, and the test fails; so does
+  one that varies in form only: where the norm Res_u(g, H) of the part H of the
+  exponent polynomial that differs between conjugate balances has rational
+  coefficients, its roots are every exponent of every conjugate balance at p0;
 * for a pair of complex conjugate balances (g of degree 2 whose discriminant is never
   positive: each of its factors a square, or of one sign as a sum of squares) whose
   exponents vary, integer exponents make every coefficient of their characteristic
@@ -42,8 +45,15 @@ parameter of its own (a family whose resonances move with the index is left unde
 the series cannot be written for a symbolic resonance). With one free parameter this is
 ``exponent_family``, whose integer list is complete there.
 
+*Exponents in (1/2)Z* (``half_integer_strata``). The same walk without the series:
+the conditions are that a constant exponent be in (1/2)Z and the conjugate parts
+(any real exponents need them); the candidates of one parameter are those of the
+doubled polynomials, and an infinite family through an integer index is a set of its
+own (no resonance to write). Goryachev and Chaplygin's top is found this way.
+
 *What is guaranteed.* ``complete`` says that every admissible real parameter value
-where the ARS test passes lies in one of the ``passing`` sets: every stratum was
+where the ARS test passes (every exponent is in (1/2)Z) lies in one of the
+``passing`` sets: every stratum was
 decided, none was left without a rational parametrisation, and the time sufficed.
 Passing is necessary for the Painlevé property, not a proof of it.
 """
@@ -97,8 +107,9 @@ class Stratum:
 
 @dataclass(frozen=True)
 class Strata:
-    """The outcome: the ``passing`` sets, what was left undecided (each in words), how
-    many strata were analysed, and whether the list is complete (module doc)."""
+    """The outcome: the ``passing`` sets (for ``half_integer_strata``, the sets where
+    every exponent is in (1/2)Z), what was left undecided (each in words), how many
+    strata were analysed, and whether the list is complete (module doc)."""
 
     free: tuple[sp.Symbol, ...]
     passing: tuple[Stratum, ...]
