@@ -24,6 +24,11 @@ position; symbolic parameters stay in the ground field) are taken one by one:
   k L = (2ay + b)**2/Q**2 >= 0, so w is real); where one of them vanishes is a smaller
   set, resolved again. This is how ``n3**2 c22**2 = c22 - 1/4`` (a quartic curve) is
   searched: c22 = w**2 + 1/4, n3 = w/c22;
+* where the discriminant's odd part d is quadratic in another parameter s instead, the
+  conic t**2 = k d is parametrised by the lines through a rational point of it, where
+  it has one in sight (``_conic``: its coefficient of s**2 or its constant term k times
+  a square, a point at infinity or at s = 0); the points the lines miss are a smaller
+  set, resolved again. ``x0**2 = z0**2 (p**2 + 2 p)`` is searched so: t = p + w;
 * the rest (defined over an algebraic extension, or without a rational parametrisation)
   is returned as a ``Piece``.
 """
@@ -250,24 +255,36 @@ def _quadratic(
             continue
         a, b, c = (sp.expand(f.coeff(y, k)) for k in (2, 1, 0))
         k, factors = sp.factor_list(sp.expand(b**2 - 4 * a * c))
-        odd = [g for g, e in factors if e % 2]
-        if len(odd) != 1:
+        odd = sp.expand(sp.Mul(*(g for g, e in factors if e % 2)))
+        if odd.is_number:
             continue
         square = sp.Mul(*(g ** (e // 2) for g, e in factors))
         # k = r**2 k0 with k0 a square-free integer: L = k0 w**2 makes k L = (r k0 w)**2
         r, root_k0 = sp.sqrt(abs(k)).as_coeff_Mul()
         k0 = sp.sign(k) * root_k0**2
         for s in variables:
-            if s == y or sp.degree(odd[0], s) != 1:
+            if s == y or sp.degree(odd, s) not in (1, 2):
                 continue
-            alpha, beta = sp.expand(odd[0]).coeff(s, 1), sp.expand(odd[0]).coeff(s, 0)
+            fixed = [a, *(g for g, e in factors if e > 1)]
+            if sp.degree(odd, s) == 2:  # t**2 = k odd, a conic in (s, t): t = (2ay + b)/Q
+                t_here = (2 * a * y + b) / square
+                for at_s, t, missed in _conic(sp.expand(k * odd), s):
+                    root = sp.cancel(((-b + t * square) / (2 * a)).xreplace({s: at_s}))
+                    misses = [
+                        *fixed,
+                        *(sp.numer(sp.together(m.xreplace({T: t_here}))) for m in missed),
+                    ]
+                    found.append(
+                        (
+                            {s: at_s, y: root},
+                            [g for g in misses if sp.sympify(g).free_symbols & names],
+                        )
+                    )
+                continue
+            alpha, beta = odd.coeff(s, 1), odd.coeff(s, 0)
             at_s = sp.cancel((k0 * NEW**2 - beta) / alpha)
             root = sp.cancel(((-b + r * k0 * NEW * square) / (2 * a)).xreplace({s: at_s}))
-            misses = [
-                g
-                for g in (a, alpha, *(g for g, e in factors if e > 1))
-                if sp.sympify(g).free_symbols & names
-            ]
+            misses = [g for g in (*fixed, alpha) if sp.sympify(g).free_symbols & names]
             found.append(({s: at_s, y: root}, misses))
     # the simplest: fewest factors where points are missed (a polynomial parametrisation
     # where there is one), then the shortest values
@@ -276,6 +293,42 @@ def _quadratic(
         key=lambda option: (len(option[1]), sum(sp.count_ops(e) for e in option[0].values())),
         default=None,
     )
+
+
+#: The conic's second coordinate t in ``_conic``'s missed sets.
+T = sp.Dummy("t")
+
+
+def _conic(d: sp.Expr, s: sp.Symbol) -> list[tuple[sp.Expr, sp.Expr, list[sp.Expr]]]:
+    """The conic t**2 = d = alpha s**2 + beta s + gamma parametrised by the lines through
+    a rational point, where alpha (a point at infinity) or gamma (the point s = 0) is the
+    square of a polynomial A: s and t in ``NEW`` (the line's slope or intercept), and the
+    polynomials in s and ``T`` that vanish at the points the lines miss. For t = A s + w,
+    s = (gamma - w**2)/(2 A w - beta); for t = A + w s, s = (beta - 2 A w)/(w**2 - alpha)."""
+    alpha, beta, gamma = (sp.expand(d).coeff(s, j) for j in (2, 1, 0))
+    found = []
+    root = _square_root(alpha)
+    if root is not None:
+        at_s = sp.cancel((gamma - NEW**2) / (2 * root * NEW - beta))
+        found.append((at_s, sp.cancel(root * at_s + NEW), [root, 2 * root * (T - root * s) - beta]))
+    root = _square_root(gamma)
+    if root is not None:
+        at_s = sp.cancel((beta - 2 * root * NEW) / (NEW**2 - alpha))
+        found.append((at_s, sp.cancel(root + NEW * at_s), [s, (T - root) ** 2 - alpha * s**2]))
+    return found
+
+
+def _square_root(e: sp.Expr) -> sp.Expr | None:
+    """A polynomial A with A**2 = e (e's factors all of even multiplicity, its constant a
+    rational square), or None."""
+    e = sp.expand(e)
+    if e == 0:
+        return None
+    c, factors = sp.factor_list(e)
+    root = sp.sqrt(c)
+    if not root.is_Rational or any(m % 2 for _, m in factors):
+        return None
+    return root * sp.Mul(*(g ** (m // 2) for g, m in factors))
 
 
 def _rational(values: dict[sp.Symbol, sp.Expr], part: Component) -> dict[sp.Symbol, sp.Expr]:

@@ -34,7 +34,12 @@ which are small; only where those give no condition are all the balances compute
 
 *Recursion.* Each irreducible component of V(J) and of E over Q (``components``:
 those with real points, rationally parametrised, a new parameter w1, w2, ... where
-needed) is a family with fewer free parameters, analysed the same way. A stratum
+needed) is a family with fewer free parameters, analysed the same way. Real points are
+those at the declared signs: a sum of terms c P m**2 (c > 0, P a product of positive
+parameters) vanishes only where each m does; a real zero of a V**2 + b V + c (V = v**k,
+a of one sign) whose discriminant is never positive is a double root, where the
+discriminant vanishes; a positive parameter set to a value that cannot be positive
+leaves nothing. Each needs no rational parametrisation of the set it cuts away. A stratum
 whose balances all have constant integer exponents and no condition passes for its
 generic members; it is reported, and its own exceptional subsets are not explored (a
 smaller set inside a passing one). A stratum with no free parameter left is analysed
@@ -60,11 +65,13 @@ Passing is necessary for the Painlevé property, not a proof of it.
 
 from __future__ import annotations
 
+import math
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import sympy as sp
+from sympy.polys.fields import FracElement
 
 from ..execution.time_budget import BudgetExceeded, time_limit
 from ..mathematics import painleve
@@ -396,9 +403,11 @@ class _Walk:
             for step in series.resonances:
                 if step.missing:
                     out.fails = True
-                for condition in step.conditions:
-                    out.equations += _coefficients(condition, params)
-                    _add_factors(sp.fraction(sp.together(condition))[1], params, out.exceptional)
+                for condition in recursion.conditions[step.order - 1]:
+                    for coefficient in condition.values():  # in k = Q(p, S), per u^i f^j
+                        numer, denom = _fraction(recursion.ring.domain, coefficient)
+                        out.equations += _coefficients(numer, params)
+                        _add_factors(denom, params, out.exceptional)
         return out
 
     def _candidates(self, necessary: _Necessary) -> list[tuple[sp.Expr, ...]]:
@@ -541,15 +550,31 @@ class _Walk:
 
 
 class _Pivots(painleve._Recursion):
-    """The ARS recursion, keeping every pivot it divides by."""
+    """The ARS recursion, keeping every pivot it divides by, and the compatibility
+    conditions of each order as elements of k[u, f] (``conditions[k - 1]``: their
+    coefficients are read in k, without expanding expressions)."""
 
     def __init__(self, *args):
         super().__init__(*args)
         self.pivots: list = []
+        self.conditions: list[list] = []
 
     def inverse(self, value):
         self.pivots.append(value)
         return super().inverse(value)
+
+    def _solve(self, system, rhs, symbols):
+        solution, conditions, used = super()._solve(system, rhs, symbols)
+        self.conditions.append([c for c in conditions if not c.is_zero])
+        return solution, conditions, used
+
+
+def _fraction(domain, element) -> tuple[sp.Expr, sp.Expr]:
+    """Numerator and denominator of an element of k (a rational function of the
+    parameters, or a rational number), as expressions."""
+    if isinstance(element, FracElement):
+        return element.numer.as_expr(), element.denom.as_expr()
+    return sp.fraction(domain.to_sympy(element))
 
 
 def _maximal(found: Sequence[Stratum]) -> list[Stratum]:
@@ -576,8 +601,9 @@ def _inside(small: Stratum, big: Stratum) -> bool:
 
 def _real_system(equations: Sequence[sp.Expr]) -> tuple[sp.Expr, ...] | None:
     """The system with each equation that is a sum of squares replaced by the squares'
-    roots (the same real points), again until nothing changes; None when an equation
-    has no real point."""
+    roots (the same real points), and the equations a real point needs added
+    (``_double_root``), again until nothing changes; None when an equation has no real
+    point."""
     system = tuple(sp.expand(e) for e in equations)
     for _ in range(MAX_REAL_STEPS):
         out: list[sp.Expr] = []
@@ -585,6 +611,10 @@ def _real_system(equations: Sequence[sp.Expr]) -> tuple[sp.Expr, ...] | None:
             roots = _squares(e)
             if roots is None:
                 roots = _squares(-e)
+            if roots is None:
+                roots = _double_root(e)
+                if roots is not None and roots != [sp.Integer(1)]:
+                    roots = [e, *roots]
             if roots == [sp.Integer(1)]:
                 return None
             out += [sp.expand(r) for r in roots] if roots is not None else [e]
@@ -596,13 +626,17 @@ def _real_system(equations: Sequence[sp.Expr]) -> tuple[sp.Expr, ...] | None:
 
 
 def _squares(e: sp.Expr) -> list[sp.Expr] | None:
-    """Polynomials h_i with e = sum of c_i h_i**2, c_i > 0 (so e's real zeros are their
-    common zeros): a positive multiple of a square, e = A v**2 + B with no odd power of
-    v and A, B such sums again, or a v**2 + b v + c with a > 0 a number, its square
-    completed. [1] when e > 0 everywhere, [] when e = 0; None when no such form was
-    found."""
+    """Polynomials h_i with e = sum of c_i h_i**2, c_i > 0 a number or a product of
+    parameters declared positive (so e's real zeros at admissible values are the h_i's
+    common zeros): a sum of such terms (``_nonnegative_terms``), a positive multiple of
+    a square, e = A v**2 + B with no odd power of v and A, B such sums again, or
+    a v**2 + b v + c with a > 0 a number, its square completed. [1] when e > 0
+    everywhere, [] when e = 0; None when no such form was found."""
     if e.is_number:
         return [] if e == 0 else ([sp.Integer(1)] if e > 0 else None)
+    terms = _nonnegative_terms(e)
+    if terms is not None:
+        return terms
     symbols = sorted(e.free_symbols, key=str)
     factors = factor_list(e, symbols)
     if factors and all(m % 2 == 0 for _, m in factors):
@@ -631,6 +665,47 @@ def _squares(e: sp.Expr) -> list[sp.Expr] | None:
     return None
 
 
+def _double_root(e: sp.Expr) -> list[sp.Expr] | None:
+    """Where e = a V**2 + b V + c in V = v**k for a symbol v, with a of one sign and a
+    discriminant b**2 - 4 a c that is never positive (minus it a sum of squares,
+    ``_squares``): a real zero needs a real V, so the discriminant vanishes there, and
+    the squares' roots are equations every real zero satisfies ([1]: none has one).
+    None when no symbol gives such a form."""
+    for v in sorted(e.free_symbols, key=str):
+        poly = sp.Poly(e, v)
+        k = math.gcd(*(m for (m,) in poly.monoms()))
+        if k == 0 or poly.degree() != 2 * k:
+            continue
+        a, b, c = (sp.sympify(poly.coeff_monomial(v ** (j * k))) for j in (2, 1, 0))
+        if [sp.Integer(1)] not in (_squares(a), _squares(-a)):
+            continue  # a may vanish: e is not quadratic everywhere
+        roots = _squares(sp.expand(4 * a * c - b**2))
+        if roots:
+            return roots
+    return None
+
+
+def _nonnegative_terms(e: sp.Expr) -> list[sp.Expr] | None:
+    """Where every term of e is c P m**2 with c > 0 a number, P a product of parameters
+    declared positive and m a monomial (each term >= 0 at admissible values): the m's,
+    whose common zeros are e's; [1] when some term is a positive constant times P (e > 0).
+    None otherwise."""
+    roots: list[sp.Expr] = []
+    symbols = sorted(e.free_symbols, key=str)
+    for monomial, c in sp.Poly(e, *symbols).terms():
+        if not c > 0:
+            return None
+        root = sp.Integer(1)
+        for x, k in zip(symbols, monomial, strict=True):
+            if x.is_positive:
+                continue
+            if k % 2:
+                return None
+            root *= x ** (k // 2)
+        roots.append(root)
+    return [sp.Integer(1)] if sp.Integer(1) in roots else roots
+
+
 def _fresh(free: Sequence[sp.Symbol], stem: str = "w", *, integer: bool = False) -> sp.Symbol:
     """A new parameter w1, w2, ... (n1, n2, ... for an integer index) that no parameter
     of the stratum is named."""
@@ -643,9 +718,12 @@ def _fresh(free: Sequence[sp.Symbol], stem: str = "w", *, integer: bool = False)
 
 def _admissible(values: dict[sp.Symbol, sp.Expr]) -> bool:
     """Values that are defined (no division by zero) and respect the parameters'
-    declared signs where they are numbers."""
+    declared signs where they are numbers, or where the signs of the parameters left
+    decide the value's (a positive parameter set to -2 p (p + 1)/(2 p + 1), p > 0)."""
     for p, v in values.items():
         if v.has(sp.zoo, sp.nan, sp.oo, -sp.oo):
+            return False
+        if p.is_positive and sp.sympify(v).is_positive is False:
             return False
         if v.is_number and ((p.is_positive and not v > 0) or (p.is_nonzero and v == 0)):
             return False

@@ -95,3 +95,28 @@ def test_a_conic_with_no_linear_discriminant_stays_a_piece():
     # c22**2 + n3**2 = 3 m2**2: every discriminant is a quadratic form
     found = resolve(AlgebraicSet({}, (c22**2 + n3**2 - 3 * m2**2,)), [c22, n3, m2])
     assert found.sets == [] and len(found.pieces) == 1
+
+
+def test_a_conic_through_a_rational_point_is_parametrised_by_the_lines_through_it():
+    # x0^2 = z0^2 (p^2 + 2 p): t^2 = p^2 + 2 p has the point at infinity t = p (its
+    # leading coefficient a square), and every real point has a real line through it
+    p = sp.Symbol("p", positive=True)
+    f = p**2 * z0**2 + 2 * p * z0**2 - x0**2
+    found = resolve(AlgebraicSet({}, (f,)), [p, x0, z0])
+    assert not found.pieces and not found.undecided
+    (values,) = [v for v in found.sets if NEW in set().union(*(e.free_symbols for e in v.values()))]
+    assert _vanishes(f, values) and set(values) == {p, x0}
+    # both real points at p = 1, z0 = 1 (x0 = +-sqrt(3)) are reached by real lines
+    ws = sp.solve(values[p].xreplace({z0: 1}) - 1, NEW)
+    assert len(ws) == 2 and all(w.is_real for w in ws)
+    reached = {sp.simplify(values[x0].xreplace({z0: 1, NEW: w})) for w in ws}
+    assert reached == {sp.sqrt(3), -sp.sqrt(3)}
+
+
+def test_a_conic_without_a_rational_point_stays_a_piece():
+    # t^2 = 2 p^2 + 3 has no rational point (2 is not a square modulo 3): no line
+    p = sp.Symbol("p", positive=True)
+    found = resolve(AlgebraicSet({}, (x0**2 - z0**2 * (2 * p**2 + 3),)), [p, x0, z0])
+    assert len(found.pieces) == 1 and not any(
+        NEW in set().union(*(e.free_symbols for e in v.values())) for v in found.sets
+    )
