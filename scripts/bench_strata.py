@@ -4,7 +4,9 @@ each depth examined by a pool of worker processes, in the same run, with their r
 
 The default family is the heavy top with moments (1, b, c) and centre of mass
 (x0, y0, z0) (tests/data/families/heavy-top-five.toml), whose passing sets are Euler's,
-the spherical top, and Lagrange's and Kovalevskaya's for each pair of equal moments.
+the spherical top, and Lagrange's and Kovalevskaya's for each pair of equal moments;
+tests/data/families/heavy-top-distinct-moments.toml with --free p,q,x0,y0,z0 is every
+top with distinct moments, where only Euler's passes and the list is complete.
 Times are wall clock (the pool's work is in other processes); the outcomes of the two
 runs are compared, set by set.
 
