@@ -4,6 +4,7 @@ a fresh analysis and a stored one read the same."""
 
 from __future__ import annotations
 
+from collections import Counter
 from collections.abc import Mapping, Sequence
 from typing import Any
 
@@ -119,13 +120,21 @@ def _strata(
         lines.append(f"  {', '.join(s['when'])}{free}{kind}")
         if "same_as" in s:
             lines.append(f"      {_same_as(s['same_as'])}")
-        for exponents in s.get("exponents", ()):
-            lines.append(f"      exponents {', '.join(exponents)}")
+        lines += _exponent_lines(s.get("exponents", ()))
     if not sets:
         lines.append("  no set that was analysed")
     lines.append(f"complete: {'yes' if found['complete'] else 'no'}")
     lines += [f"  not decided: {u}" for u in found["undecided"]]
     return lines
+
+
+def _exponent_lines(lists: Sequence[Sequence[str]]) -> list[str]:
+    """Each distinct list of a set's exponents once, with how many balances share it."""
+    counts = Counter(tuple(exponents) for exponents in lists)
+    return [
+        f"      exponents {', '.join(e)}" + (f" ({n} balances)" if n > 1 else "")
+        for e, n in counts.items()
+    ]
 
 
 def _same_as(cases: Sequence[str], shown: int = 3) -> str:
@@ -148,8 +157,7 @@ def _special(
         if "painleve" in s:
             line += f"; Painlevé (ARS) test {'passes' if s['painleve']['passes'] else 'fails'}"
         lines.append(line)
-        for exponents in s.get("exponents", ()):
-            lines.append(f"      exponents {', '.join(exponents)}")
+        lines += _exponent_lines(s.get("exponents", ()))
         lines += [f"      note: {n}" for n in s.get("notes", ())]
     flags = ", ".join(f"{k.replace('_', '-')} {'yes' if v else 'no'}" for k, v in complete.items())
     lines.append(f"complete: {flags}")

@@ -103,3 +103,19 @@ def test_the_sets_of_a_stratification_with_their_kinds_and_the_cases_they_are():
         "complete: no",
         "  not decided: b**2 = 1/2: not analysed",
     ]
+
+
+def test_a_sets_exponents_shared_by_several_balances_are_shown_once_with_their_count():
+    """Euler's top has four balances with exponents -1, 1, 2, 2, 2, 3: one line says so;
+    a list of its own stays a line of its own."""
+    euler = ["-1", "1", "2", "2", "2", "3"]
+    sets = [{"when": ["x0 = 0"], "free": ["b"], "exponents": [euler] * 4 + [["-1", "4"]]}]
+    found = {"passing": sets, "complete": True, "undecided": [], "strata": 3}
+    document = {"balances": [], "painleve": {"passes": False}, "painleve_sets": found}
+    lines = exponents_text(result(document)).splitlines()
+    start = lines.index("  x0 = 0 (b free)")
+    assert lines[start + 1 : start + 4] == [
+        "      exponents -1, 1, 2, 2, 2, 3 (4 balances)",
+        "      exponents -1, 4",
+        "complete: yes",
+    ]
