@@ -692,7 +692,11 @@ def _nonnegative_terms(e: sp.Expr) -> list[sp.Expr] | None:
     None otherwise."""
     roots: list[sp.Expr] = []
     symbols = sorted(e.free_symbols, key=str)
-    for monomial, c in sp.Poly(e, *symbols).terms():
+    try:
+        terms = sp.Poly(e, *symbols).terms()
+    except sp.PolynomialError:  # not a polynomial in its symbols
+        return None
+    for monomial, c in terms:
         if not c > 0:
             return None
         root = sp.Integer(1)

@@ -106,8 +106,9 @@ def test_terms_that_are_never_negative_at_positive_parameters_vanish_one_by_one(
 
 def test_a_quadratic_in_a_square_whose_discriminant_is_never_positive_meets_it():
     """e = X^2 + 2 (y^2 - z^2) X + (y^2 + z^2)^2 in X = x^2 has discriminant -16 y^2 z^2:
-    a real zero has y z = 0 (and there x^2 = z^2 or y^2 ... ). With the constant term
-    y^4 the discriminant 4 z^2 (z^2 - 2 y^2) has no sign, and nothing is added."""
+    a real zero has y z = 0 (at y = 0, x^2 = z^2; at z = 0, only x = y = 0). With the
+    constant term y^4 the discriminant 4 z^2 (z^2 - 2 y^2) has no sign, and nothing is
+    added."""
     x, y, z = sp.symbols("x y z", real=True)
     e = sp.expand(x**4 + 2 * (y**2 - z**2) * x**2 + (y**2 + z**2) ** 2)
     assert _real_system([e]) == (e, y * z)
