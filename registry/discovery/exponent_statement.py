@@ -155,10 +155,7 @@ def family_statement(document: Mapping[str, Any], weights: str) -> str:
 def _painleve_sets(found: Mapping[str, Any]) -> str:
     """Where the ARS test passes with several free parameters (``painleve_strata``), and
     whether the list is complete."""
-    listed = "; ".join(
-        ", ".join(s["when"]) + (f" ({', '.join(s['free'])} free)" if s["free"] else "")
-        for s in found["passing"]
-    )
+    listed = _listed(found["passing"])
     text = (
         f"{ARS} passes for the generic members of: {listed}"
         if listed
@@ -170,35 +167,40 @@ def _painleve_sets(found: Mapping[str, Any]) -> str:
             "stratification by the conditions of the balances with constant integer "
             "exponents was completed)"
         )
-    return f"{text}; not complete: {len(found['undecided'])} set(s) were not decided"
+    return f"{text}; {_not_complete(found)}"
 
 
 def _half_integer_sets(found: Mapping[str, Any]) -> str:
     """Where every exponent is in (1/2)Z with several free parameters
     (``half_integer_strata``), those with some exponent not an integer named apart, and
     whether the list is complete."""
-
-    def listed(sets) -> str:
-        return "; ".join(
-            ", ".join(s["when"]) + (f" ({', '.join(s['free'])} free)" if s["free"] else "")
-            for s in sets
-        )
-
     sets = found["sets"]
     if not sets:
         text = "no set that was analysed has every exponent in (1/2)Z"
     else:
         head = "every exponent of every balance is in (1/2)Z for the generic members of: "
-        text = head + listed(sets)
+        text = head + _listed(sets)
         half = [s for s in sets if s["kind"] == "half-integer"]
         if half:
-            text += f" (some exponent half an odd integer on: {listed(half)})"
+            text += f" (some exponent half an odd integer on: {_listed(half)})"
     if found["complete"]:
         return (
             f"{text}; at every admissible real value outside these sets some exponent is "
             "not in (1/2)Z"
         )
-    return f"{text}; not complete: {len(found['undecided'])} set(s) were not decided"
+    return f"{text}; {_not_complete(found)}"
+
+
+def _listed(sets: Sequence[Mapping[str, Any]]) -> str:
+    """A stratification's sets: each its equations and the parameters left free on it."""
+    return "; ".join(
+        ", ".join(s["when"]) + (f" ({', '.join(s['free'])} free)" if s["free"] else "")
+        for s in sets
+    )
+
+
+def _not_complete(found: Mapping[str, Any]) -> str:
+    return f"not complete: {len(found['undecided'])} set(s) were not decided"
 
 
 def _generic(document: Mapping[str, Any]) -> str:
