@@ -8,6 +8,11 @@ form u = l(x) by linear algebra (as in FGLM); when they span the algebra,
 k[x]/I = k[u]/(g) (the shape lemma), so x_i = h_i(u), and each irreducible factor of g
 over k is one prime component: a field k[u]/(g_j) whose roots are its points.
 
+Over Q(p) a system is first split on a coordinate hyperplane where it has points both
+on and off it: into I + (x) and the saturation I : x^oo (two Groebner bases, which stay
+small where the determinants and lexicographic bases over Q(p) swell with the number of
+points); the balances with a vanishing coordinate come apart from the others so.
+
 Otherwise a basis element that factors splits the system into one branch per factor.
 An irreducible branch of dimension d has a maximal independent set S of d variables
 (no leading monomial lies in k[S]); over the field k(S) it is zero-dimensional and a
@@ -44,6 +49,9 @@ from .groebner import groebner
 MAX_BRANCHES = 400
 #: Linear forms tried for shape position before a branch is given up.
 MAX_FORMS = 12
+#: The most points over Q(p), p two or more symbols, for which shape position is sought
+#: by linear algebra in k[x]/I (its Krylov matrix's degrees grow with the size).
+SMALL_ALGEBRA = 8
 
 
 class DecompositionLimit(Exception):
@@ -134,16 +142,21 @@ def components(
     *,
     origin: Sequence[sp.Symbol] | None = None,
     seed: int = 0,
+    hyperplanes: bool = True,
 ) -> tuple[Component, ...]:
     """The irreducible components of ``equations = 0`` on which the ``origin`` variables
     (default: all) are not all zero, none contained in another, largest dimension first
-    (module doc for the method); ``origin=()`` keeps every component.
+    (module doc for the method); ``origin=()`` keeps every component. ``hyperplanes=False``
+    leaves out the splits on coordinate hyperplanes over Q(p) (the same components,
+    found more slowly: a benchmark's baseline).
 
     >>> x, y = sp.symbols("x y")
     >>> [(c.free, c.minimal.as_expr()) for c in components([x * (x**2 - 2), x * y], [x, y])]
     [((y,), x), ((), x**2 - 2)]
     """
-    decomposition = _Decomposition(tuple(variables), tuple(parameters), random.Random(seed))
+    decomposition = _Decomposition(
+        tuple(variables), tuple(parameters), random.Random(seed), hyperplanes=hyperplanes
+    )
     found = decomposition.run([sp.expand(e) for e in equations])
     zero = tuple(variables) if origin is None else tuple(origin)
     return _maximal([c for c in found if not zero or not all(c.vanishes(x) for x in zero)])
@@ -159,18 +172,19 @@ class _Shape:
 
 @dataclass(frozen=True)
 class _Split:
-    """Polynomials f_j whose zero sets split a finite system: its points are those of the
-    systems I + (f_j), each a proper part."""
+    """Systems whose points together are those of a finite system I, each a proper part
+    (none of them is I again)."""
 
-    factors: tuple[sp.Expr, ...]
+    systems: tuple[tuple[sp.Expr, ...], ...]
 
 
 class _Decomposition:
-    def __init__(self, variables, parameters, rng: random.Random):
+    def __init__(self, variables, parameters, rng: random.Random, *, hyperplanes: bool = True):
         self.variables = variables
         self.parameters = parameters
         self.k = ground_domain(parameters)
         self.rng = rng
+        self.hyperplanes = hyperplanes and self.k.is_FractionField
 
     def run(self, equations: list[sp.Expr]) -> list[Component]:
         found: list[Component] = []
@@ -190,12 +204,15 @@ class _Decomposition:
             if basis.is_zero_dimensional:
                 points = self._zero_dimensional(basis)
                 if isinstance(points, _Split):
-                    stack.extend([*basis.exprs, f] for f in points.factors)
+                    stack.extend(list(system) for system in points.systems)
                     continue
                 if points is not None:
                     found.extend(points)
                     continue
             branches = self._split(basis.exprs)
+            if branches is None and self.hyperplanes:
+                parts = self._hyperplane_parts(basis)
+                branches = None if parts is None else [list(p) for p in parts.systems]
             if branches is None:
                 branches, component = self._branch(basis)
                 if component is not None:
@@ -208,15 +225,18 @@ class _Decomposition:
         algebra k[x]/I (``_cyclic``), k[x]/I = k[u]/(g) and each irreducible factor of g
         is one component, with no further basis. None when no form does (a multiple point
         of embedding dimension 2 or more): the system is then split on factors. Over
-        Q(p), a system of more than two points is first split by the values of a
-        variable, the last first (``_Algebra.value_split``), where they fall into
-        several factors."""
+        Q(p), a system of more than two points is first split on a coordinate hyperplane
+        (``_hyperplane_split``), then by the values of a variable, the last first
+        (``_Algebra.value_split``), where they fall into several factors."""
         algebra = _Algebra(basis, self.variables, self.k)
         if self.k.is_FractionField and algebra.size > 2:
+            parts = self._hyperplane_parts(basis) if self.hyperplanes else None
+            if parts is not None:
+                return parts
             for x in reversed(self.variables):
                 factors = algebra.value_split(x)
                 if factors is not None:
-                    return _Split(tuple(factors))
+                    return _Split(tuple((*basis.exprs, f) for f in factors))
         for element in self._forms(list(self.variables), pairs=True):
             u = element if element in self.variables else sp.Dummy("u")
             cyclic = algebra.cyclic(element, u)
@@ -235,6 +255,30 @@ class _Decomposition:
                 )
             return found
         return None
+
+    def _hyperplane_parts(self, basis: sp.GroebnerBasis) -> _Split | None:
+        """The first proper split of the system on a coordinate hyperplane, the last
+        variable first (``_hyperplane_split``), or None."""
+        for x in reversed(self.variables):
+            parts = self._hyperplane_split(basis, x)
+            if parts is not None:
+                return parts
+        return None
+
+    def _hyperplane_split(self, basis: sp.GroebnerBasis, x: sp.Symbol) -> _Split | None:
+        """The points where x = 0 (I + (x)) and those where it is not (I : x^oo), when
+        both are proper parts: two Groebner bases, where over Q(p) the determinant of
+        ``value_split`` and the shape position's coefficients grow with the size of the
+        system (balances split so at once into those on a coordinate hyperplane and the
+        rest). None where x lies in I, or I : x^oo = I (x divides no zero, as a unit of a
+        finite algebra does)."""
+        on = groebner([*basis.exprs, x], self.variables, self.k)
+        if on.exprs == [1] or on.exprs == basis.exprs:
+            return None
+        off = _saturate(basis.exprs, x, self.variables, self.k)
+        if list(off) == list(basis.exprs):
+            return None
+        return _Split((tuple(on.exprs), off))
 
     def _factors(self, expr: sp.Expr, wrt: Sequence[sp.Symbol]) -> list[tuple[sp.Expr, int]]:
         """The factors of ``expr`` that are not units: those involving ``wrt``."""
@@ -287,10 +331,12 @@ class _Decomposition:
         variables) whose vanishing splits the system, when the form's eliminant factors.
         ``known``: the generators' graded basis in ``gens``. Over Q or Q(one symbol) the
         forms are tried on the algebra of one graded basis (``_Algebra.cyclic``: linear
-        algebra, no basis per form); over more symbols the Krylov matrix's degrees grow
-        too fast for it (and FLINT's long steps would overrun a time budget, which cannot
-        interrupt them), and where no form generates the algebra (a multiple point), each
-        form gets its own basis."""
+        algebra, no basis per form); over more symbols only on an algebra of at most
+        ``SMALL_ALGEBRA`` points, the sums of two variables first: beyond it the Krylov
+        matrix's degrees grow too fast (and FLINT's long steps would overrun a time
+        budget, which cannot interrupt them), while for a few points the lexicographic
+        basis of each form is the slower (its coefficients over Q(p) swell). Where no
+        form generates the algebra (a multiple point), each form gets its own basis."""
         if not gens:  # every variable is free: the component is the whole space
             u = sp.Dummy("u")
             return _Shape(u, sp.Integer(0), sp.Poly(u, u, domain=field), {})
@@ -298,9 +344,9 @@ class _Decomposition:
         if graded is None:
             graded = groebner(generators, gens, field)
         symbols = field.symbols if field.is_FractionField else ()
-        if len(symbols) <= 1 and graded.is_zero_dimensional:
-            algebra = _Algebra(graded, gens, field)
-            for element in self._forms(gens):
+        algebra = _Algebra(graded, gens, field) if graded.is_zero_dimensional else None
+        if algebra is not None and (len(symbols) <= 1 or algebra.size <= SMALL_ALGEBRA):
+            for element in self._forms(gens, pairs=len(symbols) > 1):
                 u = element if element in gens else sp.Dummy("u")
                 cyclic = algebra.cyclic(element, u)
                 if cyclic is not None:
@@ -626,6 +672,21 @@ def _saturate(ideal, h: sp.Expr, variables, k) -> tuple[sp.Expr, ...]:
     basis = groebner([*ideal, 1 - y * h], [y, *variables], k, "lex")
     kept = [e for e in basis.exprs if not e.has(y)]
     return tuple(groebner(kept, variables, k).exprs)
+
+
+def same_components(ours: Sequence[Component], theirs: Sequence[Component]) -> bool:
+    """Whether two decompositions found the same components, whatever linear forms put
+    them in shape position: as many, and each lies in one of the other's (that one's
+    equations vanish at its generic point), both ways."""
+
+    def inside(c: Component, others: Sequence[Component]) -> bool:
+        return any(all(c.vanishes(q) for q in d.equations()) for d in others)
+
+    return (
+        len(ours) == len(theirs)
+        and all(inside(c, theirs) for c in ours)
+        and all(inside(c, ours) for c in theirs)
+    )
 
 
 def _maximal(found: list[Component]) -> tuple[Component, ...]:

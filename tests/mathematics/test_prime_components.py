@@ -3,11 +3,20 @@ families and points, the origin left out, points on families dropped, parameters
 
 from __future__ import annotations
 
+import random
+
+import pytest
 import sympy as sp
 
-from registry.mathematics.prime_components import components
+from registry.mathematics import mechanics as mech
+from registry.mathematics.balances import balance_equations
+from registry.mathematics.groebner import groebner
+from registry.mathematics.prime_components import _Decomposition, components, same_components
+from registry.mathematics.weighted import split_field
 
 x, y, z, a = sp.symbols("x y z a")
+B, C, B1, B2, B3 = sp.symbols("B C b1 b2 b3")
+g1, g2, g3 = mech.AXIS
 
 
 def points(component):
@@ -90,3 +99,57 @@ def test_a_split_by_values_keeps_every_point_when_one_value_is_shared():
     assert sorted(c.degree for c in found) == [2, 3]
     assert any(c.vanishes(y - 1) and c.vanishes(x**2 - a - 1) for c in found)
     assert any(c.vanishes(y - a) and c.vanishes(x**3 - 2) for c in found)
+
+
+def test_over_parameters_a_system_is_split_on_a_coordinate_hyperplane():
+    # x (x^2 - a) = 0, y^2 = a x + 1: on x = 0 the points y = +-1, off it four conjugate
+    # points x = +-sqrt a, y^2 = 1 + a x
+    system = [x * (x**2 - a), y**2 - a * x - 1]
+    decomposition = _Decomposition((x, y), (a,), random.Random(0))
+    basis = groebner(system, [x, y], decomposition.k)
+    on, off = decomposition._hyperplane_split(basis, x).systems
+    assert set(on) == {x, y**2 - 1}
+    (quartet,) = components(list(off), [x, y], [a])
+    assert quartet.degree == 4 and quartet.vanishes(x**2 - a)
+    # y vanishes at none of the six points (a unit), and x lies in I + (x): no split
+    assert decomposition._hyperplane_split(basis, y) is None
+    on_basis = groebner(list(on), [x, y], decomposition.k)
+    assert decomposition._hyperplane_split(on_basis, x) is None
+    found = components(system, [x, y], [a])
+    assert sorted(c.degree for c in found) == [1, 1, 4]
+    assert same_components(found, components(system, [x, y], [a], hyperplanes=False))
+
+
+def kirchhoff_balances(potential, parameters, inertia=(1, B, C)):
+    """The balance equations of Kirchhoff's equations (M and gamma both of weight 1)."""
+    field = [sp.expand(v) for v in mech.vector_field(inertia, potential, (0, 0, 0))]
+    split = split_field(mech.STATE, field, (1,) * 6, parameters=parameters)
+    return balance_equations(split)
+
+
+def test_the_diagonal_kirchhoff_balances_over_five_parameters_are_all_found():
+    # moments (1, B, C), potential (b1 g1^2 + b2 g2^2 + b3 g3^2)/2: over Q(B, C, b) the
+    # decomposition splits on the hyperplanes first (without the splits it did not end
+    # in ten minutes); at a sample value its points are every balance there
+    equations = kirchhoff_balances((B1 * g1**2 + B2 * g2**2 + B3 * g3**2) / 2, (B, C, B1, B2, B3))
+    found = components(equations, mech.STATE, (B, C, B1, B2, B3))
+    assert all(c.dimension == 0 for c in found)
+    assert all(all(c.vanishes(e) for e in equations) for c in found)
+    sample = {B: 2, C: 3, B1: 1, B2: 5, B3: 7}
+    there = components([e.subs(sample) for e in equations], mech.STATE)
+    assert all(c.dimension == 0 for c in there)
+    assert sum(c.degree for c in found) == sum(c.degree for c in there) == 16
+
+
+@pytest.mark.slow
+def test_clebschs_family_of_balances_is_put_in_shape_position_over_two_parameters():
+    # on Clebsch's condition b2 = (B - 1)/(C - 1) (b1 = 0, b3 = 1) the balances form a
+    # curve: eight points over Q(B, C, gamma3), one prime component; the linear algebra of
+    # a small algebra finds its shape position (each form's lexicographic basis stalls)
+    clebsch = (B - 1) / (C - 1)
+    equations = kirchhoff_balances((clebsch * g2**2 + g3**2) / 2, (B, C))
+    found = components(equations, mech.STATE, (B, C))
+    (curve,) = [c for c in found if c.dimension == 1]
+    assert curve.degree == 8
+    assert all(curve.vanishes(e) for e in equations)
+    assert not curve.vanishes(g1) and not curve.vanishes(mech.STATE[0])
