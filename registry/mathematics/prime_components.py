@@ -172,8 +172,8 @@ class _Shape:
 
 @dataclass(frozen=True)
 class _Split:
-    """Systems whose points together are those of a finite system I, each a proper part
-    (none of them is I again)."""
+    """Systems whose points together are those of a system I, each a proper part (none
+    of them is I again, so none is dropped as a system already seen)."""
 
     systems: tuple[tuple[sp.Expr, ...], ...]
 
@@ -270,8 +270,8 @@ class _Decomposition:
         both are proper parts: two Groebner bases, where over Q(p) the determinant of
         ``value_split`` and the shape position's coefficients grow with the size of the
         system (balances split so at once into those on a coordinate hyperplane and the
-        rest). None where x lies in I, or I : x^oo = I (x divides no zero, as a unit of a
-        finite algebra does)."""
+        rest). None where x lies in I, or where I : x^oo = I (x is no zero divisor
+        modulo I: in a finite algebra, a unit)."""
         on = groebner([*basis.exprs, x], self.variables, self.k)
         if on.exprs == [1] or on.exprs == basis.exprs:
             return None
@@ -344,8 +344,10 @@ class _Decomposition:
         if graded is None:
             graded = groebner(generators, gens, field)
         symbols = field.symbols if field.is_FractionField else ()
-        algebra = _Algebra(graded, gens, field) if graded.is_zero_dimensional else None
-        if algebra is not None and (len(symbols) <= 1 or algebra.size <= SMALL_ALGEBRA):
+        if graded.is_zero_dimensional and (
+            len(symbols) <= 1 or len(_standard_monomials(graded, gens)) <= SMALL_ALGEBRA
+        ):
+            algebra = _Algebra(graded, gens, field)
             for element in self._forms(gens, pairs=len(symbols) > 1):
                 u = element if element in gens else sp.Dummy("u")
                 cyclic = algebra.cyclic(element, u)
