@@ -14,12 +14,10 @@ Nothing here is asserted by the tests: machines are shared and noisy.
 from __future__ import annotations
 
 import argparse
-import time
 
 import sympy as sp
-from sympy.core.cache import clear_cache
+from bench_groebner import best  # the script beside this one: the same timing
 
-from registry.execution.time_budget import BudgetExceeded, time_limit
 from registry.mathematics import mechanics as mech
 from registry.mathematics.balances import balance_equations
 from registry.mathematics.prime_components import components, same_components
@@ -56,22 +54,6 @@ SYSTEMS = {
         (1, B, C), (B1 * g1**2 + B2 * g2**2 + B3 * g3**2) / 2, KIRCHHOFF, (B, C, B1, B2, B3)
     ),
 }
-
-
-def best(repeat: int, timeout: float, fn):
-    """The least processor time of ``repeat`` runs of fn and its value; (None, None)
-    past ``timeout`` s of processor time."""
-    times, value = [], None
-    for _ in range(repeat):
-        clear_cache()
-        start = time.process_time()
-        try:
-            with time_limit(timeout, cpu=True):
-                value = fn()
-        except BudgetExceeded:
-            return None, None
-        times.append(time.process_time() - start)
-    return min(times), value
 
 
 def main() -> None:
