@@ -80,6 +80,7 @@ from ..mathematics.exponent_analysis import ExponentAnalysis, analyse
 from ..mathematics.exponent_families import Mapper, doubled, exponent_family, kind_of
 from ..mathematics.factoring import factor_list
 from ..mathematics.flint_gcd import flint_gcd
+from ..mathematics.flint_polys import discriminant, resultant_in
 from ..mathematics.integrality import integer_candidates
 from ..mathematics.kovalevskaya import LAMBDA, characteristic_polynomial, kovalevskaya_matrix
 from ..mathematics.prime_components import Component, DecompositionLimit, components
@@ -405,7 +406,7 @@ class _Walk:
                     out.fails = True
                 for condition in recursion.conditions[step.order - 1]:
                     for coefficient in condition.values():  # in k = Q(p, S), per u^i f^j
-                        numer, denom = _fraction(recursion.ring.domain, coefficient)
+                        numer, denom = _fraction(recursion.algebra.field, coefficient)
                         out.equations += _coefficients(numer, params)
                         _add_factors(denom, params, out.exceptional)
         return out
@@ -560,12 +561,16 @@ class _Pivots(painleve._Recursion):
         self.conditions: list[list] = []
 
     def inverse(self, value):
-        self.pivots.append(value)
+        self.pivots.append(self.algebra.exported(value))
         return super().inverse(value)
 
-    def _solve(self, system, rhs, symbols):
-        solution, conditions, used = super()._solve(system, rhs, symbols)
-        self.conditions.append([c for c in conditions if not c.is_zero])
+    def _assume(self, value):
+        self.pivots.append(self.algebra.exported(value))
+
+    def _order(self, k, rhs):
+        solution, conditions, used = super()._order(k, rhs)
+        exported = self.algebra.exported
+        self.conditions.append([exported(c) for c in conditions if not c.is_zero])
         return solution, conditions, used
 
 
@@ -802,7 +807,7 @@ def _exceptional_of_component(component: Component, params: set, out: list) -> N
     for c in g.all_coeffs():
         _add_factors(sp.fraction(sp.cancel(c))[1], params, out)
     if g.degree() > 1:
-        _add_factors(sp.discriminant(g.as_expr(), u), params, out)
+        _add_factors(discriminant(g), params, out)
     shortest = None
     for x, h in component.coordinates.items():
         if x in component.free:
@@ -825,7 +830,7 @@ def _norm(component: Component, value) -> sp.Expr:
     expr = value.as_expr() if hasattr(value, "as_expr") else sp.sympify(value)
     if not expr.has(u):
         return expr
-    return sp.resultant(component.minimal.as_expr(), expr, u)
+    return resultant_in(component.minimal.as_expr(), expr, u)
 
 
 def _add_factors(expr: sp.Expr, params: set, out: list) -> None:
@@ -877,7 +882,7 @@ def _nonreal_pair(component: Component) -> list[tuple[sp.Expr, ...]] | None:
     g = component.minimal
     if g.degree() != 2 or component.free:
         return None
-    numer, denom = sp.fraction(sp.together(sp.discriminant(g.as_expr(), component.symbol)))
+    numer, denom = sp.fraction(sp.together(discriminant(g)))
     return _never_positive(sp.expand(numer * denom))
 
 

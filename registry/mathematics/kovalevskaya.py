@@ -34,6 +34,8 @@ import sympy as sp
 from . import algebraic
 from .balances import Balance
 from .factoring import factor_list
+from .flint_polys import resultant_in
+from .integral_algebra import IntegralAlgebra
 from .prime_components import Component
 from .weighted import WeightedField
 
@@ -108,17 +110,10 @@ def characteristic_polynomial(component: Component, matrix: sp.Matrix) -> Compon
     """det(lambda - K) over the component's field, split as in the module doc."""
     ext = algebraic.Extension(component.symbol, component.minimal)
     n, k, u = matrix.rows, ext.domain, component.symbol
-    ring = k[u].ring  # Berkowitz's division-free algorithm in k[u]/(g): reduced at each step
-    g = ring.from_dict(dict(component.minimal.as_dict(native=True)))
-    rows = [
-        [ring.from_dict(dict(component.evaluate(matrix[i, j]).as_dict(native=True)))
-         for j in range(n)]
-        for i in range(n)
-    ]  # fmt: skip
-    charpoly = [  # the coefficients of lambda^n, ..., lambda^0
-        sp.Poly.from_dict(dict(c.items()) or {(0,): k.zero}, u, domain=k)
-        for c in berkowitz(rows, ring, lambda a: a.rem(g))
-    ]
+    # Berkowitz's division-free algorithm in k[u]/(g), over Z[p] (integral_algebra)
+    algebra = IntegralAlgebra(u, component.minimal)
+    rows = [[algebra.lift(component.evaluate(matrix[i, j])) for j in range(n)] for i in range(n)]
+    charpoly = [algebra.poly(c) for c in berkowitz(rows, algebra, algebra.reduce)]
     # coords[i][j]: the coefficient of u^j in the coefficient of lambda^(n-i)
     coords = [ext.coordinates(c) for c in charpoly]
     parts = [
@@ -139,7 +134,7 @@ def characteristic_polynomial(component: Component, matrix: sp.Matrix) -> Compon
     varying = any(f.free_symbols & free for f, _ in factors) or bool(rest.free_symbols & free)
     norm: tuple[sp.Expr, ...] = ()
     if k.is_QQ and len(quotient) > 1:
-        resultant = sp.resultant(component.minimal.as_expr(), rest, u)
+        resultant = resultant_in(component.minimal.as_expr(), rest, u)
         norm = tuple(f for f, _ in factor_list(resultant, [LAMBDA]))
     return ComponentPolynomial(factors, rest, varying, norm)
 

@@ -24,14 +24,16 @@ condition is zero exactly when it is zero in F.
 from __future__ import annotations
 
 import functools
+import itertools
 from collections.abc import Mapping
 from dataclasses import dataclass
 
 import sympy as sp
-from sympy.polys.orderings import lex
-from sympy.polys.rings import PolyElement, PolyRing
+from sympy.polys.rings import PolyElement
 
 from . import algebraic
+from .integral_algebra import Element, IntegralAlgebra
+from .kovalevskaya import berkowitz
 from .prime_components import Component
 from .weighted import WeightedField
 
@@ -121,39 +123,32 @@ class _Recursion:
         self.free = {r: [_fresh(f"f{r}_{j}", taken) for j in range(n)] for r in resonances}
         self.u = component.symbol
         symbols = [s for r in resonances for s in self.free[r]]
-        self.ring = PolyRing([self.u, *symbols], component.domain, lex)
+        # the arithmetic of F[free], over Z[p] (integral_algebra); results leave it in
+        # sympy's k[u, free]
+        self.algebra = IntegralAlgebra(component.symbol, component.minimal, symbols)
         self.ext = algebraic.Extension(component.symbol, component.minimal)
-        self.g = self._lift(component.minimal)
-        self.a = [[self._lift(component.evaluate(x))] for x in split.variables]
+        self.a = [[self.algebra.lift(component.evaluate(x))] for x in split.variables]
         self.matrix = [
-            [self._lift(component.evaluate(matrix[i, j])) for j in range(n)] for i in range(n)
+            [self.algebra.lift(component.evaluate(matrix[i, j])) for j in range(n)]
+            for i in range(n)
         ]
         self.terms = self._terms()
-        self.memo: dict[tuple[int, ...], list[PolyElement]] = {}
+        self.memo: dict[tuple[int, ...], list[Element]] = {}
         self._used: dict[int, int] = {}  # free coefficients brought by each resonance
 
-    def element(self, expr: sp.Expr) -> PolyElement:
+    def element(self, expr: sp.Expr) -> Element:
         """A rational function of u (coefficients in k) as a reduced element of F."""
-        return self._lift(self.ext.element(expr))
+        return self.algebra.lift(self.ext.element(expr))
 
-    def _lift(self, value: sp.Poly) -> PolyElement:
-        """A Poly in u over k as an element of the ring k[u, free] (no expressions)."""
-        zeros = (0,) * (self.ring.ngens - 1)
-        return self.ring.from_dict(
-            {(e, *zeros): c for (e,), c in value.as_dict(native=True).items()}
-        )
-
-    def inverse(self, value: PolyElement) -> PolyElement:
+    def inverse(self, value: Element) -> Element:
         """1/value in F, for an element without free coefficients."""
-        k = self.ring.domain
-        poly = sp.Poly.from_dict({(m[0],): c for m, c in value.items()}, self.u, domain=k)
-        return self._lift(self.ext.inverse(poly))
+        return self.algebra.inverse(value)
 
-    def _terms(self) -> list[list[tuple[PolyElement, tuple[int, ...], int]]]:
+    def _terms(self) -> list[list[tuple[Element, tuple[int, ...], int]]]:
         """Per component: (coefficient, monomial as a tuple of variable indices, delay
         1 - shift) for every term of the whole field."""
         variables = self.split.variables
-        terms: list[list[tuple[PolyElement, tuple[int, ...], int]]] = [[] for _ in variables]
+        terms: list[list[tuple[Element, tuple[int, ...], int]]] = [[] for _ in variables]
         for shift, part in self.split.parts.items():
             for i, expr in enumerate(part):
                 if expr == 0:
@@ -168,23 +163,22 @@ class _Recursion:
         n = len(self.split.variables)
         for k in range(1, last + 1):
             for column in self.a:
-                column.append(self.ring.zero)
+                column.append(self.algebra.zero)
             rest = [self._coefficient(i, k) for i in range(n)]
-            system = [
-                [self.matrix[i][j] - (k if i == j else 0) for j in range(n)] for i in range(n)
-            ]
-            symbols = self.free.get(k, [])
-            solution, conditions, free = self._solve(system, [-r for r in rest], symbols)
-            if free and k not in self.resonances:  # pragma: no cover - resonances are exact
-                raise ArithmeticError(f"K - {k} is singular but {k} is not a resonance")
+            solution, conditions, free = self._order(k, [-r for r in rest])
             self._used[k] = len(free)
             for i in range(n):
                 self.a[i][k] = solution[i]
             if k in self.resonances:
-                failing = tuple(sp.expand(c.as_expr()) for c in conditions if not c.is_zero)
+                failing = tuple(
+                    sp.expand(self.algebra.exported(c).as_expr())
+                    for c in conditions
+                    if not c.is_zero
+                )
                 steps.append(Resonance(k, self.resonances[k], tuple(free), failing))
         names = self._names()
-        elements = tuple(tuple(self.a[i][k] for i in range(n)) for k in range(last + 1))
+        exported = self.algebra.exported
+        elements = tuple(tuple(exported(self.a[i][k]) for i in range(n)) for k in range(last + 1))
         steps = [
             Resonance(
                 s.order,
@@ -196,6 +190,101 @@ class _Recursion:
         ]
         return LaurentSeries(elements, names, tuple(steps))
 
+    def _order(self, k: int, rhs: list[Element]):
+        """(K - k) a_k = rhs. Where K - k is invertible a_k is read off Cayley-Hamilton
+        (``_invert``: no division in F but by det(K - k)). At a resonance, by elimination
+        (``_solve``: the conditions, the free coefficients), except over a field of
+        degree > 1 over Q(p), where a pivot's inverse is as large as its norm: there by
+        the projection onto the kernel (``_project``) where K - r is diagonalizable."""
+        if k not in self.resonances:
+            return self._invert(k, rhs), [], []
+        algebra = self.algebra
+        if algebra.parameters and algebra.degree > 1:
+            found = self._project(k, rhs)
+            if found is not None:
+                return found
+        n = len(rhs)
+        system = [[self.matrix[i][j] - (k if i == j else 0) for j in range(n)] for i in range(n)]
+        return self._solve(system, rhs, self.free[k])
+
+    def _shifted(self, k: int) -> list[Element]:
+        """The coefficients of det(lambda - (K - k)) = p(lambda + k), lambda^0 first
+        (Taylor shift of the characteristic polynomial)."""
+        reduce, shifted = self.algebra.reduce, list(self._charpoly)
+        n = len(shifted) - 1
+        for i in range(n):
+            for j in reversed(range(i, n)):
+                shifted[j] = reduce(shifted[j] + shifted[j + 1] * k)
+        return shifted
+
+    def _times(self, k: int, y: list[Element]) -> list[Element]:
+        """(K - k) y, unreduced."""
+        n = len(y)
+        return [
+            sum((self.matrix[i][c] * y[c] for c in range(n)), self.algebra.zero) - k * y[i]
+            for i in range(n)
+        ]
+
+    def _horner(self, k: int, d: list[Element], b: list[Element]) -> list[Element]:
+        """sum_j d_j (K - k)^j b."""
+        reduce = self.algebra.reduce
+        y = [reduce(d[-1] * v) for v in b]
+        for c in reversed(d[:-1]):
+            y = [reduce(a + c * v) for a, v in zip(self._times(k, y), b, strict=True)]
+        return y
+
+    def _invert(self, k: int, rhs: list[Element]) -> list[Element]:
+        """(K - k)^(-1) rhs by Cayley-Hamilton: with p(lambda + k) = sum_j d_j lambda^j,
+        (K - k)^(-1) = -(1/d_0) sum_{j>=1} d_j (K - k)^(j-1). The one division is by
+        d_0 = p(k), a number wherever the exponents are; products in F stay polynomials
+        in u."""
+        d = self._shifted(k)
+        if d[0].is_zero:  # pragma: no cover - resonances are exact
+            raise ArithmeticError(f"K - {k} is singular but {k} is not a resonance")
+        scale = -self.inverse(d[0])
+        return [self.algebra.reduce(scale * v) for v in self._horner(k, d[1:], rhs)]
+
+    def _project(self, r: int, rhs: list[Element]):
+        """The step at resonance r (multiplicity m) without pivots: p(lambda + r) =
+        lambda^m q(lambda), q(0) = d_m != 0, and Q = q(K - r). Where (K - r) Q = 0 (K - r
+        diagonalizable on its kernel) Q/d_m is the projection onto the kernel along the
+        image, so the equations are solvable exactly when Q rhs = 0 (the conditions, on m
+        rows of Q that are independent), a particular solution is
+        -(1/d_m) sum_{j>=1} d_(m+j) (K - r)^(j-1) rhs, and m independent columns of Q
+        span the kernel (the free coefficients). None where (K - r) Q != 0 (elimination
+        then counts the free coefficients) or the multiplicity is not m."""
+        algebra, n, m = self.algebra, len(rhs), self.resonances[r]
+        d = self._shifted(r)
+        if any(not c.is_zero for c in d[:m]) or d[m].is_zero:
+            return None
+        unit = [[algebra.one if i == j else algebra.zero for i in range(n)] for j in range(n)]
+        columns = [self._horner(r, d[m:], e) for e in unit]  # Q's columns
+        if any(not algebra.reduce(v).is_zero for c in columns for v in self._times(r, c)):
+            return None
+        minor = _independent(columns, m, algebra)
+        if minor is None:  # pragma: no cover - Q has rank m
+            return None
+        rows, chosen, det = minor
+        self._assume(det)
+        image = self._horner(r, d[m:], rhs)  # Q rhs
+        scale = -self.inverse(d[m])
+        solution = [algebra.reduce(scale * v) for v in self._horner(r, d[m + 1 :], rhs)]
+        symbols = self.free[r][:m]
+        for symbol, j in zip(symbols, chosen, strict=True):
+            f = algebra.variable(symbol)
+            solution = [
+                algebra.reduce(a + f * q) for a, q in zip(solution, columns[j], strict=True)
+            ]
+        return solution, [image[i] for i in rows], symbols
+
+    def _assume(self, value: Element) -> None:
+        """A value the step needs to be non-zero (a minor), besides the divisors."""
+
+    @functools.cached_property
+    def _charpoly(self) -> list[Element]:
+        """det(lambda - K) over F, its coefficients from lambda^0 up (Berkowitz)."""
+        return berkowitz(self.matrix, self.algebra, self.algebra.reduce)[::-1]
+
     def _names(self) -> dict[sp.Symbol, sp.Symbol]:
         """f{r} for the one free coefficient of a simple resonance (f{r}_j otherwise)."""
         taken = {str(s) for s in (*self.split.variables, *self.split.parameters)}
@@ -206,29 +295,29 @@ class _Recursion:
             if self._used.get(r, 0) == 1
         }
 
-    def _coefficient(self, i: int, k: int) -> PolyElement:
+    def _coefficient(self, i: int, k: int) -> Element:
         """The order-k coefficient of V_i with a_k = 0 (the current a's)."""
-        total = self.ring.zero
+        total = self.algebra.zero
         for coeff, factors, delay in self.terms[i]:
             if k - delay >= 0:
                 total += coeff * self._product(factors, k - delay)
-        return total.rem(self.g)
+        return self.algebra.reduce(total)
 
-    def _product(self, factors: tuple[int, ...], q: int) -> PolyElement:
+    def _product(self, factors: tuple[int, ...], q: int) -> Element:
         """The order-q coefficient of prod X_j over ``factors``; orders below the current
         one are kept (they no longer change), the current one is recomputed."""
         if not factors:
-            return self.ring.one if q == 0 else self.ring.zero
+            return self.algebra.one if q == 0 else self.algebra.zero
         if len(factors) == 1:
             return self.a[factors[0]][q]
         known = self.memo.setdefault(factors, [])
         if q < len(known):
             return known[q]
         head, last = factors[:-1], factors[-1]
-        value = self.ring.zero
+        value = self.algebra.zero
         for p in range(q + 1):
             value += self._product(head, p) * self.a[last][q - p]
-        value = value.rem(self.g)
+        value = self.algebra.reduce(value)
         if q == len(known) and q < len(self.a[0]) - 1:
             known.append(value)
         return value
@@ -243,30 +332,58 @@ class _Recursion:
         pivots: list[int] = []
         r = 0
         for col in range(n):
-            pivot = next((i for i in range(r, n) if not rows[i][col].is_zero), None)
-            if pivot is None:
+            candidates = [i for i in range(r, n) if not rows[i][col].is_zero]
+            if not candidates:
                 continue
+            pivot = min(candidates, key=lambda i: self.algebra.size(rows[i][col]))
             rows[r], rows[pivot] = rows[pivot], rows[r]
             inv = self.inverse(rows[r][col])
-            rows[r] = [(e * inv).rem(self.g) for e in rows[r]]
+            reduce = self.algebra.reduce
+            rows[r] = [reduce(e * inv) for e in rows[r]]
             for i in range(n):
                 if i != r and not rows[i][col].is_zero:
                     factor = rows[i][col]
                     rows[i] = [
-                        (a - factor * b).rem(self.g) for a, b in zip(rows[i], rows[r], strict=True)
+                        reduce(a - factor * b) for a, b in zip(rows[i], rows[r], strict=True)
                     ]
             pivots.append(col)
             r += 1
         conditions = [rows[i][n] for i in range(r, n)]
         free_columns = [c for c in range(n) if c not in pivots]
         symbols = symbols[: len(free_columns)]
-        values = dict(zip(free_columns, (self.ring.from_expr(s) for s in symbols), strict=True))
+        values = dict(zip(free_columns, (self.algebra.variable(s) for s in symbols), strict=True))
         for i, col in enumerate(pivots):
             value = rows[i][n]
             for c, symbol in values.items():
                 value -= rows[i][c] * symbol
-            values[col] = value.rem(self.g)
+            values[col] = self.algebra.reduce(value)
         return [values[c] for c in range(n)], conditions, symbols
+
+
+def _independent(columns, m: int, algebra: IntegralAlgebra):
+    """Rows and columns of the first non-zero m x m minor of the matrix with these
+    ``columns`` (exact zero tests in F), with the minor; None if every one is zero."""
+    n = len(columns)
+    for chosen in itertools.combinations(range(n), m):
+        for rows in itertools.combinations(range(n), m):
+            det = _determinant([[columns[j][i] for j in chosen] for i in rows], algebra)
+            if not det.is_zero:
+                return rows, chosen, det
+    return None
+
+
+def _determinant(matrix, algebra: IntegralAlgebra) -> Element:
+    """A small determinant over F by expansion along the first row."""
+    if len(matrix) == 1:
+        return matrix[0][0]
+    total = algebra.zero
+    for j, entry in enumerate(matrix[0]):
+        if entry.is_zero:
+            continue
+        minor = [row[:j] + row[j + 1 :] for row in matrix[1:]]
+        term = entry * _determinant(minor, algebra)
+        total = total + term if j % 2 == 0 else total - term
+    return algebra.reduce(total)
 
 
 def _fresh(name: str, taken: set[str]) -> sp.Symbol:

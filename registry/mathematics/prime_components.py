@@ -32,7 +32,6 @@ import itertools
 import random
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
-from typing import Any
 
 import flint
 import sympy as sp
@@ -42,7 +41,7 @@ from sympy.polys.rings import PolyRing
 
 from .algebraic import Extension
 from .factoring import factor_list, factor_mpoly
-from .flint_polys import numerators, to_ring
+from .flint_polys import bareiss, numerators, to_ring
 from .groebner import groebner
 
 #: The most systems a decomposition visits before it gives up (each a Groebner basis).
@@ -461,7 +460,7 @@ class _Algebra:
             [d * u * int(i == j) - flat[i * self.size + j] for j in range(self.size)]
             for i in range(self.size)
         ]
-        solved = _bareiss(rows, self.size)  # never singular: monic in u up to d^size
+        solved = bareiss(rows, self.size)  # never singular: monic in u up to d^size
         if solved is None:
             return None
         _, factors = factor_mpoly(solved[1])  # its sign is not kept: no matter here
@@ -539,7 +538,7 @@ def _cyclic_fraction_free(times: list[list], columns: list[list], k, u: sp.Symbo
         [powers[j][i] for j in range(size)] + [powers[size][i]] + [t[i] for t, _ in targets]
         for i in range(size)
     ]
-    solved = _bareiss(rows, size)
+    solved = bareiss(rows, size)
     if solved is None:
         return None
     numerators_, det = solved
@@ -589,39 +588,6 @@ def _spans_somewhere(columns: list[list], nvars: int, tries: int = 2) -> bool:
         if matrix.rank() == size:
             return True
     return False
-
-
-def _bareiss(rows: list[list], size: int) -> tuple[list[list], Any] | None:
-    """The solutions of A y = b for the augmented rows [A | b_1 ... b_m] (A square, of
-    ``size``, entries in an integral domain with exact division): per right side, the
-    numerators of y over the common denominator det, by fraction-free elimination with
-    fraction-free back substitution; None when A is singular."""
-    previous = None
-    for col in range(size):
-        pivot = next((i for i in range(col, size) if not rows[i][col].is_zero()), None)
-        if pivot is None:
-            return None
-        rows[col], rows[pivot] = rows[pivot], rows[col]
-        top = rows[col]
-        for i in range(col + 1, size):
-            row = rows[i]
-            factor = row[col]
-            row[col] = top[col] * 0
-            for j in range(col + 1, len(row)):
-                value = top[col] * row[j] - factor * top[j]
-                row[j] = value if previous is None else value / previous
-        previous = top[col]
-    det = rows[size - 1][size - 1]
-    found = []
-    for b in range(size, len(rows[0])):
-        y = [None] * size
-        for i in reversed(range(size)):
-            value = det * rows[i][b]
-            for j in range(i + 1, size):
-                value -= rows[i][j] * y[j]
-            y[i] = value / rows[i][i]
-        found.append(y)
-    return found, det
 
 
 def _standard_monomials(basis: sp.GroebnerBasis, gens) -> list[tuple[int, ...]]:

@@ -1,12 +1,23 @@
 """Elements of Q(p) cross to FLINT's polynomials over Z and back unchanged: numerators
-over the lcm of the denominators, and the quotient rebuilt in sympy's field."""
+over the lcm of the denominators, and the quotient rebuilt in sympy's field; resultants
+and discriminants over Q(p) by FLINT agree with their definitions."""
 
 from __future__ import annotations
 
+import random
+
 import flint
 import sympy as sp
+from sympy.polys.subresultants_qq_zz import sylvester
 
-from registry.mathematics.flint_polys import integral, numerators, to_ring
+from registry.mathematics.flint_polys import (
+    discriminant,
+    integral,
+    numerators,
+    resultant,
+    resultant_in,
+    to_ring,
+)
 
 a, b = sp.symbols("a b")
 K = sp.QQ.frac_field(a, b)
@@ -29,3 +40,52 @@ def test_an_extra_variable_is_appended_and_left_at_degree_zero():
     ctx = flint.fmpz_mpoly_ctx.get(("p0", "p1", "u"), "lex")
     num, den = integral(ctx, K.convert(a**2 / 3).numer, K.convert(a**2 / 3).denom, extra=1)
     assert num.to_dict() == {(2, 0, 0): 1} and den.to_dict() == {(0, 0, 0): 3}
+
+
+def test_a_variable_placed_before_the_parameters():
+    ctx = flint.fmpz_mpoly_ctx.get(("v", "p0", "p1"), "lex")
+    num, den = integral(ctx, K.convert(a * b / 5).numer, K.convert(a * b / 5).denom, before=1)
+    assert num.to_dict() == {(0, 1, 1): 1} and den.to_dict() == {(0, 0, 0): 5}
+
+
+x, lam = sp.symbols("x lambda")
+
+
+def random_poly(rng: random.Random, degree: int) -> sp.Expr:
+    """A polynomial in x with rational functions of a, b as coefficients."""
+    return sum(
+        sp.Rational(rng.randint(-5, 5), rng.randint(1, 3))
+        * a ** rng.randint(0, 2)
+        * b ** rng.randint(0, 1)
+        / (1 + rng.randint(0, 1) * a)
+        * x**i
+        for i in range(degree + 1)
+    )
+
+
+def test_the_resultant_and_discriminant_are_sylvesters_over_q_of_parameters():
+    """Against the Sylvester determinant (sympy's own subresultant resultant has the
+    opposite sign for some degrees, e.g. Res(x, x^3 + 1) = 1 but sympy gives -1) and
+    sympy's discriminant, on random polynomials with denominators."""
+    rng = random.Random(7)
+    checked = 0
+    while checked < 6:
+        f = sp.Poly(random_poly(rng, rng.randint(1, 3)), x, domain=K)
+        g = sp.Poly(random_poly(rng, rng.randint(1, 3)), x, domain=K)
+        if f.degree() < 1 or g.degree() < 1:
+            continue
+        sylvester_det = sylvester(f.as_expr(), g.as_expr(), x).det()
+        assert sp.cancel(resultant(f, g) - sylvester_det) == 0
+        assert sp.cancel(discriminant(f) - sp.discriminant(f.as_expr(), x)) == 0
+        checked += 1
+    assert resultant(sp.Poly(x, x, domain=K), sp.Poly(x**3 + 1, x, domain=K)) == 1
+    # a mutated coefficient changes the value
+    f, g = sp.Poly(x**2 - a, x, domain=K), sp.Poly(x - b, x, domain=K)
+    assert resultant(f, g) == b**2 - a and discriminant(f) == 4 * a
+    assert resultant(f, sp.Poly(x - b - 1, x, domain=K)) != b**2 - a
+
+
+def test_a_resultant_of_expressions_keeps_an_extra_symbol_rational():
+    value = resultant_in(x**2 - a, x - lam / b, x)
+    assert sp.cancel(value - (lam**2 / b**2 - a)) == 0
+    assert resultant_in(x**2 - 2, x - 1, x) == -1  # over Q: sympy's own

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import sympy as sp
 
+from registry.mathematics import painleve
 from registry.mathematics.balances import balances
 from registry.mathematics.exponent_analysis import exponents
 from registry.mathematics.kovalevskaya import kovalevskaya_matrix
@@ -13,7 +14,7 @@ from registry.mathematics.painleve import laurent_series
 from registry.mathematics.weighted import split_field
 
 x, y, z, t = sp.symbols("x y z t")
-a, c, eps = sp.symbols("a c epsilon")
+a, b, c, eps = sp.symbols("a b c epsilon")
 
 
 def planted(coupling):
@@ -105,3 +106,54 @@ def test_the_printed_fitzhugh_nagumo_conditions_are_reproduced():
         assert ratio.is_number and ratio != 0
     assert not exponents([u, p], [p, -p + 2 * u**3 - 2 * u**2], [1, 2]).painleve_passes  # c=1, a=0
     assert exponents([u, p], [p, 2 * u**3 - 2 * (a + 1) * u**2 + 2 * a * u], [1, 2]).painleve_passes
+
+
+def algebraic_balances(coupling):
+    """x' = x^2 + a y^2, y' = 2 x y, z' = -2 x z + b y^2 + coupling x y: balances with
+    y^2 = 1/(4a), a field of degree 2 over Q(a, b, ...), exponents -1, 1, 2; the condition
+    at 2 is b f1^2 up to a unit (z' gets b y^2 from the free coefficient of order 1)."""
+    return [x, y, z], [x**2 + a * y**2, 2 * x * y, -2 * x * z + b * y**2 + coupling * x * y]
+
+
+def test_over_parameters_the_kernel_projection_agrees_with_elimination(monkeypatch):
+    """Balances of degree 2 over Q(a, b): the resonance steps by the projection onto the
+    kernel (no pivot inverted) and, forced, by elimination find the same free
+    coefficients and the same failing conditions; with b = 0 the test passes."""
+    projected = {e: exponents(*algebraic_balances(e), [1, 1, 1]) for e in (0, c)}
+    monkeypatch.setattr(painleve._Recursion, "_project", lambda self, r, rhs: None)
+    eliminated = {e: exponents(*algebraic_balances(e), [1, 1, 1]) for e in (0, c)}
+    for e in (0, c):
+        pairs = zip(projected[e].balances, eliminated[e].balances, strict=True)
+        seen = 0
+        for one, other in pairs:
+            assert one.exponents.values == other.exponents.values
+            steps = one.painleve.resonances, other.painleve.resonances
+            for s, t_ in zip(*steps, strict=True):
+                assert (s.order, len(s.free), s.missing) == (t_.order, len(t_.free), t_.missing)
+                assert len(s.conditions) == len(t_.conditions)
+                for p, q in zip(s.conditions, t_.conditions, strict=True):
+                    seen += 1  # neither vanishes where b is not 0 (there a pivot would)
+                    assert all(sp.cancel(v.subs(b, value)) != 0 for v in (p, q) for value in (1, 2))
+        assert seen == 2  # one condition at 2 on each of the two algebraic balances
+    with_b_zero = [x**2 + a * y**2, 2 * x * y, -2 * x * z + c * x * y]
+    assert exponents([x, y, z], with_b_zero, [1, 1, 1]).painleve_passes
+
+
+def test_the_projected_series_solves_the_equations_modulo_the_balances_field():
+    variables, field = algebraic_balances(0)
+    field = [f.subs(b, 0) for f in field]
+    split = split_field(variables, field, [1, 1, 1])
+    component = next(bl.component for bl in balances(split) if bl.component.degree == 2)
+    assert component.domain != sp.QQ and component.minimal.degree() == 2
+    series = laurent_series(split, component, kovalevskaya_matrix(split), {1: 1, 2: 1})
+    assert series.compatible and [len(s.free) for s in series.resonances] == [1, 1]
+    u = component.symbol
+    laurent = {
+        v: sp.Add(*(t ** (k - 1) * series.coefficients[k][i] for k in range(3)))
+        for i, v in enumerate(variables)
+    }
+    for v, f in zip(variables, field, strict=True):
+        residual = sp.expand((sp.diff(laurent[v], t) - f.xreplace(laurent)) * t**2)
+        for k in range(3):
+            low = sp.together(residual.coeff(t, k))
+            assert sp.rem(sp.numer(low), component.minimal.as_expr(), u) == 0
