@@ -557,15 +557,12 @@ class _Pivots(painleve._Recursion):
 
     def __init__(self, *args):
         super().__init__(*args)
-        self.pivots: list = []
         self.conditions: list[list] = []
 
-    def inverse(self, value):
-        self.pivots.append(self.algebra.exported(value))
-        return super().inverse(value)
-
-    def _assume(self, value):
-        self.pivots.append(self.algebra.exported(value))
+    @property
+    def pivots(self) -> list:
+        """Every value the series divided by or needed non-zero, in k[u]."""
+        return [self.algebra.exported(v) for v in self.divisors]
 
     def _order(self, k, rhs):
         solution, conditions, used = super()._order(k, rhs)

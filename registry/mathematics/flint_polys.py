@@ -61,7 +61,8 @@ def to_ring(ring: PolyRing, poly: flint.fmpz_mpoly):
 
 
 def resultant(f: sp.Poly, g: sp.Poly) -> sp.Expr:
-    """Res_x(f, g) of two polynomials in one variable x over Q or Q(p), by FLINT's
+    """Res_x(f, g) (Sylvester's determinant) of two polynomials in one variable x over Q
+    or Q(p), by FLINT's
     ``fmpz_mpoly`` on their numerators: with f = F/D and g = G/E (F, G over Z[p, x], D, E
     in Z[p]), Res(f, g) = Res(F, G) / (D^deg g E^deg f). sympy's subresultants over Q(p)
     swell in its fraction arithmetic (a degree-8 discriminant over Q(B, C, gamma3): over
@@ -74,14 +75,10 @@ def resultant(f: sp.Poly, g: sp.Poly) -> sp.Expr:
     """
     if f.gen != g.gen or f.domain != g.domain:
         raise ValueError("the resultant needs two polynomials in one variable over one domain")
-    field = f.domain.get_field() if f.domain.is_PolynomialRing else f.domain
-    if not field.is_FractionField:
-        return sp.resultant(f, g)  # over Q: univariate, already fast
-    names = (*(f"p{i}" for i in range(len(field.symbols))), "x")
-    ctx = flint.fmpz_mpoly_ctx.get(names, "lex")
+    field, ctx = _context(f)
     (big_f, d), (big_g, e) = (_over_z(ctx, field, p) for p in (f, g))
     value = big_f.resultant(big_g, "x")
-    return _quotient(value, d ** g.degree() * e ** f.degree(), field.symbols)
+    return _quotient(value, d ** g.degree() * e ** f.degree(), _symbols(field))
 
 
 def resultant_in(f: sp.Expr, g: sp.Expr, x: sp.Symbol) -> sp.Expr:
@@ -95,19 +92,37 @@ def resultant_in(f: sp.Expr, g: sp.Expr, x: sp.Symbol) -> sp.Expr:
 def discriminant(f: sp.Poly) -> sp.Expr:
     """The discriminant of a polynomial in one variable over Q or Q(p) (sympy's
     convention), by FLINT as ``resultant``: disc(F/D) = disc(F) / D^(2n - 2)."""
-    field = f.domain.get_field() if f.domain.is_PolynomialRing else f.domain
-    if not field.is_FractionField or f.degree() < 1:
+    if f.degree() < 1:
         return sp.discriminant(f)
-    names = (*(f"p{i}" for i in range(len(field.symbols))), "x")
-    ctx = flint.fmpz_mpoly_ctx.get(names, "lex")
+    field, ctx = _context(f)
     big_f, d = _over_z(ctx, field, f)
-    return _quotient(big_f.discriminant("x"), d ** (2 * f.degree() - 2), field.symbols)
+    return _quotient(big_f.discriminant("x"), d ** (2 * f.degree() - 2), _symbols(field))
+
+
+def _symbols(field) -> tuple:
+    return field.symbols if field.is_FractionField else ()
+
+
+def _context(f: sp.Poly):
+    """f's field (Q or Q(p)) and a FLINT context for Z[p, x]."""
+    field = f.domain.get_field() if f.domain.is_PolynomialRing else f.domain
+    if not (field.is_QQ or field.is_ZZ or field.is_FractionField):
+        raise ValueError(f"a polynomial over Q or Q(p) is needed, not over {field}")
+    symbols = field.symbols if field.is_FractionField else ()
+    names = (*(f"p{i}" for i in range(len(symbols))), "x")
+    return field, flint.fmpz_mpoly_ctx.get(names, "lex")
 
 
 def _over_z(ctx, field, f: sp.Poly) -> tuple[flint.fmpz_mpoly, flint.fmpz_mpoly]:
     """f over Q(p) as F/D: F over Z[p, x] (x the last variable of ``ctx``), D in Z[p]."""
-    coefficients = [field.convert(c, f.domain) for c in f.rep.to_list()]
-    nums, denominator = numerators(ctx, coefficients, extra=1)
+    if field.is_FractionField:
+        coefficients = [field.convert(c, f.domain) for c in f.rep.to_list()]
+        nums, denominator = numerators(ctx, coefficients, extra=1)
+    else:  # over Q: integers over the lcm of the denominators
+        values = [sp.Rational(f.domain.to_sympy(c)) for c in f.rep.to_list()]
+        common = int(sp.ilcm(*(v.q for v in values)))
+        one = ctx.from_dict({}) + 1
+        nums, denominator = [one * int(v * common) for v in values], one * common
     x = ctx.gens()[-1]
     n = len(nums) - 1
     total = ctx.from_dict({})

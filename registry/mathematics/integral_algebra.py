@@ -179,10 +179,9 @@ class IntegralAlgebra:
         numer = sum((y[i] * v**i for i in range(self.degree)), self.zero.numer)
         return self.reduce(Element(numer * x.denom, det))
 
-    def size(self, x: Element) -> tuple[int, int]:
-        """How costly x is to invert: its degree in v (0: an element of k), then its
-        numerator's number of terms."""
-        return (x.numer.degrees()[0], len(x.numer))
+    def in_ground(self, x: Element) -> bool:
+        """Whether x lies in k (free of u and of the symbols f): its inverse is cheap."""
+        return not any(x.numer.degrees()[: self._offset])
 
     def _in_v(self, numer: flint.fmpz_mpoly) -> list[flint.fmpz_mpoly]:
         """The coefficients of v^0, ..., v^(d-1) of a numerator free of f, over Z[p]."""

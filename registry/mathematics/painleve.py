@@ -18,7 +18,10 @@ following orders.
 
 Everything is exact: the coefficients lie in F[free], F = k[u]/(g) the field of the
 balance's component (``algebraic``), so one computation serves all its balances, and a
-condition is zero exactly when it is zero in F.
+condition is zero exactly when it is zero in F. F's arithmetic is done over Z[p] in FLINT
+(``integral_algebra``); K - k is inverted by Cayley-Hamilton where k is not a resonance,
+and over parameters a resonance step projects onto the kernel instead of dividing by
+pivots (``_Recursion._order``).
 """
 
 from __future__ import annotations
@@ -29,7 +32,6 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 
 import sympy as sp
-from sympy.polys.rings import PolyElement
 
 from . import algebraic
 from .integral_algebra import Element, IntegralAlgebra
@@ -83,14 +85,16 @@ class LaurentSeries:
     The coefficients are written as expressions when first asked for (the test itself
     needs only the resonances)."""
 
-    elements: tuple[tuple[PolyElement, ...], ...]
+    elements: tuple[tuple[Element, ...], ...]
     names: Mapping[sp.Symbol, sp.Symbol]
     resonances: tuple[Resonance, ...]
+    algebra: IntegralAlgebra
 
     @functools.cached_property
     def coefficients(self) -> tuple[tuple[sp.Expr, ...], ...]:
+        exported = self.algebra.exported
         return tuple(
-            tuple(sp.expand(a.as_expr()).xreplace(self.names) for a in order)
+            tuple(sp.expand(exported(a).as_expr()).xreplace(self.names) for a in order)
             for order in self.elements
         )
 
@@ -135,13 +139,17 @@ class _Recursion:
         self.terms = self._terms()
         self.memo: dict[tuple[int, ...], list[Element]] = {}
         self._used: dict[int, int] = {}  # free coefficients brought by each resonance
+        #: every value the series divided by or needs non-zero (pivots, minors)
+        self.divisors: list[Element] = []
 
     def element(self, expr: sp.Expr) -> Element:
         """A rational function of u (coefficients in k) as a reduced element of F."""
         return self.algebra.lift(self.ext.element(expr))
 
     def inverse(self, value: Element) -> Element:
-        """1/value in F, for an element without free coefficients."""
+        """1/value in F, for an element without free coefficients (kept in
+        ``divisors``)."""
+        self.divisors.append(value)
         return self.algebra.inverse(value)
 
     def _terms(self) -> list[list[tuple[Element, tuple[int, ...], int]]]:
@@ -177,8 +185,7 @@ class _Recursion:
                 )
                 steps.append(Resonance(k, self.resonances[k], tuple(free), failing))
         names = self._names()
-        exported = self.algebra.exported
-        elements = tuple(tuple(exported(self.a[i][k]) for i in range(n)) for k in range(last + 1))
+        elements = tuple(tuple(self.a[i][k] for i in range(n)) for k in range(last + 1))
         steps = [
             Resonance(
                 s.order,
@@ -188,7 +195,7 @@ class _Recursion:
             )
             for s in steps
         ]
-        return LaurentSeries(elements, names, tuple(steps))
+        return LaurentSeries(elements, names, tuple(steps), self.algebra)
 
     def _order(self, k: int, rhs: list[Element]):
         """(K - k) a_k = rhs. Where K - k is invertible a_k is read off Cayley-Hamilton
@@ -198,13 +205,17 @@ class _Recursion:
         the projection onto the kernel (``_project``) where K - r is diagonalizable."""
         if k not in self.resonances:
             return self._invert(k, rhs), [], []
-        algebra = self.algebra
-        if algebra.parameters and algebra.degree > 1:
+        n = len(rhs)
+        system = [[self.matrix[i][j] - (k if i == j else 0) for j in range(n)] for i in range(n)]
+        if self.algebra.parameters and self.algebra.degree > 1:
+            mark = len(self.divisors)
+            try:  # elimination while its pivots lie in k (the printed form of before)
+                return self._solve(system, rhs, self.free[k], costly=False)
+            except _CostlyPivot:
+                del self.divisors[mark:]
             found = self._project(k, rhs)
             if found is not None:
                 return found
-        n = len(rhs)
-        system = [[self.matrix[i][j] - (k if i == j else 0) for j in range(n)] for i in range(n)]
         return self._solve(system, rhs, self.free[k])
 
     def _shifted(self, k: int) -> list[Element]:
@@ -257,15 +268,16 @@ class _Recursion:
         d = self._shifted(r)
         if any(not c.is_zero for c in d[:m]) or d[m].is_zero:
             return None
-        unit = [[algebra.one if i == j else algebra.zero for i in range(n)] for j in range(n)]
-        columns = [self._horner(r, d[m:], e) for e in unit]  # Q's columns
-        if any(not algebra.reduce(v).is_zero for c in columns for v in self._times(r, c)):
-            return None
-        minor = _independent(columns, m, algebra)
+        column = functools.partial(self._column, r, d[m:])
+        minor = _independent(column, n, m, algebra)
         if minor is None:  # pragma: no cover - Q has rank m
             return None
-        rows, chosen, det = minor
-        self._assume(det)
+        rows, chosen, det, columns = minor
+        # Q's image is spanned by the chosen columns: K - r kills it exactly when it is
+        # diagonalizable on its kernel
+        if any(not algebra.reduce(v).is_zero for j in chosen for v in self._times(r, columns[j])):
+            return None
+        self.divisors.append(det)
         image = self._horner(r, d[m:], rhs)  # Q rhs
         scale = -self.inverse(d[m])
         solution = [algebra.reduce(scale * v) for v in self._horner(r, d[m + 1 :], rhs)]
@@ -277,8 +289,11 @@ class _Recursion:
             ]
         return solution, [image[i] for i in rows], symbols
 
-    def _assume(self, value: Element) -> None:
-        """A value the step needs to be non-zero (a minor), besides the divisors."""
+    def _column(self, r: int, q: list[Element], j: int) -> list[Element]:
+        """The j-th column of q(K - r)."""
+        n = len(self.matrix)
+        unit = [self.algebra.one if i == j else self.algebra.zero for i in range(n)]
+        return self._horner(r, q, unit)
 
     @functools.cached_property
     def _charpoly(self) -> list[Element]:
@@ -322,21 +337,23 @@ class _Recursion:
             known.append(value)
         return value
 
-    def _solve(self, system, rhs, symbols):
+    def _solve(self, system, rhs, symbols, costly: bool = True):
         """Solve system a = rhs over F (the system's entries lie in F, the right side in
         F[free]) by Gauss-Jordan elimination: the solution (``symbols`` for the columns
         without a pivot), the left-over rows (the compatibility conditions), the symbols
-        used."""
+        used. ``costly=False``: raise ``_CostlyPivot`` rather than invert a pivot that is
+        not in k."""
         n = len(system)
         rows = [list(row) + [rhs[i]] for i, row in enumerate(system)]
         pivots: list[int] = []
         r = 0
         for col in range(n):
-            candidates = [i for i in range(r, n) if not rows[i][col].is_zero]
-            if not candidates:
+            pivot = next((i for i in range(r, n) if not rows[i][col].is_zero), None)
+            if pivot is None:
                 continue
-            pivot = min(candidates, key=lambda i: self.algebra.size(rows[i][col]))
             rows[r], rows[pivot] = rows[pivot], rows[r]
+            if not costly and not self.algebra.in_ground(rows[r][col]):
+                raise _CostlyPivot
             inv = self.inverse(rows[r][col])
             reduce = self.algebra.reduce
             rows[r] = [reduce(e * inv) for e in rows[r]]
@@ -360,15 +377,25 @@ class _Recursion:
         return [values[c] for c in range(n)], conditions, symbols
 
 
-def _independent(columns, m: int, algebra: IntegralAlgebra):
-    """Rows and columns of the first non-zero m x m minor of the matrix with these
-    ``columns`` (exact zero tests in F), with the minor; None if every one is zero."""
-    n = len(columns)
+class _CostlyPivot(Exception):
+    """Elimination met a pivot outside k (``_Recursion._solve`` with ``costly=False``)."""
+
+
+def _independent(column, n: int, m: int, algebra: IntegralAlgebra):
+    """The first non-zero m x m minor of an n x n matrix over F of rank m whose columns
+    ``column(j)`` gives (computed only as needed; exact zero tests in F): its rows, its
+    columns, its value and the columns computed; None if every one is zero."""
+    columns: dict[int, list[Element]] = {}
     for chosen in itertools.combinations(range(n), m):
+        for j in chosen:
+            if j not in columns:
+                columns[j] = column(j)
+        if any(all(v.is_zero for v in columns[j]) for j in chosen):
+            continue
         for rows in itertools.combinations(range(n), m):
             det = _determinant([[columns[j][i] for j in chosen] for i in rows], algebra)
             if not det.is_zero:
-                return rows, chosen, det
+                return rows, chosen, det, columns
     return None
 
 

@@ -88,4 +88,5 @@ def test_the_resultant_and_discriminant_are_sylvesters_over_q_of_parameters():
 def test_a_resultant_of_expressions_keeps_an_extra_symbol_rational():
     value = resultant_in(x**2 - a, x - lam / b, x)
     assert sp.cancel(value - (lam**2 / b**2 - a)) == 0
-    assert resultant_in(x**2 - 2, x - 1, x) == -1  # over Q: sympy's own
+    assert resultant_in(x**2 - 2, x - 1, x) == -1
+    assert resultant_in(x, x**3 + 1, x) == 1  # sympy's resultant gives -1

@@ -119,7 +119,17 @@ def test_over_parameters_the_kernel_projection_agrees_with_elimination(monkeypat
     """Balances of degree 2 over Q(a, b): the resonance steps by the projection onto the
     kernel (no pivot inverted) and, forced, by elimination find the same free
     coefficients and the same failing conditions; with b = 0 the test passes."""
+    calls = []
+    project = painleve._Recursion._project
+
+    def counted(self, r, rhs):
+        found = project(self, r, rhs)
+        calls.append(found is not None)
+        return found
+
+    monkeypatch.setattr(painleve._Recursion, "_project", counted)
     projected = {e: exponents(*algebraic_balances(e), [1, 1, 1]) for e in (0, c)}
+    assert calls and all(calls)  # elimination met a pivot outside k: the projection ran
     monkeypatch.setattr(painleve._Recursion, "_project", lambda self, r, rhs: None)
     eliminated = {e: exponents(*algebraic_balances(e), [1, 1, 1]) for e in (0, c)}
     for e in (0, c):
@@ -157,3 +167,31 @@ def test_the_projected_series_solves_the_equations_modulo_the_balances_field():
         for k in range(3):
             low = sp.together(residual.coeff(t, k))
             assert sp.rem(sp.numer(low), component.minimal.as_expr(), u) == 0
+
+
+def test_the_projection_declines_a_jordan_block_and_elimination_counts_it():
+    """x' = x^2 + a w^2, w' = 2 x w (w^2 = 1/(4a)), y' = -2 x y + coupling z, z' = 0
+    (weights 1, 1, 1, 2): exponent 2 twice (y and z); with the coupling K - 2 is a Jordan
+    block there, so the kernel projection does not apply and one coefficient is missing."""
+    w_, zz = sp.symbols("w zz")
+    variables = [x, w_, y, zz]
+
+    def recursion(coupling):
+        field = [x**2 + a * w_**2, 2 * x * w_, -2 * x * y + coupling * zz, sp.Integer(0)]
+        split = split_field(variables, field, [1, 1, 1, 2])
+        (component,) = [bl.component for bl in balances(split) if bl.component.degree == 2][:1]
+        matrix = kovalevskaya_matrix(split)
+        return painleve._Recursion(split, component, matrix, {1: 1, 2: 2})
+
+    jordan = recursion(c)
+    assert jordan._project(2, [jordan.algebra.zero] * 4) is None
+    plain = recursion(0)
+    solution, conditions, free = plain._project(2, [plain.algebra.zero] * 4)
+    assert len(free) == 2 and all(v.is_zero for v in conditions)
+    assert free == plain.free[2][:2] and len(solution) == 4
+    field = [x**2 + a * w_**2, 2 * x * w_, -2 * x * y + c * zz, sp.Integer(0)]
+    result = exponents(variables, field, [1, 1, 1, 2])
+    algebraic = [bl for bl in result.balances if bl.balance.component.degree == 2]
+    assert algebraic and all(
+        step.missing == 1 for bl in algebraic for step in bl.painleve.resonances if step.order == 2
+    )
