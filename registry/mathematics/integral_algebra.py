@@ -197,7 +197,7 @@ class IntegralAlgebra:
         terms."""
         ring = self._export_ring
         powers = [self._one]
-        terms: dict[tuple[int, ...], object] = {}
+        terms: dict[tuple[int, ...], flint.fmpz_mpoly] = {}
         for monomial, c in x.numer.to_dict().items():
             i = monomial[0]
             while len(powers) <= i:

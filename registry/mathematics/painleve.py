@@ -200,9 +200,10 @@ class _Recursion:
     def _order(self, k: int, rhs: list[Element]):
         """(K - k) a_k = rhs. Where K - k is invertible a_k is read off Cayley-Hamilton
         (``_invert``: no division in F but by det(K - k)). At a resonance, by elimination
-        (``_solve``: the conditions, the free coefficients), except over a field of
-        degree > 1 over Q(p), where a pivot's inverse is as large as its norm: there by
-        the projection onto the kernel (``_project``) where K - r is diagonalizable."""
+        (``_solve``: the conditions, the free coefficients); over a field of degree > 1
+        over Q(p), once it meets a pivot outside k (whose inverse is as large as its
+        norm), by the projection onto the kernel (``_project``) instead, where K - r is
+        diagonalizable on it."""
         if k not in self.resonances:
             return self._invert(k, rhs), [], []
         n = len(rhs)
