@@ -78,14 +78,17 @@ def sympy_charpoly(component, matrix) -> list:
 
 
 def series(split, component, matrix, resonances, project: bool):
-    """The series to the last resonance, with or without the kernel projection."""
-    original = painleve._Recursion._project
-    if not project:
+    """The series to the last resonance, with the kernel projection (in a field of any
+    degree > 1) or without it."""
+    original, degree = painleve._Recursion._project, painleve.PROJECT_ABOVE_DEGREE
+    if project:
+        painleve.PROJECT_ABOVE_DEGREE = 1
+    else:
         painleve._Recursion._project = lambda self, r, rhs: None
     try:
         return painleve.laurent_series(split, component, matrix, resonances)
     finally:
-        painleve._Recursion._project = original
+        painleve._Recursion._project, painleve.PROJECT_ABOVE_DEGREE = original, degree
 
 
 def row(name: str, ours, theirs, same) -> None:

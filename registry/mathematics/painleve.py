@@ -39,6 +39,13 @@ from .kovalevskaya import berkowitz
 from .prime_components import Component
 from .weighted import WeightedField
 
+#: Over Q(p), a resonance step projects onto the kernel (``_Recursion._project``) only in
+#: a field of larger degree than this: below, a pivot's inverse stays small, and the
+#: projection's minor adds exceptional hypersurfaces of its own to a stratification (on
+#: the distinct-moments heavy top one without a rational parametrisation, which left
+#: the list incomplete; elimination's pivots there add none).
+PROJECT_ABOVE_DEGREE = 4
+
 
 @dataclass(frozen=True)
 class Resonance:
@@ -200,15 +207,15 @@ class _Recursion:
     def _order(self, k: int, rhs: list[Element]):
         """(K - k) a_k = rhs. Where K - k is invertible a_k is read off Cayley-Hamilton
         (``_invert``: no division in F but by det(K - k)). At a resonance, by elimination
-        (``_solve``: the conditions, the free coefficients); over a field of degree > 1
-        over Q(p), once it meets a pivot outside k (whose inverse is as large as its
-        norm), by the projection onto the kernel (``_project``) instead, where K - r is
-        diagonalizable on it."""
+        (``_solve``: the conditions, the free coefficients); over a field of degree above
+        ``PROJECT_ABOVE_DEGREE`` over Q(p), once it meets a pivot outside k (whose inverse
+        is as large as its norm), by the projection onto the kernel (``_project``)
+        instead, where K - r is diagonalizable on it."""
         if k not in self.resonances:
             return self._invert(k, rhs), [], []
         n = len(rhs)
         system = [[self.matrix[i][j] - (k if i == j else 0) for j in range(n)] for i in range(n)]
-        if self.algebra.parameters and self.algebra.degree > 1:
+        if self.algebra.parameters and self.algebra.degree > PROJECT_ABOVE_DEGREE:
             mark = len(self.divisors)
             try:  # elimination while its pivots lie in k (the printed form of before)
                 return self._solve(system, rhs, self.free[k], costly=False)
