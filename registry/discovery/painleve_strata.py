@@ -9,8 +9,9 @@ Laurent series (``painleve``) is computed once over Q(p), in k[u]/(g). Outside a
 *exceptional* hypersurface E, everything in that computation specialises at p0: the
 denominators of the balance's coordinates and of g's coefficients, the discriminant of
 g (conjugate balances meet), the norm of a coordinate (the balance runs into the
-origin) and the norms of every pivot of the series' eliminations (where one vanishes
-the rank of K - k can drop) are not zero there. So at p0 outside E:
+origin) and the norms of every pivot of the series' eliminations and of the minor of
+a kernel projection (where one vanishes the rank of K - k can drop) are not zero
+there. So at p0 outside E:
 
 * a resonance that lacks a free coefficient lacks it at p0 too (the rank of K - r is
   the generic one), and the test fails;
@@ -551,9 +552,10 @@ class _Walk:
 
 
 class _Pivots(painleve._Recursion):
-    """The ARS recursion, keeping every pivot it divides by, and the compatibility
-    conditions of each order as elements of k[u, f] (``conditions[k - 1]``: their
-    coefficients are read in k, without expanding expressions)."""
+    """The ARS recursion, exporting every value it divides by or needs non-zero
+    (``pivots``: pivots, minors), and the compatibility conditions of each order as
+    elements of k[u, f] (``conditions[k - 1]``: their coefficients are read in k,
+    without expanding expressions)."""
 
     def __init__(self, *args):
         super().__init__(*args)
