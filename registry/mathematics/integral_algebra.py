@@ -125,11 +125,6 @@ class IntegralAlgebra:
             total = total + Element(num * v**i, den * self.lead**i)
         return self.reduce(total)
 
-    def constant(self, c) -> Element:
-        """An element of k."""
-        num, den = self._coefficient(c)
-        return self.reduce(Element(num, den))
-
     def variable(self, symbol: sp.Symbol) -> Element:
         """One of the adjoined symbols f."""
         return Element(self.ctx.gens()[1 + self.symbols.index(symbol)], self._one)
@@ -204,9 +199,8 @@ class IntegralAlgebra:
                 powers.append(powers[-1] * self.lead)
             head = tuple(int(e) for e in monomial[: self._offset])
             tail = tuple(int(e) for e in monomial[self._offset :])
-            key = head
             piece = self.ctx.from_dict({(0,) * self._offset + tail: int(c)})
-            terms[key] = terms.get(key, self.zero.numer) + piece * powers[i]
+            terms[head] = terms.get(head, self.zero.numer) + piece * powers[i]
         return ring.from_dict({m: self._to_field(num, x.denom) for m, num in terms.items()})
 
     def poly(self, x: Element) -> sp.Poly:

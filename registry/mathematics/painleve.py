@@ -132,7 +132,6 @@ class _Recursion:
         n = len(split.variables)
         taken = {str(s) for s in (*split.variables, *split.parameters, *component.free)}
         self.free = {r: [_fresh(f"f{r}_{j}", taken) for j in range(n)] for r in resonances}
-        self.u = component.symbol
         symbols = [s for r in resonances for s in self.free[r]]
         # the arithmetic of F[free], over Z[p] (integral_algebra); results leave it in
         # sympy's k[u, free]
