@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import functools
 import re
+import sqlite3
 import time
 import zlib
 from collections.abc import Callable
@@ -117,7 +118,7 @@ def configure_sqlite(engine: Engine, file_db: bool) -> None:
             cursor.execute("PRAGMA foreign_keys=ON")
             cursor.execute(f"PRAGMA busy_timeout={int(lock_timeout() * 1000)}")
             if file_db:
-                cursor.execute("PRAGMA journal_mode=WAL")
+                _switch_to_wal(cursor)
         finally:
             cursor.close()
 
@@ -125,6 +126,24 @@ def configure_sqlite(engine: Engine, file_db: bool) -> None:
     def _on_begin(conn: Connection) -> None:
         write = conn.get_execution_options().get(WRITE_OPTION, False)
         conn.exec_driver_sql("BEGIN IMMEDIATE" if write else "BEGIN")
+
+
+def _switch_to_wal(cursor: Any) -> None:
+    """Put the file in WAL mode (readers then never wait for the writer). The switch
+    needs the file to itself for a moment, and SQLite refuses it at once, without its
+    busy timeout, while another process switches the same new file: retried here, for
+    up to ``lock_timeout()``, before the lock is reported."""
+    deadline = time.monotonic() + lock_timeout()
+    delay = 0.01
+    while True:
+        try:
+            cursor.execute("PRAGMA journal_mode=WAL")
+            return
+        except sqlite3.OperationalError as err:
+            if "locked" not in str(err).lower() or time.monotonic() > deadline:
+                raise
+        time.sleep(delay)
+        delay = min(2 * delay, 0.25)
 
 
 def postgresql_connect_args(url: URL) -> dict[str, Any]:

@@ -9,6 +9,9 @@ the privileges the registry needs, each against the tests' real server.
 
 from __future__ import annotations
 
+import sqlite3
+import threading
+
 import pytest
 from click.testing import CliRunner
 from sqlalchemy import text
@@ -57,6 +60,49 @@ def test_the_wait_for_a_lock_comes_from_the_environment_where_set(tmp_path, monk
             f"$REGISTRY_LOCK_TIMEOUT must be a positive number of seconds, not {bad!r} "
             "(unset it for the built-in default)"
         )
+
+
+def test_the_switch_to_wal_waits_for_another_process_that_holds_the_new_file(
+    tmp_path, monkeypatch
+):
+    """SQLite refuses the switch to WAL at once, without its busy timeout, while another
+    process switches the same new file (two ``registry add`` on a new database): the
+    switch is retried until the lock timeout. Here a second connection holds the file
+    exclusively for a moment and SQLite's own wait is off, so only the retry waits."""
+    monkeypatch.setenv(settings.LOCK_TIMEOUT_ENV, "5")
+    path = tmp_path / "new.sqlite"
+    holder = sqlite3.connect(path, isolation_level=None, check_same_thread=False)
+    holder.execute("BEGIN EXCLUSIVE")
+    timer = threading.Timer(0.3, holder.execute, ("COMMIT",))
+    timer.start()
+    switcher = sqlite3.connect(path, isolation_level=None)
+    switcher.execute("PRAGMA busy_timeout=0")
+    try:
+        engine._switch_to_wal(switcher.cursor())
+        assert switcher.execute("PRAGMA journal_mode").fetchone() == ("wal",)
+    finally:
+        timer.join()
+        switcher.close()
+        holder.close()
+
+
+def test_a_switch_to_wal_still_refused_after_the_lock_timeout_is_reported(
+    tmp_path, monkeypatch
+):
+    monkeypatch.setenv(settings.LOCK_TIMEOUT_ENV, "0.2")
+    path = tmp_path / "held.sqlite"
+    holder = sqlite3.connect(path, isolation_level=None)
+    holder.execute("BEGIN EXCLUSIVE")
+    switcher = sqlite3.connect(path, isolation_level=None)
+    switcher.execute("PRAGMA busy_timeout=0")
+    try:
+        with pytest.raises(sqlite3.OperationalError, match="locked"):
+            engine._switch_to_wal(switcher.cursor())
+        holder.close()
+        assert switcher.execute("PRAGMA journal_mode").fetchone() == ("delete",)
+    finally:
+        switcher.close()
+        holder.close()
 
 
 def test_directory_path_is_a_storage_error(tmp_path):
