@@ -62,9 +62,7 @@ def test_the_wait_for_a_lock_comes_from_the_environment_where_set(tmp_path, monk
         )
 
 
-def test_the_switch_to_wal_waits_for_another_process_that_holds_the_new_file(
-    tmp_path, monkeypatch
-):
+def test_the_switch_to_wal_waits_for_another_process_that_holds_the_new_file(tmp_path, monkeypatch):
     """SQLite refuses the switch to WAL at once, without its busy timeout, while another
     process switches the same new file (two ``registry add`` on a new database): the
     switch is retried until the lock timeout. Here a second connection holds the file
@@ -86,9 +84,7 @@ def test_the_switch_to_wal_waits_for_another_process_that_holds_the_new_file(
         holder.close()
 
 
-def test_a_switch_to_wal_still_refused_after_the_lock_timeout_is_reported(
-    tmp_path, monkeypatch
-):
+def test_a_switch_to_wal_still_refused_after_the_lock_timeout_is_reported(tmp_path, monkeypatch):
     monkeypatch.setenv(settings.LOCK_TIMEOUT_ENV, "0.2")
     path = tmp_path / "held.sqlite"
     holder = sqlite3.connect(path, isolation_level=None)
