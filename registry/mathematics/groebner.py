@@ -21,7 +21,8 @@ from collections.abc import Callable, Sequence
 
 import flint
 import sympy as sp
-from sympy.polys.polyerrors import PolificationFailed
+from sympy.polys.polyerrors import PolificationFailed, PolynomialError
+from sympy.polys.polyoptions import Options, build_options
 from sympy.polys.polytools import parallel_poly_from_expr
 
 from .flint_polys import numerators, to_ring
@@ -50,14 +51,58 @@ def groebner(
     if order not in ORDERS or not exact:
         return sp.groebner(equations, *gens, order=order, domain=domain)
     try:
-        polys, options = parallel_poly_from_expr(equations, *gens, domain=domain, order=order)
+        polys, options = _polys(equations, gens, domain, order)
     except PolificationFailed:
         return sp.groebner(equations, *gens, order=order, domain=domain)
-    count = len(domain.symbols) if domain.is_FractionField else 0
-    ctx = flint.fmpz_mpoly_ctx.get(tuple(f"p{i}" for i in range(count)) or ("p",), "lex")
-    key = ORDERS[order]
+    ctx, key = _context(domain), ORDERS[order]
     basis = _Buchberger(key).run([_integral(p, domain, ctx) for p in polys if not p.is_zero])
-    basis.sort(key=lambda g: key(max(g, key=key)), reverse=True)  # as sympy lists it
+    return _result(basis, key, domain, options)
+
+
+def elimination(
+    equations: Sequence[sp.Expr],
+    eliminated: Sequence[sp.Symbol],
+    gens: Sequence[sp.Symbol],
+    domain: sp.polys.domains.Domain,
+) -> sp.GroebnerBasis:
+    """The reduced grevlex Gröbner basis of the elimination ideal (equations) ∩ k[gens],
+    k = ``domain`` (Q or Q(p)): the elements free of ``eliminated`` in the reduced basis
+    for the block order that compares the ``eliminated`` variables first (grevlex
+    within each block; Cox, Little and O'Shea, *Ideals, Varieties, and Algorithms*,
+    ch. 3 §1), which is far smaller to reach than a lex basis: 11 s against more than
+    400 s for a saturation in the heavy top's balances over Q(p, q, x0, y0, z0)."""
+    polys, _ = _polys(equations, [*eliminated, *gens], domain, "grevlex")
+    ctx = _context(domain)
+    e, grevlex = len(eliminated), ORDERS["grevlex"]
+    basis = _Buchberger(lambda m: (grevlex(m[:e]), grevlex(m[e:]))).run(
+        [_integral(q, domain, ctx) for q in polys if not q.is_zero]
+    )
+    kept = [{m[e:]: c for m, c in g.items()} for g in basis if not any(any(m[:e]) for m in g)]
+    options = build_options(list(gens), {"domain": domain, "order": "grevlex"})
+    return _result(kept, grevlex, domain, options)
+
+
+def _polys(equations, gens, domain, order: str) -> tuple[list[sp.Poly], Options]:
+    """The equations as polynomials in ``gens`` over ``domain``, with their options.
+    Equations already written as sums of terms in the gens (a basis's ``exprs`` fed
+    back, as a decomposition does) are read without sympy's expand, which would
+    multiply out every coefficient in Q(p) (minutes over five parameters); others
+    are expanded first."""
+    try:
+        return parallel_poly_from_expr(equations, *gens, domain=domain, order=order, expand=False)
+    except PolynomialError:  # a product or power of sums in the gens: expand it
+        return parallel_poly_from_expr(equations, *gens, domain=domain, order=order)
+
+
+def _context(domain) -> flint.fmpz_mpoly_ctx:
+    """FLINT's ring Z[p] for the coefficients of k = Q(p) (one unused variable for Q)."""
+    count = len(domain.symbols) if domain.is_FractionField else 0
+    return flint.fmpz_mpoly_ctx.get(tuple(f"p{i}" for i in range(count)) or ("p",), "lex")
+
+
+def _result(basis: list[_Poly], key, domain, options) -> sp.GroebnerBasis:
+    """A reduced basis over Z[p] as sympy's: made monic, listed as sympy lists it."""
+    basis = sorted(basis, key=lambda g: key(max(g, key=key)), reverse=True)
     return sp.GroebnerBasis._new(
         [sp.Poly._from_dict(_monic(g, key, domain), options) for g in basis], options
     )

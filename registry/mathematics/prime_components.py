@@ -42,7 +42,7 @@ from sympy.polys.rings import PolyRing
 from .algebraic import Extension
 from .factoring import factor_list, factor_mpoly
 from .flint_polys import bareiss, numerators, to_ring
-from .groebner import groebner
+from .groebner import elimination, groebner
 
 #: The most systems a decomposition visits before it gives up (each a Groebner basis).
 MAX_BRANCHES = 400
@@ -593,7 +593,7 @@ def _spans_somewhere(columns: list[list], nvars: int, tries: int = 2) -> bool:
 def _standard_monomials(basis: sp.GroebnerBasis, gens) -> list[tuple[int, ...]]:
     """The exponents of the monomials no leading monomial divides (finitely many for a
     zero-dimensional ideal): a basis of k[x]/I."""
-    leading = [sp.Poly(e, *gens).monoms(order=basis.order)[0] for e in basis.exprs]
+    leading = [sp.Poly(f, *gens).monoms(order=basis.order)[0] for f in basis.polys]
     found: set[tuple[int, ...]] = set()
     frontier = [(0,) * len(gens)]
     while frontier:
@@ -635,11 +635,9 @@ def _independent_set(basis: list[sp.Expr], variables: Sequence[sp.Symbol]) -> tu
 
 
 def _saturate(ideal, h: sp.Expr, variables, k) -> tuple[sp.Expr, ...]:
-    """Generators of I : h^oo, by eliminating y from I + (1 - y h)."""
+    """The reduced basis of I : h^oo, by eliminating y from I + (1 - y h)."""
     y = sp.Dummy("y")
-    basis = groebner([*ideal, 1 - y * h], [y, *variables], k, "lex")
-    kept = [e for e in basis.exprs if not e.has(y)]
-    return tuple(groebner(kept, variables, k).exprs)
+    return tuple(elimination([*ideal, 1 - y * h], [y], variables, k).exprs)
 
 
 def same_components(ours: Sequence[Component], theirs: Sequence[Component]) -> bool:

@@ -11,7 +11,7 @@ import sympy as sp
 
 from registry.mathematics import mechanics as mech
 from registry.mathematics.balances import balance_equations
-from registry.mathematics.groebner import groebner
+from registry.mathematics.groebner import elimination, groebner
 from registry.mathematics.weighted import split_field
 
 x, y, z, a, b = sp.symbols("x y z a b")
@@ -43,6 +43,34 @@ def test_random_systems_give_sympy_s_reduced_basis(order, seed):
         theirs = sp.groebner(system, *gens, order=order, domain=domain)
         assert ours.exprs == theirs.exprs, system
         assert ours.is_zero_dimensional == theirs.is_zero_dimensional
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_an_elimination_ideal_is_sympy_s_from_a_lex_basis(seed):
+    """(I) ∩ k[rest] from the block order equals the lex basis's elements free of the
+    eliminated variable, as a reduced grevlex basis (its elements' leading terms are
+    grevlex ones: sympy's basis of those elements again)."""
+    rng = random.Random(100 + seed)
+    for gens, parameters, domain in (([x, y, z], [], sp.QQ), ([x, y, z], [a, b], Q_AB)):
+        system = random_system(rng, gens, parameters, count=3)
+        ours = elimination(system, gens[:1], gens[1:], domain)
+        lex = sp.groebner(system, *gens, order="lex", domain=domain)
+        kept = [e for e in lex.exprs if not e.has(gens[0])]
+        theirs = sp.groebner(kept, *gens[1:], order="grevlex", domain=domain) if kept else []
+        assert ours.exprs == list(theirs), system
+        assert ours.gens == tuple(gens[1:])
+
+
+def test_a_saturation_by_elimination_drops_the_component_on_the_hyperplane():
+    """I : x^oo as (I + (1 - t x)) ∩ k[x, y]: of the points (0, b) and (a, 1) of
+    I = (x (x - a), (x - a)(y - b) + x (y - 1)) only the one off x = 0 is left; by
+    x - a, only the other."""
+    t = sp.Symbol("t")
+    ideal = [x * (x - a), (x - a) * (y - b) + x * (y - 1)]
+    saturated = elimination([*ideal, 1 - t * x], [t], [x, y], Q_AB)
+    assert saturated.exprs == [x - a, y - 1]
+    mutated = elimination([*ideal, 1 - t * (x - a)], [t], [x, y], Q_AB)
+    assert mutated.exprs == [x, y - b]
 
 
 def test_the_unit_ideal_and_a_point():
