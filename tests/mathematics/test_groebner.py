@@ -71,6 +71,9 @@ def test_a_saturation_by_elimination_drops_the_component_on_the_hyperplane():
     assert saturated.exprs == [x - a, y - 1]
     mutated = elimination([*ideal, 1 - t * (x - a)], [t], [x, y], Q_AB)
     assert mutated.exprs == [x, y - b]
+    root = sp.QQ.algebraic_field(sp.sqrt(2))  # another domain: sympy's lex basis, filtered
+    over = elimination([x**2 - 2, x * (y - 1), 1 - t * x], [t], [x, y], root)
+    assert over.exprs == [x**2 - 2, y - 1]
 
 
 def test_the_unit_ideal_and_a_point():
