@@ -47,8 +47,7 @@ def groebner(
     ``groebner(equations, *gens, order=order, domain=domain)``, computed fraction-free
     (module doc). Anything else (another domain or order, a denominator in the gens) is
     left to sympy."""
-    exact = domain.is_QQ or (domain.is_FractionField and domain.domain.is_QQ)
-    if order not in ORDERS or not exact:
+    if order not in ORDERS or not _ours(domain):
         return sp.groebner(equations, *gens, order=order, domain=domain)
     try:
         polys, options = _polys(equations, gens, domain, order)
@@ -72,7 +71,7 @@ def elimination(
     ch. 3 §1), which is far smaller to reach than a lex basis: 11 s against more than
     400 s for a saturation in the heavy top's balances over Q(p, q, x0, y0, z0). Over
     another domain, sympy's lex basis is filtered instead."""
-    if not (domain.is_QQ or (domain.is_FractionField and domain.domain.is_QQ)):
+    if not _ours(domain):
         lex = sp.groebner(equations, *eliminated, *gens, order="lex", domain=domain)
         kept = [e for e in lex.exprs if not e.has(*eliminated)]
         return sp.groebner(kept, *gens, order="grevlex", domain=domain)
@@ -85,6 +84,11 @@ def elimination(
     kept = [{m[e:]: c for m, c in g.items()} for g in basis if not any(any(m[:e]) for m in g)]
     options = build_options(list(gens), {"domain": domain, "order": "grevlex"})
     return _result(kept, grevlex, domain, options)
+
+
+def _ours(domain) -> bool:
+    """Whether the bases over ``domain`` are computed here: Q and Q(p) over Q."""
+    return domain.is_QQ or (domain.is_FractionField and domain.domain.is_QQ)
 
 
 def _polys(equations, gens, domain, order: str) -> tuple[list[sp.Poly], Options]:
