@@ -21,8 +21,8 @@ from collections.abc import Callable, Sequence
 
 import flint
 import sympy as sp
-from sympy.polys.polyerrors import PolificationFailed, PolynomialError
-from sympy.polys.polyoptions import Options, build_options
+from sympy.polys.polyerrors import PolificationFailed
+from sympy.polys.polyoptions import build_options
 from sympy.polys.polytools import parallel_poly_from_expr
 
 from .flint_polys import numerators, to_ring
@@ -50,7 +50,7 @@ def groebner(
     if order not in ORDERS or not _ours(domain):
         return sp.groebner(equations, *gens, order=order, domain=domain)
     try:
-        polys, options = _polys(equations, gens, domain, order)
+        polys, options = parallel_poly_from_expr(equations, *gens, domain=domain, order=order)
     except PolificationFailed:
         return sp.groebner(equations, *gens, order=order, domain=domain)
     ctx, key = _context(domain), ORDERS[order]
@@ -75,7 +75,7 @@ def elimination(
         lex = sp.groebner(equations, *eliminated, *gens, order="lex", domain=domain)
         kept = [e for e in lex.exprs if not e.has(*eliminated)]
         return sp.groebner(kept, *gens, order="grevlex", domain=domain)
-    polys, _ = _polys(equations, [*eliminated, *gens], domain, "grevlex")
+    polys, _ = parallel_poly_from_expr(equations, *eliminated, *gens, domain=domain)
     ctx = _context(domain)
     e, grevlex = len(eliminated), ORDERS["grevlex"]
     basis = _Buchberger(lambda m: (grevlex(m[:e]), grevlex(m[e:]))).run(
@@ -89,18 +89,6 @@ def elimination(
 def _ours(domain) -> bool:
     """Whether the bases over ``domain`` are computed here: Q and Q(p) over Q."""
     return domain.is_QQ or (domain.is_FractionField and domain.domain.is_QQ)
-
-
-def _polys(equations, gens, domain, order: str) -> tuple[list[sp.Poly], Options]:
-    """The equations as polynomials in ``gens`` over ``domain``, with their options.
-    Equations already written as sums of terms in the gens (a basis's ``exprs`` fed
-    back, as a decomposition does) are read without sympy's expand, which would
-    multiply out every coefficient in Q(p) (minutes over five parameters); others
-    are expanded first."""
-    try:
-        return parallel_poly_from_expr(equations, *gens, domain=domain, order=order, expand=False)
-    except PolynomialError:  # a product or power of sums in the gens: expand it
-        return parallel_poly_from_expr(equations, *gens, domain=domain, order=order)
 
 
 def _context(domain) -> flint.fmpz_mpoly_ctx:
