@@ -28,6 +28,7 @@ from sympy.polys.rings import PolyElement, PolyRing
 
 from ..errors import DiscoveryError
 from ..mathematics import mechanics as mech
+from ..mathematics.factoring import factor
 from .ring import NotInRingError, SystemRing
 from .symmetry import Decomposition, decompose
 
@@ -316,7 +317,7 @@ class PolynomialSystem:
         params = [self._plain[p] for p in self.params]
         plain = {v: k for k, v in self._plain.items()}
         for g in polys:  # a parameter factor common to an equation's terms is divided out
-            content = sp.factor(sp.Poly(g, *state).content()) if g != 0 else sp.Integer(1)
+            content = factor(sp.Poly(g, *state).content()) if g != 0 else sp.Integer(1)
             if content.free_symbols:
                 c = content.xreplace(plain)
                 if c not in self.contents:
@@ -337,7 +338,7 @@ class PolynomialSystem:
         if not lead.free_symbols:
             return sp.expand(numer / lead)
         plain = {v: k for k, v in self._plain.items()}
-        c = sp.factor(lead.xreplace(plain))
+        c = factor(lead.xreplace(plain))
         iota = next((i for i, d in self.divisors.items() if d == c), None)
         if iota is None:
             iota = sp.Symbol(f"ring_iota{len(self.divisors) + 1}")

@@ -40,6 +40,7 @@ from dataclasses import dataclass, field
 
 import sympy as sp
 
+from ..mathematics.factoring import coefficient_and_factors
 from ..mathematics.prime_components import Component, DecompositionLimit, components
 from .splitting import AlgebraicSet
 
@@ -211,7 +212,7 @@ def _parametrised(
     for e in out.values():
         misses.extend(
             g
-            for g, _ in sp.factor_list(sp.denom(sp.together(e)))[1]
+            for g, _ in coefficient_and_factors(sp.denom(sp.together(e)))[1]
             if g.free_symbols & (names | set(values)) and NEW not in g.free_symbols
         )
     return out, list(dict.fromkeys(misses))
@@ -245,7 +246,7 @@ def _quadratic(
     k0 the square-free part of k), and the factors where real points
     are missed (a, Q's factors, L's coefficient of s); None where f is not of this kind.
     Only an irreducible f is parametrised (a factor of f is another component)."""
-    _, parts = sp.factor_list(f)
+    _, parts = coefficient_and_factors(f)
     if len(parts) != 1 or parts[0][1] != 1:
         return None
     names = set(variables)
@@ -254,7 +255,7 @@ def _quadratic(
         if sp.degree(f, y) != 2:
             continue
         a, b, c = (sp.expand(f.coeff(y, k)) for k in (2, 1, 0))
-        k, factors = sp.factor_list(sp.expand(b**2 - 4 * a * c))
+        k, factors = coefficient_and_factors(sp.expand(b**2 - 4 * a * c))
         odd = sp.expand(sp.Mul(*(g for g, e in factors if e % 2)))
         if odd.is_number:
             continue
@@ -324,7 +325,7 @@ def _square_root(e: sp.Expr) -> sp.Expr | None:
     e = sp.expand(e)
     if e == 0:
         return None
-    c, factors = sp.factor_list(e)
+    c, factors = coefficient_and_factors(e)
     root = sp.sqrt(c)
     if not root.is_Rational or any(m % 2 for _, m in factors):
         return None

@@ -21,6 +21,7 @@ from sympy.polys.rings import PolyElement
 
 from ..errors import DiscoveryError
 from ..language.printer import to_text
+from ..mathematics.factoring import factor
 from ..model import IntegralStatus
 from .ansatz import PolynomialSystem
 from .integrals import vector
@@ -124,13 +125,13 @@ def _relation(
     used: set[int] = set()
     for exps, c in zip(products, coeffs, strict=True):
         if c:
-            factor = fld.domain.to_sympy(c) / scale
+            coefficient = fld.domain.to_sympy(c) / scale
             for g, e in zip(gens, exps, strict=True):
-                factor *= g.scale**e
+                coefficient *= g.scale**e
             monomial = sp.Mul(*(g.symbol**e for g, e in zip(gens, exps, strict=True)))
-            factor = sp.factor(factor)
-            terms.append(factor * monomial)
-            parts.append((factor, exps))
+            coefficient = factor(coefficient)
+            terms.append(coefficient * monomial)
+            parts.append((coefficient, exps))
             used.update(i for i, e in enumerate(exps) if e)
     kept = sorted(used)
     parts = [(k, tuple(exps[i] for i in kept)) for k, exps in parts]
@@ -184,7 +185,7 @@ def checked(
         if not any(any(m[: system.n]) for m in rest.monoms()):
             if rest:
                 constant = system.expression(rest) / system.expression(common)
-                combination += sp.factor(constant)
+                combination += factor(constant)
             return combination
     values = {g.symbol: g.expr for g in gens if g.symbol != g.expr}
     difference = sp.expand(expr - combination.xreplace(values))
@@ -196,7 +197,7 @@ def checked(
     if rest:
         _, denominator = sp.fraction(sp.together(sp.expand(system.expanded(difference))))
         constant = system.expression(rest) / denominator
-        combination += sp.factor(constant)
+        combination += factor(constant)
     return combination
 
 

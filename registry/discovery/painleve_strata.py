@@ -79,7 +79,7 @@ from ..mathematics import painleve
 from ..mathematics.balances import balance_equations
 from ..mathematics.exponent_analysis import ExponentAnalysis, analyse
 from ..mathematics.exponent_families import Mapper, doubled, exponent_family, kind_of
-from ..mathematics.factoring import factor_list
+from ..mathematics.factoring import coefficient_and_factors, factor_list
 from ..mathematics.flint_gcd import flint_gcd
 from ..mathematics.flint_polys import discriminant, resultant_in
 from ..mathematics.integrality import integer_candidates
@@ -893,8 +893,7 @@ def _never_positive(e: sp.Expr) -> list[tuple[sp.Expr, ...]] | None:
     found."""
     if e.is_number:
         return [] if e < 0 else None
-    symbols = sorted(e.free_symbols, key=str)
-    constant, factors = sp.factor_list(e, *symbols)
+    constant, factors = coefficient_and_factors(e)
     sign = sp.sign(constant)
     systems: list[tuple[sp.Expr, ...]] = []
     for f, m in factors:

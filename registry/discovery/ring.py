@@ -247,7 +247,7 @@ class SystemRing:
                 raise NotInRingError(_outside(node))
         rooted = self._roots_replaced(e, learn=False)
         numerator, denominator = sp.fraction(sp.together(rooted))
-        coefficient, factors = sp.factor_list(denominator)
+        coefficient, factors = factoring.coefficient_and_factors(denominator)
         out = numerator / coefficient
         for factor, k in factors:
             if not (factor.free_symbols & self._state_set):
@@ -301,8 +301,4 @@ def _factors(denominator: sp.Expr) -> list[tuple[sp.Expr, int]]:
     """The irreducible factors of a denominator over Q, by FLINT where it is a polynomial
     in its symbols (sympy's own multivariate factoring can take minutes on a field's
     denominator with five parameters), else by sympy."""
-    gens = sorted(denominator.free_symbols, key=str)
-    try:
-        return factoring.factor_list(denominator, gens)
-    except (sp.PolynomialError, sp.CoercionFailed):
-        return sp.factor_list(denominator)[1]
+    return factoring.coefficient_and_factors(denominator)[1]

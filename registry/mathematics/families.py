@@ -207,7 +207,7 @@ def separate_s(mu: Vector3, domain: Domain) -> tuple[sp.Expr, Vector3] | None:
         for s0 in (0, 1, 2):
             nu = tuple(sp.cancel(m / a).subs(s, s0) for m in mu)
             if not any(n.has(sp.zoo, sp.nan, sp.oo) for n in nu):
-                return sp.factor(a), nu
+                return factor(a), nu
     return None
 
 
@@ -216,7 +216,7 @@ def _candidate_factors(w: Vector3):
     for c in w:
         if c == 0:
             continue
-        factored = sp.factor(c)
+        factored = factor(c)
         factors = sp.Mul.make_args(factored)
         s_only = [f for f in factors if f.has(s) and not (f.free_symbols & state)]
         if s_only:

@@ -26,7 +26,7 @@ import sympy as sp
 
 from ..model import Verdict
 from .domain import Domain
-from .factoring import factor
+from .factoring import factor, factor_list
 from .normal_form import CONSTANTS, Atoms, numerator_poly, relation_polys
 from .zero_test import decide
 
@@ -179,13 +179,10 @@ class _Factors:
 
     def __call__(self, expr: sp.Expr) -> tuple[sp.Expr, ...]:
         if expr not in self.known:
-            _, found = sp.Poly(expr, *self.gens, domain=sp.QQ).factor_list()
             parts = []
-            for poly, _ in found:
-                poly = -poly if poly.LC() < 0 else poly
-                factor = poly.as_expr()
-                if not factor.is_nonzero and factor not in parts:
-                    parts.append(factor)
+            for f, _ in factor_list(expr, self.gens):
+                if not f.is_nonzero and f not in parts:
+                    parts.append(f)
             self.known[expr] = tuple(parts)
         return self.known[expr]
 
@@ -227,7 +224,7 @@ def _solve_by_factors(equations: Sequence[sp.Expr], gens: Sequence[sp.Symbol]) -
     the system whole)."""
     systems: list[tuple[sp.Expr, ...]] = [()]
     for eq in equations:
-        factors = [f for f in sp.Mul.make_args(sp.factor(eq)) if not f.is_number]
+        factors = [f for f in sp.Mul.make_args(factor(eq)) if not f.is_number]
         factors = [f.base if f.is_Pow and f.exp.is_positive else f for f in factors]
         factors = [f for f in factors if not f.is_nonzero] or [eq]
         systems = [(*s, f) for s in systems for f in factors]

@@ -8,7 +8,7 @@ import random
 import pytest
 import sympy as sp
 
-from registry.mathematics.factoring import factor
+from registry.mathematics.factoring import coefficient_and_factors, factor
 
 A, B, C = sp.symbols("A B C", positive=True)
 M1, M3, g1, g2, x, y = sp.symbols("M1 M3 gamma1 gamma2 x y")
@@ -43,6 +43,38 @@ def test_content_and_signs():
     assert str(factor(sp.Rational(2, 3) * x**2 - sp.Rational(2, 3))) == "2*(x - 1)*(x + 1)/3"
     assert factor(sp.Integer(0)) == 0
     assert factor(sp.Rational(5, 7)) == sp.Rational(5, 7)
+
+
+@pytest.mark.parametrize("names", [(x, y, A), (g1, g2, M3)], ids=str)
+def test_coefficient_and_factors_is_sympy_factor_list(names):
+    # sympy.factor_list's coefficient and factors (in an order of their own)
+    rng = random.Random(repr(names))
+    for _ in range(40):
+        expr = sp.expand(
+            -random_polynomial(rng, names) * random_polynomial(rng, names) ** 2 * (B - 2)
+        )
+        c, factors = coefficient_and_factors(expr)
+        c_sympy, factors_sympy = sp.factor_list(expr)
+        assert c == c_sympy, expr
+        assert sorted(factors, key=str) == sorted(factors_sympy, key=str), expr
+        assert sp.expand(c * sp.Mul(*(f**e for f, e in factors)) - expr) == 0
+
+
+def test_coefficient_and_factors_of_a_field_denominator():
+    # the denominator of Gaire's Chaplygin ball: sympy's factoring drew random points and
+    # took from 0.03 s to minutes on it, process by process
+    I1, I2, I3, R, m = sp.symbols("I1 I2 I3 R m", positive=True)
+    g3 = sp.Symbol("gamma3")
+    J1, J2, J3 = (moment + R**2 * m for moment in (I1, I2, I3))
+    inner = J1 * J2 * J3 - R**2 * m * (g1**2 * J2 * J3 + g2**2 * J1 * J3 + g3**2 * J1 * J2)
+    c, factors = coefficient_and_factors(J1 * J3 * inner)
+    assert c == -1  # sympy's sign: each factor's leading coefficient in its order is 1
+    assert sorted(factors, key=str) == sorted([(J1, 1), (J3, 1), (sp.expand(-inner), 1)], key=str)
+    assert coefficient_and_factors(sp.Integer(0)) == sp.factor_list(sp.Integer(0))
+    assert coefficient_and_factors(sp.Rational(-4, 3)) == (sp.Rational(-4, 3), [])
+    assert coefficient_and_factors(sp.sqrt(x) * (x**2 - 1)) == sp.factor_list(
+        sp.sqrt(x) * (x**2 - 1)
+    )
 
 
 def test_what_is_not_rational_over_q_goes_to_sympy():
