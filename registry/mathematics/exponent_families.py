@@ -607,7 +607,10 @@ def _root_kind(polys: Sequence[sp.Expr]) -> str | None:
         numer = sp.fraction(sp.together(f))[0]
         if not numer.has(LAMBDA):
             return None
-        for g, _ in sp.factor_list(numer, LAMBDA)[1]:
+        others = sorted(numer.free_symbols - {LAMBDA}, key=str)
+        for g, _ in factor_list(numer, [LAMBDA, *others]):
+            if not g.has(LAMBDA):
+                continue
             if sp.degree(g, LAMBDA) > 1:
                 return None
             a1, a0 = sp.Poly(g, LAMBDA).all_coeffs()
