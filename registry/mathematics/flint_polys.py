@@ -60,6 +60,32 @@ def to_ring(ring: PolyRing, poly: flint.fmpz_mpoly):
     )
 
 
+def fraction(field, numer: flint.fmpz_mpoly, denom: flint.fmpz_mpoly, back=None):
+    """numer/denom (FLINT polynomials over Z in the variables of ``field``'s ring, in
+    the same order, or brought to that ring by ``back``) as an element of sympy's
+    fraction field ``field``, in lowest terms by FLINT's gcd: the element ``field.new``
+    gives, without sympy's own gcd, which dominated the shape lemma over Q(p) on the
+    heavy top's balances.
+
+    >>> a, b = sp.symbols("a b")
+    >>> K = sp.QQ.frac_field(a, b)
+    >>> ctx = flint.fmpz_mpoly_ctx.get(("p0", "p1"), "lex")
+    >>> p0, p1 = ctx.gens()
+    >>> fraction(K.field, 2 * p0**2 - 2 * p1**2, -4 * p0 - 4 * p1)
+    (-a + b)/2
+    """
+    common = numer.gcd(denom)
+    if not common.is_one():
+        numer, denom = numer / common, denom / common
+    if back is None:
+        top, bottom = to_ring(field.ring, numer), to_ring(field.ring, denom)
+    else:
+        top, bottom = back(numer), back(denom)
+    if bottom.LC < 0:  # sympy's canonical sign: the denominator's leading coefficient
+        top, bottom = -top, -bottom
+    return field.raw_new(top, bottom)
+
+
 def resultant(f: sp.Poly, g: sp.Poly) -> sp.Expr:
     """Res_x(f, g) (Sylvester's determinant) of two polynomials in one variable x over Q
     or Q(p), by FLINT's

@@ -25,7 +25,7 @@ from sympy.polys.polyerrors import PolificationFailed
 from sympy.polys.polyoptions import build_options
 from sympy.polys.polytools import parallel_poly_from_expr
 
-from .flint_polys import numerators, to_ring
+from .flint_polys import fraction, numerators
 
 #: A polynomial in the variables: exponent tuple -> coefficient in Z[p].
 _Poly = dict[tuple[int, ...], flint.fmpz_mpoly]
@@ -131,8 +131,7 @@ def _monic(g: _Poly, key, domain) -> dict:
     field = domain.field
     found = {}
     for m, c in g.items():
-        d = c.gcd(lead)
-        found[m] = field.new(to_ring(field.ring, c / d), to_ring(field.ring, lead / d))
+        found[m] = fraction(field, c, lead)
     return found
 
 

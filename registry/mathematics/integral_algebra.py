@@ -22,7 +22,7 @@ import sympy as sp
 from sympy.polys.orderings import lex
 from sympy.polys.rings import PolyElement, PolyRing
 
-from .flint_polys import bareiss, integral
+from .flint_polys import bareiss, fraction, integral
 
 
 class Element:
@@ -228,4 +228,4 @@ class IntegralAlgebra:
                 }
             )
 
-        return self.field.field.new(back(numer), back(denom))
+        return fraction(self.field.field, numer, denom, back)

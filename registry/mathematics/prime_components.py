@@ -41,7 +41,7 @@ from sympy.polys.rings import PolyRing
 
 from .algebraic import Extension
 from .factoring import factor_list, factor_mpoly
-from .flint_polys import bareiss, numerators, to_ring
+from .flint_polys import bareiss, fraction, numerators
 from .groebner import elimination, groebner
 
 #: The most systems a decomposition visits before it gives up (each a Groebner basis).
@@ -544,7 +544,7 @@ def _cyclic_fraction_free(times: list[list], columns: list[list], k, u: sp.Symbo
     numerators_, det = solved
 
     def element(num, den):
-        return k.field.new(to_ring(ring, num), to_ring(ring, den))
+        return fraction(k.field, num, den)
 
     d_powers = [ctx.from_dict({(0,) * ring.ngens: 1})]
     for _ in range(size):

@@ -12,6 +12,7 @@ from sympy.polys.subresultants_qq_zz import sylvester
 
 from registry.mathematics.flint_polys import (
     discriminant,
+    fraction,
     integral,
     numerators,
     resultant,
@@ -34,6 +35,30 @@ def test_numerators_over_the_lcm_rebuild_every_element():
     assert back(common).as_expr() == 6 * a**2 * b
     for entry, numerator in zip(entries, flat, strict=True):
         assert K.field.new(back(numerator), back(common)) == entry
+
+
+def test_a_fraction_is_the_element_sympy_makes_in_lowest_terms():
+    # the same numerator and denominator as K.field.new (its canonical form), signs,
+    # integer contents and common factors included
+    rng = random.Random(7)
+    p0, p1 = CTX.gens()
+
+    def poly():
+        return sum(
+            (rng.randint(-3, 3) * p0 ** rng.randint(0, 2) * p1 ** rng.randint(0, 2)
+             for _ in range(3)),
+            CTX.from_dict({}),
+        )  # fmt: skip
+
+    for _ in range(200):
+        common, num, den = poly(), poly(), poly()
+        if common.is_zero() or den.is_zero():
+            continue
+        made = fraction(K.field, num * common * 6, -den * common * 4)
+        expected = K.field.new(back(num * common * 6), back(-den * common * 4))
+        assert (made.numer, made.denom) == (expected.numer, expected.denom)
+    zero = fraction(K.field, CTX.from_dict({}), -2 * p0)
+    assert (zero.numer, zero.denom) == (K.field.ring.zero, K.field.ring.one)
 
 
 def test_an_extra_variable_is_appended_and_left_at_degree_zero():
