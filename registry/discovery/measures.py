@@ -28,6 +28,7 @@ import sympy as sp
 from ..errors import DiscoveryError
 from ..language.printer import to_text
 from ..mathematics.case_mechanics import CaseMechanics
+from ..mathematics.factoring import factor_element
 from ..mathematics.normal_form import as_fraction
 from ..mathematics.zero_test import decide
 from ..model import Case, ClaimKind, Density, MeasureSearch, Verdict
@@ -118,17 +119,16 @@ def measure_search(case: Case) -> MeasureSearch:
 
 
 class _Rings:
-    """The two rings of the search: Q[state, parameters] (``big``), where products and
-    divisions are cheap, and Q(parameters)[state] (``small``), where factoring is (fewer
-    variables); ``coefficients`` is Q(parameters). A polynomial primitive in the state
-    over Q[parameters] divides another in one ring exactly when it does in the other
-    (Gauss's lemma), so Darboux polynomials are tested in ``big``."""
+    """The search's ring Q[state, parameters] (``big``), where products, divisions and
+    FLINT's factoring are cheap, and its coefficients over Q(parameters)
+    (``coefficients``). A polynomial primitive in the state over Q[parameters] divides
+    another, or is irreducible, in Q(parameters)[state] exactly when it is in ``big``
+    (Gauss's lemma), so Darboux polynomials are found and tested in ``big``."""
 
     def __init__(self, state, params):
         self.n = len(state)
         self.big = sp.polys.rings.PolyRing([*state, *params], sp.QQ, sp.grevlex)
         self.coefficients = sp.QQ.frac_field(*params) if params else sp.QQ
-        self.small = sp.polys.rings.PolyRing(state, self.coefficients, sp.grevlex)
         self.params = params
 
     def coefficient(self, terms: dict):
@@ -147,20 +147,9 @@ class _Rings:
         polynomials of ``big``, primitive (no factor of the parameters alone)."""
         if not any(p.degrees()[: self.n]):
             return []
-        small = self.small(self.by_state(p))
-        found = []
-        for f, _ in small.factor_list()[1]:
-            if not f.is_ground:
-                found.append(self.primitive(f))
-        return found
-
-    def primitive(self, f):
-        """A polynomial of ``small`` as a primitive polynomial of ``big``."""
-        numerator = sp.numer(sp.together(f.as_expr()))
-        poly = sp.Poly(numerator, *self.big.symbols[: self.n])
-        content = sp.gcd_list(poly.coeffs()) if len(poly.coeffs()) > 1 else poly.coeffs()[0]
-        big = self.big.from_expr(sp.expand(sp.cancel(numerator / content)))
-        return big.monic() if not self.params else _positive_leading(big)
+        # by Gauss's lemma, p's factors over Q that involve the state (FLINT's, in big)
+        found = [f for f, _ in factor_element(p) if any(f.degrees()[: self.n])]
+        return [f.monic() if not self.params else _positive_leading(f) for f in found]
 
 
 def _not_divisible(p, f, ring, rng: random.Random) -> bool:
@@ -202,7 +191,7 @@ def _cleared(field, rings: _Rings):
 
     def factors(f) -> list:
         if f not in irreducible:
-            irreducible[f] = [(_positive_leading(g), k) for g, k in f.factor_list()[1]]
+            irreducible[f] = [(_positive_leading(g), k) for g, k in factor_element(f)]
         return irreducible[f]
 
     parts = []

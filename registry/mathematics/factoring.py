@@ -10,6 +10,7 @@ cost of showing residuals and corrections; FLINT's is the same mathematics, much
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import Any
 
 import sympy as sp
 from sympy.core.mul import _keep_coeff
@@ -75,6 +76,34 @@ def coefficient_and_factors(expr: sp.Expr) -> tuple[sp.Expr, list[tuple[sp.Expr,
     except (PolynomialError, CoercionFailed):
         return sp.factor_list(expr)
     return content, sorted(factors, key=lambda fe: sp.default_sort_key(fe[0]))
+
+
+def factor_element(p) -> list[tuple[Any, int]]:
+    """The irreducible factors over Q of ``p``, an element of sympy's polynomial ring
+    over Q (``sympy.polys.rings``), each an element of that ring with its multiplicity,
+    by FLINT: primitive over Z (no content) and free of sign normalisation in the ring's
+    order. By Gauss's lemma the factors involving some of the gens are also the
+    irreducible factors over the rational functions of the others.
+
+    >>> from sympy.polys.rings import ring
+    >>> R, x, y = ring("x y", sp.QQ)
+    >>> sorted(factor_element(2 * x**2 * y - 2 * y), key=str)
+    [(x + 1, 1), (x - 1, 1), (y, 1)]
+    """
+    ring = p.ring
+    if flint is None:  # pragma: no cover - python-flint is a dependency
+        return list(p.factor_list()[1])
+    if p.is_ground:
+        return []
+    _, integral = p.clear_denoms()
+    ctx = flint.fmpz_mpoly_ctx.get(tuple(f"x{i}" for i in range(ring.ngens)), "lex")
+    _, factors = factor_mpoly(
+        ctx.from_dict({m: int(sp.QQ.numer(sp.QQ.convert(c))) for m, c in integral.items()})
+    )
+    return [
+        (ring.from_dict({tuple(int(e) for e in m): int(c) for m, c in f.to_dict().items()}), k)
+        for f, k in factors
+    ]
 
 
 def _factor_polynomial(expr: sp.Expr) -> tuple[sp.Rational, sp.Expr]:

@@ -8,7 +8,7 @@ import random
 import pytest
 import sympy as sp
 
-from registry.mathematics.factoring import coefficient_and_factors, factor
+from registry.mathematics.factoring import coefficient_and_factors, factor, factor_element
 
 A, B, C = sp.symbols("A B C", positive=True)
 M1, M3, g1, g2, x, y = sp.symbols("M1 M3 gamma1 gamma2 x y")
@@ -75,6 +75,38 @@ def test_coefficient_and_factors_of_a_field_denominator():
     assert coefficient_and_factors(sp.sqrt(x) * (x**2 - 1)) == sp.factor_list(
         sp.sqrt(x) * (x**2 - 1)
     )
+
+
+def test_factors_of_a_ring_element_are_sympys_up_to_sign():
+    # FLINT's factors of an element of Q[x, y, A] are sympy's factor_list's, each
+    # primitive over Z, with the same multiplicities
+    from sympy.polys.rings import ring
+
+    R, *gens = ring("x y A", sp.QQ)
+    rng = random.Random(11)
+    for _ in range(30):
+        parts = [
+            sum(
+                sp.Rational(rng.randint(-4, 4), rng.randint(1, 3))
+                * gens[0] ** rng.randint(0, 2)
+                * gens[1] ** rng.randint(0, 2)
+                * gens[2] ** rng.randint(0, 1)
+                for _ in range(3)
+            )
+            for _ in range(2)
+        ]
+        p = parts[0] * parts[1] ** 2
+        if p.is_ground:
+            continue
+        ours = factor_element(p)
+        theirs = p.factor_list()[1]
+
+        def signed(fs):
+            return sorted(((f if f.LC > 0 else -f).monic(), k) for f, k in fs)
+
+        assert signed(ours) == signed(theirs), p
+        assert all(f.clear_denoms()[0] == 1 for f, _ in ours)  # integer coefficients
+    assert factor_element(R(sp.Rational(3, 2))) == []
 
 
 def test_what_is_not_rational_over_q_goes_to_sympy():
