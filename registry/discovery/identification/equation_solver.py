@@ -30,6 +30,8 @@ from dataclasses import dataclass, field
 import sympy as sp
 from sympy.polys.rings import PolyElement, PolyRing
 
+from ...mathematics.factoring import factor_element
+
 #: Branches a solve may open before it gives up.
 MAX_BRANCHES = 60
 #: A system in at most this many unknowns is handed to sympy's ``solve``.
@@ -160,7 +162,7 @@ def _solve(equations: list[PolyElement], solution: dict, problem: Problem):
         solution[u] = (n, d)
         pending = {u: (n, d)}
     for e in sorted(equations, key=len):
-        _, factors = e.factor_list()
+        factors = factor_element(e) if e.ring.domain.is_QQ else e.factor_list()[1]
         kept = [f for f, _ in factors if not f.is_ground and not _unit(f, problem)]
         if len(kept) > 1 or (kept and kept[0].monic() != e.monic()):
             others = [g for g in equations if g is not e]
