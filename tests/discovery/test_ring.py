@@ -105,3 +105,20 @@ def test_a_level_set_dividing_by_a_parameter_is_split_into_both_cases():
     assert search.complete and search.generic.extra == 0
     (free_top,) = search.special
     assert free_top.when == ("a = 0",) and free_top.integrals == ("M3",)
+
+
+def test_a_search_never_draws_sympys_randomised_factoring(monkeypatch):
+    """Gaire's Chaplygin ball: sympy's multivariate factoring (Wang's method) draws
+    random evaluation points, and on this field's denominator it took 0.03 s in one
+    process and minutes in another, so a search's budget held in one run and not the
+    next. The ring and the ansatz factor by FLINT: sympy's is never reached."""
+    import sympy.polys.factortools as factortools
+
+    def refuse(*args, **kwargs):
+        raise AssertionError("sympy's randomised multivariate factoring was called")
+
+    monkeypatch.setattr(factortools, "dmp_zz_wang", refuse)
+    case = load_case(CASES / "nonholonomic" / "gaire-2025-chaplygin-ball-code.toml")
+    search = discover(case, search_options(case, degree=2))
+    assert search.decided
+    assert any("M1*gamma1 + M2*gamma2 + M3*gamma3" in i for i in search.generic.integrals)
