@@ -81,9 +81,10 @@ def coefficient_and_factors(expr: sp.Expr) -> tuple[sp.Expr, list[tuple[sp.Expr,
 def factor_element(p) -> list[tuple[Any, int]]:
     """The irreducible factors over Q of ``p``, an element of sympy's polynomial ring
     over Q (``sympy.polys.rings``), each an element of that ring with its multiplicity,
-    by FLINT: primitive over Z (no content) and free of sign normalisation in the ring's
-    order. By Gauss's lemma the factors involving some of the gens are also the
-    irreducible factors over the rational functions of the others.
+    by FLINT: primitive over Z (the content dropped), with FLINT's signs (positive
+    leading coefficient in lex order, not in the ring's). By Gauss's lemma the factors
+    that involve some of the gens are the irreducible factors over the rational
+    functions of the others.
 
     >>> from sympy.polys.rings import ring
     >>> R, x, y = ring("x y", sp.QQ)
