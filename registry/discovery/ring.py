@@ -151,7 +151,7 @@ class SystemRing:
                 raise NotInRingError(_outside(node))
         rooted = self._roots_replaced(expr)
         _, denominator = sp.fraction(sp.together(rooted))
-        for factor, _ in _factors(denominator):
+        for factor, _ in factoring.coefficient_and_factors(denominator)[1]:
             if factor.free_symbols & self._state_set and not self._rooted_factor(factor):
                 f = _primitive(factor, self.state)
                 if f not in self.inverses:
@@ -295,10 +295,3 @@ class SystemRing:
             else:
                 out.append(sp.expand(-(a.symbol**2) * along(a.base)))
         return [*out, *lifted]
-
-
-def _factors(denominator: sp.Expr) -> list[tuple[sp.Expr, int]]:
-    """The irreducible factors of a denominator over Q, by FLINT where it is a polynomial
-    in its symbols (sympy's own multivariate factoring can take minutes on a field's
-    denominator with five parameters), else by sympy."""
-    return factoring.coefficient_and_factors(denominator)[1]

@@ -97,13 +97,21 @@ def factor_element(p) -> list[tuple[Any, int]]:
     if p.is_ground:
         return []
     _, integral = p.clear_denoms()
-    ctx = flint.fmpz_mpoly_ctx.get(tuple(f"x{i}" for i in range(ring.ngens)), "lex")
-    _, factors = factor_mpoly(
-        ctx.from_dict({m: int(sp.QQ.numer(sp.QQ.convert(c))) for m, c in integral.items()})
-    )
-    return [
-        (ring.from_dict({tuple(int(e) for e in m): int(c) for m, c in f.to_dict().items()}), k)
-        for f, k in factors
+    terms = {m: int(sp.QQ.numer(sp.QQ.convert(c))) for m, c in integral.items()}
+    _, factors = _integer_factors(terms, ring.ngens)
+    return [(ring.from_dict(f), k) for f, k in factors]
+
+
+def _integer_factors(
+    terms: dict[tuple[int, ...], int], nvars: int
+) -> tuple[int, list[tuple[dict[tuple[int, ...], int], int]]]:
+    """FLINT's factorisation over Z of the polynomial {exponents: integer} in ``nvars``
+    variables: its content, and its factors (as {exponents: integer}) with their
+    multiplicities."""
+    ctx = flint.fmpz_mpoly_ctx.get(tuple(f"x{i}" for i in range(nvars)), "lex")
+    content, factors = factor_mpoly(ctx.from_dict({m: int(c) for m, c in terms.items()}))
+    return int(content), [
+        ({tuple(int(e) for e in m): int(c) for m, c in f.to_dict().items()}, k) for f, k in factors
     ]
 
 
@@ -124,13 +132,9 @@ def _factor_polynomial_list(expr: sp.Expr) -> tuple[sp.Rational, list[tuple[sp.E
         raise PolynomialError(f"not a polynomial over Q: {expr}")
     poly = sp.Poly(expr, *gens, domain=sp.QQ)
     scale, integral = poly.clear_denoms(convert=True)
-    ctx = flint.fmpz_mpoly_ctx.get(tuple(f"x{i}" for i in range(len(gens))), "lex")
-    content, factors = factor_mpoly(ctx.from_dict({m: int(c) for m, c in integral.terms()}))
-    parts = [
-        (sp.Poly.from_dict({m: int(c) for m, c in f.to_dict().items()}, *gens).as_expr(), e)
-        for f, e in factors
-    ]
-    return sp.Integer(int(content)) / scale, parts
+    content, factors = _integer_factors(dict(integral.terms()), len(gens))
+    parts = [(sp.Poly.from_dict(f, *gens).as_expr(), e) for f, e in factors]
+    return sp.Integer(content) / scale, parts
 
 
 def factor_list(expr: sp.Expr, gens: Sequence[sp.Symbol]) -> list[tuple[sp.Expr, int]]:
@@ -151,11 +155,7 @@ def factor_list(expr: sp.Expr, gens: Sequence[sp.Symbol]) -> list[tuple[sp.Expr,
         found = [(f.as_expr(), e) for f, e in poly.factor_list()[1]]
     else:
         _, integral = poly.clear_denoms(convert=True)
-        ctx = flint.fmpz_mpoly_ctx.get(tuple(f"x{i}" for i in range(len(gens))), "lex")
-        _, factors = factor_mpoly(ctx.from_dict({m: int(c) for m, c in integral.terms()}))
-        found = [
-            (sp.Poly.from_dict({m: int(c) for m, c in f.to_dict().items()}, *gens), e)
-            for f, e in factors
-        ]
+        _, factors = _integer_factors(dict(integral.terms()), len(gens))
+        found = [(sp.Poly.from_dict(f, *gens), e) for f, e in factors]
         found = [((-f if f.LC() < 0 else f).as_expr(), e) for f, e in found]
     return sorted(found, key=lambda fe: sp.default_sort_key(fe[0]))
