@@ -27,6 +27,7 @@ Prop. 3.7), so the branch I + (h) is decomposed too. Components contained in oth
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import itertools
 import random
@@ -73,6 +74,11 @@ class Component:
     minimal: sp.Poly
     coordinates: Mapping[sp.Symbol, sp.Expr]
     ideal: tuple[sp.Expr, ...]
+    #: the coordinates as polynomials in u over k(S) where the decomposition had them so
+    #: (``point`` then need not read the expressions back, which over Q(p) costs seconds)
+    polynomials: Mapping[sp.Symbol, sp.Poly] | None = dataclasses.field(
+        default=None, compare=False, repr=False
+    )
 
     @property
     def dimension(self) -> int:
@@ -102,8 +108,9 @@ class Component:
     def point(self) -> tuple[sp.Poly, ...]:
         """The generic point's coordinates other than the free ones, as polynomials in u
         over k(S)."""
+        known = self.polynomials or {}
         return tuple(
-            sp.Poly(self.coordinates[x], self.symbol, domain=self.domain)
+            known.get(x) or sp.Poly(self.coordinates[x], self.symbol, domain=self.domain)
             for x in self.variables
             if x not in self.free
         )
@@ -167,6 +174,7 @@ class _Shape:
     element: sp.Expr
     minimal: sp.Poly
     coordinates: dict[sp.Symbol, sp.Expr]
+    polynomials: dict[sp.Symbol, sp.Poly] | None = None  # the coordinates, where known so
 
 
 @dataclass(frozen=True)
@@ -245,11 +253,20 @@ class _Decomposition:
             found = []
             for f, _ in self._factors(eliminant.as_expr(), [u]):
                 minimal = sp.Poly(f, u, domain=self.k).monic()
-                coordinates = {x: h.rem(minimal).as_expr() for x, h in solved.items()}
+                polynomials = {x: h.rem(minimal) for x, h in solved.items()}
+                coordinates = {x: h.as_expr() for x, h in polynomials.items()}
                 ideal = (*basis.exprs, sp.fraction(sp.together(f.subs(u, element)))[0])
                 found.append(
                     Component(
-                        self.variables, self.parameters, (), u, element, minimal, coordinates, ideal
+                        self.variables,
+                        self.parameters,
+                        (),
+                        u,
+                        element,
+                        minimal,
+                        coordinates,
+                        ideal,
+                        polynomials,
                     )
                 )
             return found
@@ -322,6 +339,7 @@ class _Decomposition:
             shape.minimal,
             coordinates,
             ideal,
+            shape.polynomials,
         )
         return remainder, component
 
@@ -352,8 +370,7 @@ class _Decomposition:
                 cyclic = algebra.cyclic(element, u)
                 if cyclic is not None:
                     eliminant, solved = cyclic
-                    coordinates = {x: h.as_expr() for x, h in solved.items()}
-                    return self._shaped(eliminant.as_expr(), u, element, coordinates, field)
+                    return self._shaped(eliminant, u, element, solved, field)
         for element in self._forms(gens):
             if element in gens:
                 u, order = element, [x for x in gens if x != element] + [element]
@@ -374,15 +391,22 @@ class _Decomposition:
 
     def _shaped(self, eliminant, u, element, coordinates, field) -> _Shape | list[sp.Expr]:
         """The shape position x = h_x(u), g(u) = 0 where the eliminant g is irreducible,
-        else the numerators of its factors at u = ``element`` (the system splits on them)."""
-        factors = self._factors(eliminant, [u])
+        else the numerators of its factors at u = ``element`` (the system splits on them).
+        The eliminant and the coordinates come as expressions, or as polynomials in u over
+        ``field`` (kept so: reading them back from expressions costs seconds over Q(p))."""
+        polynomial = isinstance(eliminant, sp.Poly)
+        factors = self._factors(eliminant.as_expr() if polynomial else eliminant, [u])
         if len(factors) > 1 or factors[0][1] > 1:
             return [sp.fraction(sp.together(f.subs(u, element)))[0] for f, _ in factors]
-        minimal = sp.Poly(eliminant, u, domain=field).monic()
+        minimal = (eliminant if polynomial else sp.Poly(eliminant, u, domain=field)).monic()
+        polynomials = None
+        if polynomial:
+            polynomials = {x: h.rem(minimal) for x, h in coordinates.items()}
+            coordinates = {x: h.as_expr() for x, h in polynomials.items()}
         coordinates = dict(coordinates or {})
         if element in self.variables:  # u is that variable itself
             coordinates[element] = element
-        return _Shape(u, element, minimal, coordinates)
+        return _Shape(u, element, minimal, coordinates, polynomials)
 
     def _forms(self, gens: Sequence[sp.Symbol], *, pairs: bool = False):
         """The variables, last first, then (with ``pairs``, where a try costs one cheap

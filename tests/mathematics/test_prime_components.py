@@ -90,6 +90,20 @@ def test_over_parameters_a_finite_system_is_split_by_the_values_of_its_last_vari
     assert not quartet.vanishes(y - 1)
 
 
+def test_the_point_kept_as_polynomials_is_the_point_its_expressions_give():
+    # the decomposition keeps the coordinates in u as it solved them (reading large ones
+    # back from expressions cost most of an so(4) analysis): the same polynomials, for
+    # isolated points and for a family over Q(a, y)
+    systems = [[(y - 1) * (y**2 - a), x**2 - y - a], [x**2 - a * y, z - x - y]]
+    for equations, variables in zip(systems, ([x, y], [x, y, z]), strict=True):
+        for c in components(equations, variables, [a]):
+            assert c.polynomials is not None
+            bound = [v for v in variables if v not in c.free]
+            read = [sp.Poly(c.coordinates[v], c.symbol, domain=c.domain) for v in bound]
+            assert list(c.point) == read
+            assert all(c.vanishes(e) for e in equations)
+
+
 def test_a_split_by_values_keeps_every_point_when_one_value_is_shared():
     # y takes the value a at three points of different fields: no split by y's values
     # can separate them, and each is still found; with y = 1 two more points
