@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import signal
 import threading
+import time
 from collections.abc import Iterator, Mapping
 from contextlib import contextmanager
 from dataclasses import dataclass, replace
@@ -78,6 +79,10 @@ def time_limit(seconds: float | None, *, cpu: bool = False) -> Iterator[None]:
     extension's callback, where the exception arrives as a SystemError): what it then
     computed came after its time.
 
+    Blocks nest: an inner block ends no later than the enclosing one's time, and the
+    enclosing block's timer goes on after it (a stage with its own budget inside an
+    analysis with a budget of its own).
+
     Timers are per process and only the main thread receives the signal; elsewhere
     (a notebook's worker thread) the block runs without a limit.
     """
@@ -94,7 +99,10 @@ def time_limit(seconds: float | None, *, cpu: bool = False) -> Iterator[None]:
         raise BudgetExceeded
 
     previous = signal.signal(sig, interrupt)
-    signal.setitimer(timer, seconds)
+    outer = signal.getitimer(timer)[0]  # what an enclosing block has left (0: none)
+    clock = time.process_time if cpu else time.monotonic
+    begun = clock()
+    signal.setitimer(timer, min(seconds, outer) if outer else seconds)
     try:
         yield
         if fired:  # the BudgetExceeded was caught inside the block, and it went on
@@ -109,6 +117,8 @@ def time_limit(seconds: float | None, *, cpu: bool = False) -> Iterator[None]:
     finally:
         signal.setitimer(timer, 0)
         signal.signal(sig, previous)
+        if outer:  # the enclosing block's timer goes on: what it has left, or at once
+            signal.setitimer(timer, max(outer - (clock() - begun), 1e-6))
 
 
 def _budget_cause(err: BaseException) -> bool:

@@ -2,6 +2,7 @@
 that runs out of time is inconclusive within its budget."""
 
 import signal
+import time
 from dataclasses import replace
 
 import pytest
@@ -67,6 +68,41 @@ def test_time_limit_is_lifted_afterwards():
                 pass
     assert signal.getitimer(signal.ITIMER_REAL) == (0.0, 0.0)
     assert signal.getsignal(signal.SIGALRM) is handler
+
+
+def test_an_inner_block_ends_no_later_than_the_enclosing_one():
+    # an inner budget of 30 s inside an outer one of 0.3 s: the outer one's time counts
+    with cpu_bound(3), pytest.raises(BudgetExceeded):
+        with time_limit(0.3):
+            with time_limit(30):
+                assert signal.getitimer(signal.ITIMER_REAL)[0] <= 0.3
+                while True:
+                    pass
+    assert signal.getitimer(signal.ITIMER_REAL) == (0.0, 0.0)
+
+
+def test_the_enclosing_timer_goes_on_after_an_inner_block():
+    # an inner block that ends (at once, or caught running out of the outer time) leaves
+    # the outer one's timer running: before, its end switched the outer limit off
+    with cpu_bound(3), pytest.raises(BudgetExceeded):
+        with time_limit(0.3):
+            with time_limit(0.1):
+                pass
+            assert 0 < signal.getitimer(signal.ITIMER_REAL)[0] <= 0.3
+            while True:
+                pass
+    with cpu_bound(3), pytest.raises(BudgetExceeded):
+        with time_limit(0.3):
+            try:
+                with time_limit(30):
+                    while True:
+                        pass
+            except BudgetExceeded:  # a stage that records "not decided" and goes on
+                pass
+            end = time.monotonic() + 0.5
+            while time.monotonic() < end:  # interrupted, or the block ends so at its end
+                pass
+    assert signal.getitimer(signal.ITIMER_REAL) == (0.0, 0.0)
 
 
 def test_a_processor_time_limit_counts_this_process_and_is_lifted_afterwards():
