@@ -99,7 +99,7 @@ def time_limit(seconds: float | None, *, cpu: bool = False) -> Iterator[None]:
         raise BudgetExceeded
 
     previous = signal.signal(sig, interrupt)
-    outer = signal.getitimer(timer)[0]  # what an enclosing block has left (0: none)
+    outer, interval = signal.getitimer(timer)  # what an enclosing block has left (0: none)
     clock = time.process_time if cpu else time.monotonic
     begun = clock()
     signal.setitimer(timer, min(seconds, outer) if outer else seconds)
@@ -118,7 +118,7 @@ def time_limit(seconds: float | None, *, cpu: bool = False) -> Iterator[None]:
         signal.setitimer(timer, 0)
         signal.signal(sig, previous)
         if outer:  # the enclosing block's timer goes on: what it has left, or at once
-            signal.setitimer(timer, max(outer - (clock() - begun), 1e-6))
+            signal.setitimer(timer, max(outer - (clock() - begun), 1e-6), interval)
 
 
 def _budget_cause(err: BaseException) -> bool:

@@ -109,11 +109,13 @@ class Component:
         """The generic point's coordinates other than the free ones, as polynomials in u
         over k(S)."""
         known = self.polynomials or {}
-        return tuple(
-            known.get(x) or sp.Poly(self.coordinates[x], self.symbol, domain=self.domain)
-            for x in self.variables
-            if x not in self.free
-        )
+
+        def coordinate(x: sp.Symbol) -> sp.Poly:
+            if x in known:
+                return known[x]
+            return sp.Poly(self.coordinates[x], self.symbol, domain=self.domain)
+
+        return tuple(coordinate(x) for x in self.variables if x not in self.free)
 
     def evaluate(self, expr: sp.Expr) -> sp.Poly:
         """A polynomial in the variables (coefficients in k) at the generic point, as a
