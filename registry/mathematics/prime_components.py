@@ -255,8 +255,7 @@ class _Decomposition:
             found = []
             for f, _ in self._factors(eliminant.as_expr(), [u]):
                 minimal = sp.Poly(f, u, domain=self.k).monic()
-                polynomials = {x: h.rem(minimal) for x, h in solved.items()}
-                coordinates = {x: h.as_expr() for x, h in polynomials.items()}
+                polynomials, coordinates = _reduced(solved, minimal)
                 ideal = (*basis.exprs, sp.fraction(sp.together(f.subs(u, element)))[0])
                 found.append(
                     Component(
@@ -403,8 +402,7 @@ class _Decomposition:
         minimal = (eliminant if polynomial else sp.Poly(eliminant, u, domain=field)).monic()
         polynomials = None
         if polynomial:
-            polynomials = {x: h.rem(minimal) for x, h in coordinates.items()}
-            coordinates = {x: h.as_expr() for x, h in polynomials.items()}
+            polynomials, coordinates = _reduced(coordinates, minimal)
         coordinates = dict(coordinates or {})
         if element in self.variables:  # u is that variable itself
             coordinates[element] = element
@@ -420,6 +418,15 @@ class _Decomposition:
             yield from (a + b for a, b in itertools.combinations(ordered, 2))
         for _ in range(MAX_FORMS - len(gens)):
             yield sp.Add(*(self.rng.randint(-3, 3) * x for x in gens[:-1]), gens[-1])
+
+
+def _reduced(
+    solved: Mapping[sp.Symbol, sp.Poly], minimal: sp.Poly
+) -> tuple[dict[sp.Symbol, sp.Poly], dict[sp.Symbol, sp.Expr]]:
+    """The coordinates h_x(u) reduced modulo the minimal polynomial: as polynomials in u
+    (a component's ``polynomials``) and as expressions (its ``coordinates``)."""
+    polynomials = {x: h.rem(minimal) for x, h in solved.items()}
+    return polynomials, {x: h.as_expr() for x, h in polynomials.items()}
 
 
 class _Algebra:
