@@ -37,7 +37,7 @@ ORDERS: dict[str, Callable[[tuple[int, ...]], tuple]] = {
 
 
 def groebner(
-    equations: Sequence[sp.Expr],
+    equations: Sequence[sp.Expr | sp.Poly],
     gens: Sequence[sp.Symbol],
     domain: sp.polys.domains.Domain,
     order: str = "grevlex",
@@ -45,21 +45,23 @@ def groebner(
     """The reduced Gröbner basis of ``equations`` in k[gens] (k = ``domain``: Q or
     Q(p), p free of the gens) for ``order`` ("grevlex" or "lex"): sympy's
     ``groebner(equations, *gens, order=order, domain=domain)``, computed fraction-free
-    (module doc). Anything else (another domain or order, a denominator in the gens) is
-    left to sympy."""
+    (module doc). The equations are expressions, or polynomials over ``domain`` (a basis
+    found before: ``_terms``). Anything else (another domain or order, a denominator in
+    the gens) is left to sympy."""
     if order not in ORDERS or not _ours(domain):
-        return sp.groebner(equations, *gens, order=order, domain=domain)
+        return sp.groebner(_exprs(equations), *gens, order=order, domain=domain)
     try:
-        polys, options = parallel_poly_from_expr(equations, *gens, domain=domain, order=order)
+        terms = _terms(equations, gens, domain)
     except PolificationFailed:
-        return sp.groebner(equations, *gens, order=order, domain=domain)
+        return sp.groebner(_exprs(equations), *gens, order=order, domain=domain)
     ctx, key = _context(domain), ORDERS[order]
-    basis = _Buchberger(key).run([_integral(p, domain, ctx) for p in polys if not p.is_zero])
+    basis = _Buchberger(key).run([_integral(t, domain, ctx) for t in terms if t])
+    options = build_options(list(gens), {"domain": domain, "order": order})
     return _result(basis, key, domain, options)
 
 
 def elimination(
-    equations: Sequence[sp.Expr],
+    equations: Sequence[sp.Expr | sp.Poly],
     eliminated: Sequence[sp.Symbol],
     gens: Sequence[sp.Symbol],
     domain: sp.polys.domains.Domain,
@@ -72,14 +74,14 @@ def elimination(
     400 s for a saturation in the heavy top's balances over Q(p, q, x0, y0, z0). Over
     another domain, sympy's lex basis is filtered instead."""
     if not _ours(domain):
-        lex = sp.groebner(equations, *eliminated, *gens, order="lex", domain=domain)
+        lex = sp.groebner(_exprs(equations), *eliminated, *gens, order="lex", domain=domain)
         kept = [e for e in lex.exprs if not e.has(*eliminated)]
         return sp.groebner(kept, *gens, order="grevlex", domain=domain)
-    polys, _ = parallel_poly_from_expr(equations, *eliminated, *gens, domain=domain)
+    terms = _terms(equations, [*eliminated, *gens], domain)
     ctx = _context(domain)
     e, grevlex = len(eliminated), ORDERS["grevlex"]
     basis = _Buchberger(lambda m: (grevlex(m[:e]), grevlex(m[e:]))).run(
-        [_integral(q, domain, ctx) for q in polys if not q.is_zero]
+        [_integral(t, domain, ctx) for t in terms if t]
     )
     kept = [{m[e:]: c for m, c in g.items()} for g in basis if not any(any(m[:e]) for m in g)]
     options = build_options(list(gens), {"domain": domain, "order": "grevlex"})
@@ -105,9 +107,42 @@ def _result(basis: list[_Poly], key, domain, options) -> sp.GroebnerBasis:
     )
 
 
-def _integral(poly: sp.Poly, domain, ctx) -> _Poly:
-    """A polynomial over k (Q or Q(p)) times a common denominator: over Z[p] in ctx."""
-    terms = poly.rep.to_dict()
+def _terms(equations: Sequence, gens: Sequence[sp.Symbol], domain) -> list[dict]:
+    """The equations as dicts {exponents in ``gens``: coefficient in ``domain``}. A
+    ``sympy.Poly`` over ``domain`` in some of the gens (a basis computed before) is read
+    as it is: its expression would be expanded again, which over Q(p) takes minutes for
+    a basis of the heavy top's balances (the coefficients' numerators distributed term by
+    term, then summed back in Q(p) with a gcd at each sum)."""
+    gens = list(gens)
+    found: list[dict | None] = [None] * len(equations)
+    exprs = []
+    for i, f in enumerate(equations):
+        if isinstance(f, sp.Poly) and f.domain == domain and set(f.gens) <= set(gens):
+            where = [gens.index(g) for g in f.gens]
+            terms = {}
+            for monomial, c in f.rep.to_dict().items():
+                exponents = [0] * len(gens)
+                for j, e in zip(where, monomial, strict=True):
+                    exponents[j] = e
+                terms[tuple(exponents)] = c
+            found[i] = terms
+        else:
+            exprs.append((i, f.as_expr() if isinstance(f, sp.Poly) else f))
+    if exprs:
+        polys, _ = parallel_poly_from_expr([f for _, f in exprs], *gens, domain=domain)
+        for (i, _), p in zip(exprs, polys, strict=True):
+            found[i] = p.rep.to_dict()
+    return [t for t in found if t is not None]
+
+
+def _exprs(equations: Sequence) -> list[sp.Expr]:
+    """The equations as expressions, for sympy's own bases."""
+    return [f.as_expr() if isinstance(f, sp.Poly) else f for f in equations]
+
+
+def _integral(terms: dict, domain, ctx) -> _Poly:
+    """A polynomial over k (Q or Q(p)), as {exponents: coefficient}, times a common
+    denominator: over Z[p] in ctx."""
     if domain.is_QQ:
         scale = 1
         for c in terms.values():

@@ -202,13 +202,13 @@ class _Decomposition:
         while stack:
             system = stack.pop()
             basis = groebner(system, self.variables, self.k)
-            key = frozenset(basis.exprs)
+            key = frozenset(basis.polys)
             if key in seen:
                 continue
             seen.add(key)
             if len(seen) > MAX_BRANCHES:
                 raise DecompositionLimit(f"more than {MAX_BRANCHES} branches")
-            if basis.exprs == [1]:
+            if _no_point(basis):
                 continue
             if basis.is_zero_dimensional:
                 points = self._zero_dimensional(basis)
@@ -218,7 +218,7 @@ class _Decomposition:
                 if points is not None:
                     found.extend(points)
                     continue
-            branches = self._split(basis.exprs)
+            branches = self._split(basis)
             if branches is None and self.hyperplanes:
                 parts = self._hyperplane_parts(basis)
                 branches = None if parts is None else [list(p) for p in parts.systems]
@@ -245,7 +245,7 @@ class _Decomposition:
             for x in reversed(self.variables):
                 factors = algebra.value_split(x)
                 if factors is not None:
-                    return _Split(tuple((*basis.exprs, f) for f in factors))
+                    return _Split(tuple((*basis.polys, f) for f in factors))
         for element in self._forms(list(self.variables), pairs=True):
             u = element if element in self.variables else sp.Dummy("u")
             cyclic = algebra.cyclic(element, u)
@@ -289,25 +289,25 @@ class _Decomposition:
         system (balances split so at once into those on a coordinate hyperplane and the
         rest). None where x lies in I, or where I : x^oo = I (x is no zero divisor
         modulo I: in a finite algebra, a unit)."""
-        on = groebner([*basis.exprs, x], self.variables, self.k)
-        if on.exprs == [1] or on.exprs == basis.exprs:
+        on = groebner([*basis.polys, x], self.variables, self.k)
+        if _no_point(on) or on.polys == basis.polys:
             return None
-        off = _saturate(basis.exprs, x, self.variables, self.k)
-        if list(off) == list(basis.exprs):
+        off = _saturate(basis.polys, x, self.variables, self.k)
+        if off == basis.polys:
             return None
-        return _Split((tuple(on.exprs), off))
+        return _Split((tuple(on.polys), tuple(off)))
 
     def _factors(self, expr: sp.Expr, wrt: Sequence[sp.Symbol]) -> list[tuple[sp.Expr, int]]:
         """The factors of ``expr`` that are not units: those involving ``wrt``."""
         gens = [*wrt, *sorted(sp.sympify(expr).free_symbols - set(wrt), key=str)]
         return [(f, e) for f, e in factor_list(expr, gens) if f.free_symbols & set(wrt)]
 
-    def _split(self, basis: list[sp.Expr]) -> list[list[sp.Expr]] | None:
+    def _split(self, basis: sp.GroebnerBasis) -> list[list] | None:
         """One branch per factor of the first element that is not irreducible."""
-        for element in basis:
+        for element in basis.exprs:
             factors = self._factors(element, self.variables)
             if len(factors) > 1 or factors[0][1] > 1:
-                return [[*basis, f] for f, _ in factors]
+                return [[*basis.polys, f] for f, _ in factors]
         return None
 
     def _branch(self, basis: sp.GroebnerBasis) -> tuple[list[list[sp.Expr]], Component | None]:
@@ -316,20 +316,21 @@ class _Decomposition:
         free = _independent_set(basis.exprs, self.variables)
         others = [x for x in self.variables if x not in free]
         generators = list(basis.exprs)
-        remainder: list[list[sp.Expr]] = []
+        remainder: list[list] = []
         if free:
-            lex = groebner(generators, [*others, *free], self.k, "lex")
+            lex = groebner(basis.polys, [*others, *free], self.k, "lex")
             generators = list(lex.exprs)
             leading = [sp.Poly(e, *others).LC() for e in generators]
             for f, _ in self._factors(sp.Mul(*leading), free):
-                remainder.append([*basis.exprs, f])
+                remainder.append([*basis.polys, f])
         field = ground_domain([*self.parameters, *free])
         shape = self._shape(generators, others, field, None if free else basis)
         if isinstance(shape, list):
-            return [[*basis.exprs, b] for b in shape] + remainder, None
+            return [[*basis.polys, b] for b in shape] + remainder, None
         ideal = tuple(basis.exprs)
         if remainder:  # the prime ideal is the branch's saturation by the leading coefficients
-            ideal = _saturate(ideal, sp.Mul(*(b[-1] for b in remainder)), self.variables, self.k)
+            h = sp.Mul(*(b[-1] for b in remainder))
+            ideal = tuple(p.as_expr() for p in _saturate(basis.polys, h, self.variables, self.k))
         coordinates = {x: shape.coordinates.get(x, x) for x in self.variables}
         component = Component(
             self.variables,
@@ -667,10 +668,15 @@ def _independent_set(basis: list[sp.Expr], variables: Sequence[sp.Symbol]) -> tu
     return ()  # pragma: no cover - the empty set is always independent
 
 
-def _saturate(ideal, h: sp.Expr, variables, k) -> tuple[sp.Expr, ...]:
+def _no_point(basis: sp.GroebnerBasis) -> bool:
+    """Whether a reduced basis is (1): its equations have no common zero."""
+    return any(p.is_ground and not p.is_zero for p in basis.polys)
+
+
+def _saturate(ideal, h: sp.Expr, variables, k) -> list[sp.Poly]:
     """The reduced basis of I : h^oo, by eliminating y from I + (1 - y h)."""
     y = sp.Dummy("y")
-    return tuple(elimination([*ideal, 1 - y * h], [y], variables, k).exprs)
+    return list(elimination([*ideal, 1 - y * h], [y], variables, k).polys)
 
 
 def same_components(ours: Sequence[Component], theirs: Sequence[Component]) -> bool:
