@@ -88,6 +88,44 @@ def elimination(
     return _result(kept, grevlex, domain, options)
 
 
+class NormalForms:
+    """Normal forms modulo a reduced Gröbner basis over k = Q or Q(p), by pseudo-division
+    over Z[p] with one scale kept, s f = r mod I, then r/s: sympy's ``rem`` over Q(p)
+    cancels a gcd in Z[p] after every step, minutes for the monomials of an algebra of
+    the heavy top's balances over Q(b, c, x0, y0, z0)."""
+
+    def __init__(self, basis: sp.GroebnerBasis, domain, order: str = "grevlex"):
+        self.domain, self.ctx, self.key = domain, _context(domain), ORDERS[order]
+        self.divisors = []
+        for poly in basis.polys:
+            g = _integral(poly.rep.to_dict(), domain, self.ctx)
+            self.divisors.append((g, max(g, key=self.key)))
+
+    def of_monomial(self, monomial: tuple[int, ...]) -> dict[tuple[int, ...], object]:
+        """The normal form of x^monomial: {exponents: coefficient in k}."""
+        f = {monomial: self.ctx.from_dict({}) + 1}
+        done: _Poly = {}
+        scale = f[monomial]
+        while f:
+            m = max(f, key=self.key)
+            for g, lead in self.divisors:
+                if _divides(lead, m):
+                    c, lc = f[m], g[lead]
+                    d = c.gcd(lc)
+                    a = lc / d
+                    if not a.is_one():
+                        f = {k: v * a for k, v in f.items()}
+                        done = {k: v * a for k, v in done.items()}
+                        scale *= a
+                    _subtract(f, g, c / d, _minus(m, lead))
+                    break
+            else:
+                done[m] = f.pop(m)
+        if self.domain.is_QQ:
+            return {m: self.domain(_constant(c), _constant(scale)) for m, c in done.items()}
+        return {m: fraction(self.domain.field, c, scale) for m, c in done.items()}
+
+
 def _ours(domain) -> bool:
     """Whether the bases over ``domain`` are computed here: Q and Q(p) over Q."""
     return domain.is_QQ or (domain.is_FractionField and domain.domain.is_QQ)

@@ -37,13 +37,11 @@ from dataclasses import dataclass
 import flint
 import sympy as sp
 from sympy.polys.matrices import DomainMatrix
-from sympy.polys.orderings import grevlex
-from sympy.polys.rings import PolyRing
 
 from .algebraic import Extension
 from .factoring import factor_list, factor_mpoly
 from .flint_polys import bareiss, fraction, numerators
-from .groebner import elimination, groebner
+from .groebner import NormalForms, elimination, groebner
 
 #: The most systems a decomposition visits before it gives up (each a Groebner basis).
 MAX_BRANCHES = 400
@@ -439,9 +437,7 @@ class _Algebra:
         self.k, self.gens = k, tuple(gens)
         self.monomials = _standard_monomials(basis, gens)
         self.index = {m: i for i, m in enumerate(self.monomials)}
-        ring = PolyRing(self.gens, k, grevlex)
-        self.divisors = [ring.from_dict(p.as_dict(native=True)) for p in basis.polys]
-        self.ring = ring
+        self.forms = NormalForms(basis, k)
         self.times = [self._multiplication(i) for i in range(len(self.gens))]
 
     @property
@@ -453,7 +449,7 @@ class _Algebra:
             column = [self.k.zero] * self.size
             column[self.index[monomial]] = self.k.one
             return column
-        remainder = self.ring({monomial: self.k.one}).rem(self.divisors)
+        remainder = self.forms.of_monomial(monomial)
         column = [self.k.zero] * self.size
         for m, c in remainder.items():
             column[self.index[m]] = c

@@ -1,6 +1,7 @@
 """The fraction-free Gröbner bases are sympy's reduced bases: compared with
 ``sympy.groebner`` on random systems over Q and Q(a, b) in both orders, on systems with
-the parameters in denominators, and on the balances of a heavy top with a parameter."""
+the parameters in denominators, and on the balances of a heavy top with a parameter; a
+basis given back as polynomials gives the same bases; normal forms are sympy's."""
 
 from __future__ import annotations
 
@@ -11,7 +12,7 @@ import sympy as sp
 
 from registry.mathematics import mechanics as mech
 from registry.mathematics.balances import balance_equations
-from registry.mathematics.groebner import elimination, groebner
+from registry.mathematics.groebner import NormalForms, elimination, groebner
 from registry.mathematics.weighted import split_field
 
 x, y, z, a, b = sp.symbols("x y z a b")
@@ -59,6 +60,54 @@ def test_an_elimination_ideal_is_sympy_s_from_a_lex_basis(seed):
         theirs = sp.groebner(kept, *gens[1:], order="grevlex", domain=domain) if kept else []
         assert ours.exprs == list(theirs), system
         assert ours.gens == tuple(gens[1:])
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_a_basis_given_back_as_polynomials_gives_the_bases_of_its_expressions(seed):
+    """Polynomials over the domain (a basis found before, in the gens or some of them,
+    in another order) are read as they are: the same bases as from their expressions,
+    mixed with expressions, in both orders and in an elimination."""
+    rng = random.Random(200 + seed)
+    system = random_system(rng, [x, y, z], [a, b], count=3)
+    first = groebner(system[:2], [x, y, z], Q_AB)
+    mixed = [*first.polys, system[2]]
+    for order in ("grevlex", "lex"):
+        for gens in ([x, y, z], [z, x, y]):
+            ours = groebner(mixed, gens, Q_AB, order)
+            theirs = groebner([*first.exprs, system[2]], gens, Q_AB, order)
+            assert ours.exprs == theirs.exprs == list(
+                sp.groebner([*first.exprs, system[2]], *gens, order=order, domain=Q_AB)
+            )
+    t = sp.Symbol("t")
+    h = first.polys[-1].as_expr() - 1
+    ours = elimination([*first.polys, 1 - t * h], [t], [x, y, z], Q_AB)
+    assert ours.exprs == elimination([*first.exprs, 1 - t * h], [t], [x, y, z], Q_AB).exprs
+    in_xy = groebner([p for p in system if not p.has(z)] or [x * y - a], [x, y], Q_AB)
+    assert groebner([*in_xy.polys, z - b], [x, y, z], Q_AB).exprs == list(
+        sp.groebner([*in_xy.exprs, z - b], x, y, z, order="grevlex", domain=Q_AB)
+    )
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_normal_forms_are_sympy_s_remainders(seed):
+    """The normal form of a monomial modulo a reduced grevlex basis, by pseudo-division
+    over Z[p] with one scale, equals sympy's remainder over Q(a, b) (and over Q)."""
+    rng = random.Random(300 + seed)
+    for gens, parameters, domain in (([x, y, z], [], sp.QQ), ([x, y, z], [a, b], Q_AB)):
+        basis = groebner(random_system(rng, gens, parameters, count=3), gens, domain)
+        if basis.exprs == [1]:
+            continue
+        forms = NormalForms(basis, domain)
+        for monomial in [(2, 1, 0), (0, 3, 1), (1, 1, 2), (0, 0, 0), (4, 0, 1)]:
+            term = sp.Mul(*(g**e for g, e in zip(gens, monomial, strict=True)))
+            _, theirs = sp.reduced(term, basis.exprs, *gens, order="grevlex", domain=domain)
+            ours = sp.Add(
+                *(
+                    domain.to_sympy(c) * sp.Mul(*(g**e for g, e in zip(gens, m, strict=True)))
+                    for m, c in forms.of_monomial(monomial).items()
+                )
+            )
+            assert sp.expand(ours - theirs) == 0, (basis.exprs, monomial)
 
 
 def test_a_saturation_by_elimination_drops_the_component_on_the_hyperplane():
