@@ -75,8 +75,10 @@ def test_a_basis_given_back_as_polynomials_gives_the_bases_of_its_expressions(se
         for gens in ([x, y, z], [z, x, y]):
             ours = groebner(mixed, gens, Q_AB, order)
             theirs = groebner([*first.exprs, system[2]], gens, Q_AB, order)
-            assert ours.exprs == theirs.exprs == list(
-                sp.groebner([*first.exprs, system[2]], *gens, order=order, domain=Q_AB)
+            assert (
+                ours.exprs
+                == theirs.exprs
+                == list(sp.groebner([*first.exprs, system[2]], *gens, order=order, domain=Q_AB))
             )
     t = sp.Symbol("t")
     h = first.polys[-1].as_expr() - 1
