@@ -41,21 +41,35 @@ def groebner(
     gens: Sequence[sp.Symbol],
     domain: sp.polys.domains.Domain,
     order: str = "grevlex",
+    *,
+    known: sp.GroebnerBasis | None = None,
 ) -> sp.GroebnerBasis:
     """The reduced Gröbner basis of ``equations`` in k[gens] (k = ``domain``: Q or
     Q(p), p free of the gens) for ``order`` ("grevlex" or "lex"): sympy's
     ``groebner(equations, *gens, order=order, domain=domain)``, computed fraction-free
     (module doc). The equations are expressions, or polynomials over ``domain`` (a basis
-    found before: ``_terms``). Anything else (another domain or order, a denominator in
-    the gens) is left to sympy."""
+    found before: ``_terms``). ``known``: a reduced basis the equations are added to;
+    in the same gens, domain and order its pairs are not formed again (their
+    S-polynomials reduce to zero by it already), which is most of the work of adding
+    one equation to a large basis. Anything else (another domain or order, a
+    denominator in the gens) is left to sympy."""
+    prefix: list = [] if known is None else list(known.polys)
     if order not in ORDERS or not _ours(domain):
-        return sp.groebner(_exprs(equations), *gens, order=order, domain=domain)
+        equations = _exprs([*prefix, *equations])
+        return sp.groebner(equations, *gens, order=order, domain=domain)
     try:
-        terms = _terms(equations, gens, domain)
+        terms = _terms([*prefix, *equations], gens, domain)
     except PolificationFailed:
-        return sp.groebner(_exprs(equations), *gens, order=order, domain=domain)
+        equations = _exprs([*prefix, *equations])
+        return sp.groebner(equations, *gens, order=order, domain=domain)
     ctx, key = _context(domain), ORDERS[order]
-    basis = _Buchberger(key).run([_integral(t, domain, ctx) for t in terms if t])
+    same = known is not None and (known.gens, known.domain, str(known.order)) == (
+        tuple(gens),
+        domain,
+        order,
+    )
+    integral = [_integral(t, domain, ctx) for t in terms if t]
+    basis = _Buchberger(key).run(integral, len(prefix) if same else 0)
     options = build_options(list(gens), {"domain": domain, "order": order})
     return _result(basis, key, domain, options)
 
@@ -226,8 +240,12 @@ class _Buchberger:
     def lead(self, f: _Poly) -> tuple[int, ...]:
         return max(f, key=self.key)
 
-    def run(self, inputs: list[_Poly]) -> list[_Poly]:
-        for f in inputs:
+    def run(self, inputs: list[_Poly], known: int = 0) -> list[_Poly]:
+        """The reduced basis of the inputs, of which the first ``known`` are a reduced
+        basis already (no pairs among them)."""
+        for f in inputs[:known]:
+            self.basis.append(self.add(_primitive(f)))
+        for f in inputs[known:]:
             h = self.reduce(_primitive(f), self.basis)
             if h:
                 self.update(self.add(h))

@@ -287,7 +287,7 @@ class _Decomposition:
         system (balances split so at once into those on a coordinate hyperplane and the
         rest). None where x lies in I, or where I : x^oo = I (x is no zero divisor
         modulo I: in a finite algebra, a unit)."""
-        on = groebner([*basis.polys, x], self.variables, self.k)
+        on = groebner([x], self.variables, self.k, known=basis)
         if _no_point(on) or on.polys == basis.polys:
             return None
         off = _saturate(basis.polys, x, self.variables, self.k)

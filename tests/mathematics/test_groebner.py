@@ -80,6 +80,14 @@ def test_a_basis_given_back_as_polynomials_gives_the_bases_of_its_expressions(se
                 == theirs.exprs
                 == list(sp.groebner([*first.exprs, system[2]], *gens, order=order, domain=Q_AB))
             )
+    for order in ("grevlex", "lex"):  # added to a known basis: no pairs of its own formed
+        known = groebner(system[:2], [x, y, z], Q_AB, order)
+        added = groebner([system[2]], [x, y, z], Q_AB, order, known=known)
+        assert added.exprs == groebner(system, [x, y, z], Q_AB, order).exprs
+        other = groebner([system[2]], [x, y, z], Q_AB, "lex" if order == "grevlex" else order)
+        assert groebner([z], [x, y, z], Q_AB, order, known=other).exprs == list(
+            sp.groebner([*other.exprs, z], x, y, z, order=order, domain=Q_AB)
+        )
     t = sp.Symbol("t")
     h = first.polys[-1].as_expr() - 1
     ours = elimination([*first.polys, 1 - t * h], [t], [x, y, z], Q_AB)
