@@ -177,12 +177,17 @@ class _Shape:
     polynomials: dict[sp.Symbol, sp.Poly] | None = None  # the coordinates, where known so
 
 
+#: A system to decompose: equations added to a reduced basis (None: to none), so that
+#: the basis's own pairs are not formed again (``groebner``'s ``known``).
+_System = tuple[sp.GroebnerBasis | None, tuple]
+
+
 @dataclass(frozen=True)
 class _Split:
     """Systems whose points together are those of a system I, each a proper part (none
     of them is I again, so none is dropped as a system already seen)."""
 
-    systems: tuple[tuple[sp.Expr, ...], ...]
+    systems: tuple[_System, ...]
 
 
 class _Decomposition:
@@ -196,10 +201,10 @@ class _Decomposition:
     def run(self, equations: list[sp.Expr]) -> list[Component]:
         found: list[Component] = []
         seen: set[frozenset] = set()
-        stack = [equations]
+        stack: list[_System] = [(None, tuple(equations))]
         while stack:
-            system = stack.pop()
-            basis = groebner(system, self.variables, self.k)
+            known, more = stack.pop()
+            basis = groebner(more, self.variables, self.k, known=known)
             key = frozenset(basis.polys)
             if key in seen:
                 continue
@@ -211,7 +216,7 @@ class _Decomposition:
             if basis.is_zero_dimensional:
                 points = self._zero_dimensional(basis)
                 if isinstance(points, _Split):
-                    stack.extend(list(system) for system in points.systems)
+                    stack.extend(points.systems)
                     continue
                 if points is not None:
                     found.extend(points)
@@ -219,7 +224,7 @@ class _Decomposition:
             branches = self._split(basis)
             if branches is None and self.hyperplanes:
                 parts = self._hyperplane_parts(basis)
-                branches = None if parts is None else [list(p) for p in parts.systems]
+                branches = None if parts is None else list(parts.systems)
             if branches is None:
                 branches, component = self._branch(basis)
                 if component is not None:
@@ -243,7 +248,7 @@ class _Decomposition:
             for x in reversed(self.variables):
                 factors = algebra.value_split(x)
                 if factors is not None:
-                    return _Split(tuple((*basis.polys, f) for f in factors))
+                    return _Split(tuple((basis, (f,)) for f in factors))
         for element in self._forms(list(self.variables), pairs=True):
             u = element if element in self.variables else sp.Dummy("u")
             cyclic = algebra.cyclic(element, u)
@@ -291,44 +296,44 @@ class _Decomposition:
         if _no_point(on) or on.polys == basis.polys:
             return None
         off = _saturate(basis.polys, x, self.variables, self.k)
-        if off == basis.polys:
+        if off.polys == basis.polys:
             return None
-        return _Split((tuple(on.polys), tuple(off)))
+        return _Split(((on, ()), (off, ())))
 
     def _factors(self, expr: sp.Expr, wrt: Sequence[sp.Symbol]) -> list[tuple[sp.Expr, int]]:
         """The factors of ``expr`` that are not units: those involving ``wrt``."""
         gens = [*wrt, *sorted(sp.sympify(expr).free_symbols - set(wrt), key=str)]
         return [(f, e) for f, e in factor_list(expr, gens) if f.free_symbols & set(wrt)]
 
-    def _split(self, basis: sp.GroebnerBasis) -> list[list] | None:
+    def _split(self, basis: sp.GroebnerBasis) -> list[_System] | None:
         """One branch per factor of the first element that is not irreducible."""
         for element in basis.exprs:
             factors = self._factors(element, self.variables)
             if len(factors) > 1 or factors[0][1] > 1:
-                return [[*basis.polys, f] for f, _ in factors]
+                return [(basis, (f,)) for f, _ in factors]
         return None
 
-    def _branch(self, basis: sp.GroebnerBasis) -> tuple[list[list[sp.Expr]], Component | None]:
+    def _branch(self, basis: sp.GroebnerBasis) -> tuple[list[_System], Component | None]:
         """The branches an irreducible system splits into, or its component (and the
         branches where a leading coefficient of its free variables vanishes)."""
         free = _independent_set(basis.exprs, self.variables)
         others = [x for x in self.variables if x not in free]
         generators = list(basis.exprs)
-        remainder: list[list] = []
+        remainder: list[_System] = []
         if free:
             lex = groebner(basis.polys, [*others, *free], self.k, "lex")
             generators = list(lex.exprs)
             leading = [sp.Poly(e, *others).LC() for e in generators]
             for f, _ in self._factors(sp.Mul(*leading), free):
-                remainder.append([*basis.polys, f])
+                remainder.append((basis, (f,)))
         field = ground_domain([*self.parameters, *free])
         shape = self._shape(generators, others, field, None if free else basis)
         if isinstance(shape, list):
-            return [[*basis.polys, b] for b in shape] + remainder, None
+            return [(basis, (b,)) for b in shape] + remainder, None
         ideal = tuple(basis.exprs)
         if remainder:  # the prime ideal is the branch's saturation by the leading coefficients
-            h = sp.Mul(*(b[-1] for b in remainder))
-            ideal = tuple(p.as_expr() for p in _saturate(basis.polys, h, self.variables, self.k))
+            h = sp.Mul(*(f for _, (f,) in remainder))
+            ideal = tuple(_saturate(basis.polys, h, self.variables, self.k).exprs)
         coordinates = {x: shape.coordinates.get(x, x) for x in self.variables}
         component = Component(
             self.variables,
@@ -362,7 +367,7 @@ class _Decomposition:
             graded = groebner(generators, gens, field)
         symbols = field.symbols if field.is_FractionField else ()
         if graded.is_zero_dimensional and (
-            len(symbols) <= 1 or len(_standard_monomials(graded, gens)) <= SMALL_ALGEBRA
+            len(symbols) <= 1 or len(standard_monomials(graded, gens)) <= SMALL_ALGEBRA
         ):
             algebra = _Algebra(graded, gens, field)
             for element in self._forms(gens, pairs=len(symbols) > 1):
@@ -435,7 +440,7 @@ class _Algebra:
 
     def __init__(self, basis: sp.GroebnerBasis, gens, k):
         self.k, self.gens = k, tuple(gens)
-        self.monomials = _standard_monomials(basis, gens)
+        self.monomials = standard_monomials(basis, gens)
         self.index = {m: i for i, m in enumerate(self.monomials)}
         self.forms = NormalForms(basis, k)
         self.times = [self._multiplication(i) for i in range(len(self.gens))]
@@ -620,7 +625,7 @@ def _spans_somewhere(columns: list[list], nvars: int, tries: int = 2) -> bool:
     return False
 
 
-def _standard_monomials(basis: sp.GroebnerBasis, gens) -> list[tuple[int, ...]]:
+def standard_monomials(basis: sp.GroebnerBasis, gens) -> list[tuple[int, ...]]:
     """The exponents of the monomials no leading monomial divides (finitely many for a
     zero-dimensional ideal): a basis of k[x]/I."""
     leading = [sp.Poly(f, *gens).monoms(order=basis.order)[0] for f in basis.polys]
@@ -669,10 +674,10 @@ def _no_point(basis: sp.GroebnerBasis) -> bool:
     return any(p.is_ground and not p.is_zero for p in basis.polys)
 
 
-def _saturate(ideal, h: sp.Expr, variables, k) -> list[sp.Poly]:
+def _saturate(ideal, h: sp.Expr, variables, k) -> sp.GroebnerBasis:
     """The reduced basis of I : h^oo, by eliminating y from I + (1 - y h)."""
     y = sp.Dummy("y")
-    return list(elimination([*ideal, 1 - y * h], [y], variables, k).polys)
+    return elimination([*ideal, 1 - y * h], [y], variables, k)
 
 
 def same_components(ours: Sequence[Component], theirs: Sequence[Component]) -> bool:

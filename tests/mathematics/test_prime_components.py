@@ -121,13 +121,13 @@ def test_over_parameters_a_system_is_split_on_a_coordinate_hyperplane():
     system = [x * (x**2 - a), y**2 - a * x - 1]
     decomposition = _Decomposition((x, y), (a,), random.Random(0))
     basis = groebner(system, [x, y], decomposition.k)
-    on, off = decomposition._hyperplane_split(basis, x).systems
-    assert {p.as_expr() for p in on} == {x, y**2 - 1}
-    (quartet,) = components([p.as_expr() for p in off], [x, y], [a])
+    (on, none), (off, nothing) = decomposition._hyperplane_split(basis, x).systems
+    assert none == nothing == () and set(on.exprs) == {x, y**2 - 1}
+    (quartet,) = components(off.exprs, [x, y], [a])
     assert quartet.degree == 4 and quartet.vanishes(x**2 - a)
     # y vanishes at none of the six points (a unit), and x lies in I + (x): no split
     assert decomposition._hyperplane_split(basis, y) is None
-    on_basis = groebner(list(on), [x, y], decomposition.k)
+    on_basis = groebner([], [x, y], decomposition.k, known=on)
     assert decomposition._hyperplane_split(on_basis, x) is None
     found = components(system, [x, y], [a])
     assert sorted(c.degree for c in found) == [1, 1, 4]
