@@ -12,6 +12,11 @@ Over Q(p) a system is first split on a coordinate hyperplane where it has points
 on and off it: into I + (x) and the saturation I : x^oo (two Groebner bases, which stay
 small where the determinants and lexicographic bases over Q(p) swell with the number of
 points); the balances with a vanishing coordinate come apart from the others so.
+Each basis is kept as polynomials and extended by the equations added to it (its own
+pairs not formed again). One integer value of p decides cheaply what needs no proof
+over Q(p): a variable whose multiplication matrix has a non-zero determinant there has
+no point on its hyperplane, and a characteristic polynomial irreducible there is
+irreducible over Q(p) (no split by its values).
 
 Otherwise a basis element that factors splits the system into one branch per factor.
 An irreducible branch of dimension d has a maximal independent set S of d variables
@@ -242,7 +247,7 @@ class _Decomposition:
         (``_Algebra.value_split``), where they fall into several factors."""
         algebra = _Algebra(basis, self.variables, self.k)
         if self.k.is_FractionField and algebra.size > 2:
-            parts = self._hyperplane_parts(basis) if self.hyperplanes else None
+            parts = self._hyperplane_parts(basis, algebra) if self.hyperplanes else None
             if parts is not None:
                 return parts
             for x in reversed(self.variables):
@@ -276,10 +281,15 @@ class _Decomposition:
             return found
         return None
 
-    def _hyperplane_parts(self, basis: sp.GroebnerBasis) -> _Split | None:
+    def _hyperplane_parts(self, basis: sp.GroebnerBasis, algebra=None) -> _Split | None:
         """The first proper split of the system on a coordinate hyperplane, the last
-        variable first (``_hyperplane_split``), or None."""
+        variable first (``_hyperplane_split``), or None. With the finite ``algebra``
+        k[x]/I, a variable shown to be a unit there (``_Algebra.is_unit``) is passed
+        over: no point lies on its hyperplane, which Buchberger's algorithm would prove
+        only by reaching I + (x) = (1), at great cost over several parameters."""
         for x in reversed(self.variables):
+            if algebra is not None and algebra.is_unit(x):
+                continue
             parts = self._hyperplane_split(basis, x)
             if parts is not None:
                 return parts
@@ -466,6 +476,25 @@ class _Algebra:
         ]
         return DomainMatrix([list(r) for r in zip(*columns, strict=True)], (self.size,) * 2, self.k)
 
+    def is_unit(self, x: sp.Symbol, tries: int = 2) -> bool:
+        """Whether x is shown invertible in k[x]/I, k = Q(p): the determinant of its
+        multiplication matrix, over one common denominator, is not zero at a random
+        integer value of p, hence not zero as a polynomial in p (no point of I has
+        x = 0). False where no value showed it (not a proof of the contrary). The
+        values are drawn from their own generator, seeded by x: the same every run."""
+        rng = random.Random(str(x))
+        entries = [e for row in self.times[self.gens.index(x)].to_list() for e in row]
+        count = len(self.k.symbols)
+        ctx = flint.fmpz_mpoly_ctx.get(tuple(f"p{i}" for i in range(count)), "lex")
+        flat, _ = numerators(ctx, entries)
+        for _ in range(tries):
+            value = [flint.fmpz(rng.randint(-1000, 1000)) for _ in range(count)]
+            at = [[flat[i * self.size + j](*value) for j in range(self.size)]
+                  for i in range(self.size)]  # fmt: skip
+            if flint.fmpz_mat(at).det() != 0:
+                return True
+        return False
+
     def multiplication_by(self, element: sp.Expr) -> DomainMatrix:
         """The matrix of multiplication by a linear form in the variables."""
         form = sp.Poly(element, *self.gens, domain=self.k)
@@ -490,6 +519,8 @@ class _Algebra:
         ctx = flint.fmpz_mpoly_ctx.get((*(f"p{i}" for i in range(ring.ngens)), "u"), "lex")
         entries = [e for row in self.multiplication_by(element).to_list() for e in row]
         flat, d = numerators(ctx, entries, extra=1)
+        if self._irreducible_at_a_value(flat, d, str(element)):
+            return None  # one factor: no split
         u = ctx.gens()[-1]
         rows = [
             [d * u * int(i == j) - flat[i * self.size + j] for j in range(self.size)]
@@ -512,6 +543,27 @@ class _Algebra:
             )
             for f in powers
         ]
+
+    def _irreducible_at_a_value(self, flat: list, d, seed: str, tries: int = 2) -> bool:
+        """Whether det(d u - N) (N the ``flat`` numerators over the common denominator
+        d, in Z[p, u]) is shown irreducible over Q(p): at a random integer value p0 with
+        d(p0) != 0 the characteristic polynomial of N(p0) is irreducible over Q. Its
+        monic factors over Q(p) have coefficients defined wherever its own are (Q[p]
+        localised at p0 is integrally closed), so a factorization would specialise to
+        one at p0. False where no value showed it. Its own generator, seeded: the same
+        values every run."""
+        rng = random.Random(seed)
+        count = len(self.k.symbols)
+        for _ in range(tries):
+            value = [flint.fmpz(rng.randint(-1000, 1000)) for _ in range(count)]
+            if d(*value, 0) == 0:
+                continue
+            at = [[flat[i * self.size + j](*value, 0) for j in range(self.size)]
+                  for i in range(self.size)]  # fmt: skip
+            _, factors = flint.fmpz_mat(at).charpoly().factor()
+            if len(factors) == 1 and factors[0][1] == 1:
+                return True
+        return False
 
     def cyclic(self, element: sp.Expr, u: sp.Symbol):
         """(g, {x: h_x}) with g(u) = 0 and x = h_x(u) in k[x]/I for u = ``element`` (a linear

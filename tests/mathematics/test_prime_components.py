@@ -11,7 +11,12 @@ import sympy as sp
 from registry.mathematics import mechanics as mech
 from registry.mathematics.balances import balance_equations
 from registry.mathematics.groebner import groebner
-from registry.mathematics.prime_components import _Decomposition, components, same_components
+from registry.mathematics.prime_components import (
+    _Algebra,
+    _Decomposition,
+    components,
+    same_components,
+)
 from registry.mathematics.weighted import split_field
 
 x, y, z, a = sp.symbols("x y z a")
@@ -132,6 +137,30 @@ def test_over_parameters_a_system_is_split_on_a_coordinate_hyperplane():
     found = components(system, [x, y], [a])
     assert sorted(c.degree for c in found) == [1, 1, 4]
     assert same_components(found, components(system, [x, y], [a], hyperplanes=False))
+
+
+def test_a_unit_of_the_algebra_is_shown_by_its_determinant_at_a_value():
+    """x (x^2 - a) = 0, y^2 = a x + 1 over Q(a): y vanishes at none of the six points
+    (its multiplication matrix has a non-zero determinant), x at two of them (a zero
+    determinant: no value shows a unit); with x shifted by 1 - a, at none again."""
+    k = sp.QQ.frac_field(a)
+    basis = groebner([x * (x**2 - a), y**2 - a * x - 1], [x, y], k)
+    algebra = _Algebra(basis, (x, y), k)
+    assert algebra.size == 6
+    assert algebra.is_unit(y) and not algebra.is_unit(x)
+    shifted = groebner([(x - 1 + a) * ((x - 1 + a) ** 2 - a), y**2 - a * x - 1], [x, y], k)
+    assert _Algebra(shifted, (x, y), k).is_unit(x)
+
+
+def test_values_shown_irreducible_at_one_value_of_the_parameters_split_nothing():
+    """x^3 = a + 1, y = x^2 over Q(a): the values of x are the roots of u^3 - a - 1,
+    irreducible at integer values of a, hence over Q(a) (no split, no determinant over
+    Q(a)[u]); the values of y - x too. x (x^2 - a) splits into x and x^2 - a."""
+    k = sp.QQ.frac_field(a)
+    algebra = _Algebra(groebner([x**3 - a - 1, y - x**2], [x, y], k), (x, y), k)
+    assert algebra.value_split(x) is None and algebra.value_split(y - x) is None
+    split = _Algebra(groebner([x * (x**2 - a), y - 1], [x, y], k), (x, y), k).value_split(x)
+    assert split is not None and set(split) in ({x, x**2 - a}, {x, a - x**2})  # up to sign
 
 
 def kirchhoff_balances(potential, parameters, inertia=(1, B, C)):
