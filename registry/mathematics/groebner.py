@@ -108,8 +108,10 @@ class NormalForms:
     cancels a gcd in Z[p] after every step, minutes for the monomials of an algebra of
     the heavy top's balances over Q(b, c, x0, y0, z0)."""
 
-    def __init__(self, basis: sp.GroebnerBasis, domain, order: str = "grevlex"):
-        self.domain, self.ctx, self.key = domain, _context(domain), ORDERS[order]
+    def __init__(self, basis: sp.GroebnerBasis, domain):
+        if str(basis.order) not in ORDERS or not _ours(domain):
+            raise ValueError(f"normal forms for {basis.order} bases over {domain}: not here")
+        self.domain, self.ctx, self.key = domain, _context(domain), ORDERS[str(basis.order)]
         self.divisors = []
         for poly in basis.polys:
             g = _integral(poly.rep.to_dict(), domain, self.ctx)
@@ -117,9 +119,9 @@ class NormalForms:
 
     def of_monomial(self, monomial: tuple[int, ...]) -> dict[tuple[int, ...], object]:
         """The normal form of x^monomial: {exponents: coefficient in k}."""
-        f = {monomial: self.ctx.from_dict({}) + 1}
+        one = self.ctx.from_dict({}) + 1
+        f, scale = {monomial: one}, one
         done: _Poly = {}
-        scale = f[monomial]
         while f:
             m = max(f, key=self.key)
             for g, lead in self.divisors:

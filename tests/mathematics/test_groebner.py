@@ -118,6 +118,8 @@ def test_normal_forms_are_sympy_s_remainders(seed):
                 )
             )
             assert sp.expand(ours - theirs) == 0, (basis.exprs, monomial)
+    lex = groebner([x**2 - a * y, y**2 - b], [x, y], Q_AB, "lex")  # the basis's own order
+    assert NormalForms(lex, Q_AB).of_monomial((0, 3)) == {(0, 1): Q_AB.convert(b)}
 
 
 def test_a_saturation_by_elimination_drops_the_component_on_the_hyperplane():
