@@ -120,23 +120,8 @@ class NormalForms:
     def of_monomial(self, monomial: tuple[int, ...]) -> dict[tuple[int, ...], object]:
         """The normal form of x^monomial: {exponents: coefficient in k}."""
         one = self.ctx.from_dict({}) + 1
-        f, scale = {monomial: one}, one
-        done: _Poly = {}
-        while f:
-            m = max(f, key=self.key)
-            for g, lead in self.divisors:
-                if _divides(lead, m):
-                    c, lc = f[m], g[lead]
-                    d = c.gcd(lc)
-                    a = lc / d
-                    if not a.is_one():
-                        f = {k: v * a for k, v in f.items()}
-                        done = {k: v * a for k, v in done.items()}
-                        scale *= a
-                    _subtract(f, g, c / d, _minus(m, lead))
-                    break
-            else:
-                done[m] = f.pop(m)
+        done, scale = _pseudo_remainder({monomial: one}, self.divisors, self.key)
+        scale = one if scale is None else scale
         if self.domain.is_QQ:
             return {m: self.domain(_constant(c), _constant(scale)) for m, c in done.items()}
         return {m: fraction(self.domain.field, c, scale) for m, c in done.items()}
@@ -298,23 +283,8 @@ class _Buchberger:
     def reduce(self, f: _Poly, among: Sequence[int]) -> _Poly:
         """The primitive normal form of f by the basis elements ``among``: each term
         reduced in turn, largest first, by pseudo-division."""
-        f = dict(f)
-        done: _Poly = {}
         divisors = [(self.polys[g], self.leads[g]) for g in among]
-        while f:
-            m = self.lead(f)
-            for g, lead in divisors:
-                if _divides(lead, m):
-                    c, lc = f[m], g[lead]
-                    d = c.gcd(lc)
-                    a = lc / d
-                    if not a.is_one():
-                        f = {k: v * a for k, v in f.items()}
-                        done = {k: v * a for k, v in done.items()}
-                    _subtract(f, g, c / d, _minus(m, lead))
-                    break
-            else:
-                done[m] = f.pop(m)
+        done, _ = _pseudo_remainder(f, divisors, self.key)
         return _primitive(done)
 
     def reduced(self) -> list[_Poly]:
@@ -322,6 +292,31 @@ class _Buchberger:
         basis reduced by the others."""
         basis = self.basis
         return [self.reduce(self.polys[g], [o for o in basis if o != g]) for g in basis]
+
+
+def _pseudo_remainder(f: _Poly, divisors, key) -> tuple[_Poly, flint.fmpz_mpoly | None]:
+    """(r, s) with s f = r modulo the ``divisors`` (g, leading monomial of g for the
+    order's ``key``), r reduced: each term reduced in turn, largest first, by
+    pseudo-division over Z[p], s the product of the scales it took (None: none)."""
+    f = dict(f)
+    done: _Poly = {}
+    scale = None
+    while f:
+        m = max(f, key=key)
+        for g, lead in divisors:
+            if _divides(lead, m):
+                c, lc = f[m], g[lead]
+                d = c.gcd(lc)
+                a = lc / d
+                if not a.is_one():
+                    f = {k: v * a for k, v in f.items()}
+                    done = {k: v * a for k, v in done.items()}
+                    scale = a if scale is None else scale * a
+                _subtract(f, g, c / d, _minus(m, lead))
+                break
+        else:
+            done[m] = f.pop(m)
+    return done, scale
 
 
 def _primitive(f: _Poly) -> _Poly:

@@ -281,7 +281,9 @@ class _Decomposition:
             return found
         return None
 
-    def _hyperplane_parts(self, basis: sp.GroebnerBasis, algebra=None) -> _Split | None:
+    def _hyperplane_parts(
+        self, basis: sp.GroebnerBasis, algebra: _Algebra | None = None
+    ) -> _Split | None:
         """The first proper split of the system on a coordinate hyperplane, the last
         variable first (``_hyperplane_split``), or None. With the finite ``algebra``
         k[x]/I, a variable shown to be a unit there (``_Algebra.is_unit``) is passed
@@ -481,19 +483,24 @@ class _Algebra:
         multiplication matrix, over one common denominator, is not zero at a random
         integer value of p, hence not zero as a polynomial in p (no point of I has
         x = 0). False where no value showed it (not a proof of the contrary). The
-        values are drawn from their own generator, seeded by x: the same every run."""
-        rng = random.Random(str(x))
+        values are drawn from their own generator, seeded by x (``_values``)."""
         entries = [e for row in self.times[self.gens.index(x)].to_list() for e in row]
         count = len(self.k.symbols)
         ctx = flint.fmpz_mpoly_ctx.get(tuple(f"p{i}" for i in range(count)), "lex")
         flat, _ = numerators(ctx, entries)
+        return any(self._at(flat, value).det() != 0 for value in self._values(str(x), tries))
+
+    def _values(self, seed: str, tries: int):
+        """``tries`` random integer values of the parameters, from their own generator
+        seeded by ``seed`` (the same every run; the decomposition's choices unmoved)."""
+        rng = random.Random(seed)
         for _ in range(tries):
-            value = [flint.fmpz(rng.randint(-1000, 1000)) for _ in range(count)]
-            at = [[flat[i * self.size + j](*value) for j in range(self.size)]
-                  for i in range(self.size)]  # fmt: skip
-            if flint.fmpz_mat(at).det() != 0:
-                return True
-        return False
+            yield [flint.fmpz(rng.randint(-1000, 1000)) for _ in self.k.symbols]
+
+    def _at(self, flat: list, value: list) -> flint.fmpz_mat:
+        """The matrix of the ``flat`` entries (polynomials over Z) at ``value``."""
+        n = self.size
+        return flint.fmpz_mat([[flat[i * n + j](*value) for j in range(n)] for i in range(n)])
 
     def multiplication_by(self, element: sp.Expr) -> DomainMatrix:
         """The matrix of multiplication by a linear form in the variables."""
@@ -550,17 +557,11 @@ class _Algebra:
         d(p0) != 0 the characteristic polynomial of N(p0) is irreducible over Q. Its
         monic factors over Q(p) have coefficients defined wherever its own are (Q[p]
         localised at p0 is integrally closed), so a factorization would specialise to
-        one at p0. False where no value showed it. Its own generator, seeded: the same
-        values every run."""
-        rng = random.Random(seed)
-        count = len(self.k.symbols)
-        for _ in range(tries):
-            value = [flint.fmpz(rng.randint(-1000, 1000)) for _ in range(count)]
+        one at p0. False where no value showed it (``_values``, seeded by ``seed``)."""
+        for value in self._values(seed, tries):
             if d(*value, 0) == 0:
                 continue
-            at = [[flat[i * self.size + j](*value, 0) for j in range(self.size)]
-                  for i in range(self.size)]  # fmt: skip
-            _, factors = flint.fmpz_mat(at).charpoly().factor()
+            _, factors = self._at(flat, [*value, 0]).charpoly().factor()
             if len(factors) == 1 and factors[0][1] == 1:
                 return True
         return False
