@@ -34,6 +34,12 @@ def statement(document: Mapping[str, Any], weights: str, generic: Sequence[str] 
     balances = document["balances"]
     where = f" for generic values of {', '.join(generic)}" if generic else ""
     scope = _scope(homogeneous, weights)
+    if document.get("denominators"):
+        scope += (
+            f"; it divides by {', '.join(document['denominators'])}, and its balances are "
+            "those where none of these vanishes (solutions along which one does are not "
+            "covered)"
+        )
     if not balances:
         return (
             f"{scope}. Its leading part has no balance (no solution x = c t^(-w)): "

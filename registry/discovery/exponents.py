@@ -46,7 +46,8 @@ from .painleve_strata import Strata, half_integer_strata, painleve_strata
 
 #: What the analysis says of how it works (in every document).
 METHOD = (
-    "weighted split of the polynomial field; balances by Groebner bases in shape position "
+    "weighted split of the field (polynomial, or divided by weighted-homogeneous "
+    "polynomials of the state); balances by Groebner bases in shape position "
     "over Q(parameters) and its algebraic extensions; exponents exact, per component in "
     "k[u]/(g); the ARS recursion to the last resonance, its conditions decided exactly"
 )
@@ -175,13 +176,24 @@ def case_field(case: Case, options: ExponentOptions) -> CaseField:
         expr = sp.expand(dynamics.expanded(v))
         numer, denom = sp.fraction(sp.together(expr))
         below = sorted(map(str, denom.free_symbols & state))
-        if below or not _polynomial(numer, dynamics.variables):
+        if not (numer.is_polynomial(*state) and denom.is_polynomial(*state)):
             why = f" (divided by a function of {', '.join(below)})" if below else ""
             problems.append(
                 Problem(
                     f"d{x}/dt",
-                    f"not a polynomial in the state variables{why}: the analysis seeks "
-                    "balances x = c t^(-w) of a polynomial field",
+                    f"not a polynomial in the state variables{why}, nor a polynomial divided by "
+                    "one: the analysis seeks balances x = c t^(-w) of a polynomial or rational "
+                    "field",
+                    sp.sstr(expr),
+                )
+            )
+        elif below and options.free:
+            problems.append(
+                Problem(
+                    f"d{x}/dt",
+                    f"divided by a function of {', '.join(below)}: the special values of a "
+                    "family (--free) are sought for polynomial fields only; without --free "
+                    "the analysis runs where the denominators do not vanish",
                     sp.sstr(expr),
                 )
             )
@@ -327,6 +339,8 @@ def _document(
         "free": list(options.free),
         "parameters": [str(p) for p in analysis.parameters],
     }
+    if analysis.denominators:
+        document["denominators"] = [sp.sstr(d) for d in analysis.denominators]
     if not analysis.homogeneous:
         document["leading"] = {
             str(x): sp.sstr(v) for x, v in zip(analysis.variables, analysis.leading, strict=True)
@@ -674,14 +688,6 @@ def _member(analysis: ExponentAnalysis) -> dict[str, Any]:
 
 
 # ------------------------------------------------------------------ helpers
-
-
-def _polynomial(expr: sp.Expr, variables: Sequence[sp.Symbol]) -> bool:
-    try:
-        sp.Poly(expr, *variables)
-    except sp.PolynomialError:
-        return False
-    return True
 
 
 def _file(case: Case) -> str:

@@ -85,7 +85,7 @@ from ..mathematics.flint_polys import discriminant, resultant_in
 from ..mathematics.integrality import integer_candidates
 from ..mathematics.kovalevskaya import LAMBDA, characteristic_polynomial, kovalevskaya_matrix
 from ..mathematics.prime_components import Component, DecompositionLimit, components
-from ..mathematics.weighted import WeightedField, split_field
+from ..mathematics.weighted import WeightedField, polynomial_only, split_field
 from .components import NEW, resolve
 from .splitting import AlgebraicSet
 
@@ -196,6 +196,7 @@ def half_integer_strata(
 def _stratify(variables, field_, weights, free, seed, budget, mapper, *, half: bool) -> Strata:
     start = time.perf_counter()
     field_ = tuple(sp.sympify(f) for f in field_)
+    polynomial_only(split_field(variables, field_, weights, parameters=free), "strata")
     seen: set[tuple] = set()
     passing: list[Stratum] = []
     undecided: list[str] = []

@@ -58,19 +58,28 @@ class Balance:
 
 
 def balance_equations(split: WeightedField) -> list[sp.Expr]:
-    """v_i(c) + w_i c_i for the leading part v: zero at the balances (and at 0)."""
-    return [
-        sp.expand(v + w * x)
-        for v, w, x in zip(split.leading, split.weights, split.variables, strict=True)
-    ]
+    """v_i(c) + w_i c_i for the leading part v, times its denominator in the state where
+    it has one: zero at the balances (and at 0, and where a denominator vanishes)."""
+    equations = []
+    for v, w, x in zip(split.leading, split.weights, split.variables, strict=True):
+        e = v + w * x
+        if split.denominators:
+            e = sp.fraction(sp.together(e))[0]
+        equations.append(sp.expand(e))
+    return equations
 
 
 def balances(split: WeightedField, *, seed: int = 0) -> tuple[Balance, ...]:
     """Every balance of the leading part, complex ones included, isolated ones after the
-    families, each component's balances in the order of their roots."""
+    families, each component's balances in the order of their roots. For a field with
+    denominators, the components on which one of them vanishes are not balances (the
+    equations were multiplied by it): those left are the closures of the balances where
+    the field is defined."""
     found: list[Balance] = []
     equations = balance_equations(split)
     for component in components(equations, split.variables, split.parameters, seed=seed):
+        if any(component.vanishes(d) for d, _ in split.denominators):
+            continue
         found.extend(component_balances(component))
     return tuple(found)
 

@@ -108,6 +108,8 @@ class ExponentAnalysis:
     balances: tuple[BalanceResult, ...]
     notes: tuple[str, ...] = ()
     seconds: float = field(default=0.0, compare=False)
+    #: the polynomials of the state the field divides by (balances lie off their zeros)
+    denominators: tuple[sp.Expr, ...] = ()
 
     @property
     def all_integer(self) -> bool:
@@ -153,6 +155,11 @@ class ExponentAnalysis:
             "weights": {str(x): w for x, w in zip(self.variables, self.weights, strict=True)},
             "homogeneous": self.homogeneous,
             "parameters": [str(p) for p in self.parameters],
+            **(
+                {"denominators": [sp.sstr(d) for d in self.denominators]}
+                if self.denominators
+                else {}
+            ),
             "free": [],
             "balances": [b.as_dict() for b in self.balances],
             "all_integer": self.all_integer,
@@ -223,6 +230,7 @@ def _analyse(split: WeightedField, painleve: bool, seed: int, start: float) -> E
         tuple(results),
         _notes(split, results, painleve),
         time.perf_counter() - start,
+        tuple(d for d, _ in split.denominators),
     )
 
 
@@ -299,6 +307,13 @@ def _notes(split: WeightedField, results, painleve: bool) -> tuple[str, ...]:
             f"{lower} enter the Painlevé test's series, and Yoshida's degrees constrain the "
             "leading weighted-homogeneous part of an integral"
         )
+    if split.denominators:
+        shown = ", ".join(sp.sstr(d) for d, _ in split.denominators)
+        notes.append(
+            f"the field divides by {shown}: its balances are sought where none of these "
+            "vanishes (each weighted-homogeneous, so every term keeps one shift); a solution "
+            "whose leading term makes one vanish is not covered"
+        )
     if split.parameters:
         names = ", ".join(map(str, split.parameters))
         notes.append(
@@ -306,7 +321,8 @@ def _notes(split: WeightedField, results, painleve: bool) -> tuple[str, ...]:
             "algebraic subset of their values (exponent_family finds special values)"
         )
     if not results:
-        notes.append("the leading part has no balance: no Laurent solution x = c t^(-w)")
+        where = " where the field is defined" if split.denominators else ""
+        notes.append(f"the leading part has no balance{where}: no Laurent solution x = c t^(-w)")
     if not painleve:
         notes.append("the Painlevé test was not run")
     return tuple(notes)

@@ -54,7 +54,7 @@ from .flint_gcd import flint_gcd
 from .integrality import Candidates, integer_candidates, rational_candidates
 from .kovalevskaya import LAMBDA, characteristic_polynomial, kovalevskaya_matrix
 from .prime_components import Component, components
-from .weighted import WeightedField, split_field
+from .weighted import WeightedField, polynomial_only, split_field
 
 #: Members of an infinite family analysed to confirm it (index -MEMBERS..MEMBERS).
 MEMBERS = 2
@@ -179,7 +179,9 @@ def exponent_family(
 def _exponent_family(variables, field, weights, free, seed, mapper, grid, generic):
     start = time.perf_counter()
     free = tuple(free)
-    split = split_field(variables, field, weights, parameters=free)
+    split = polynomial_only(
+        split_field(variables, field, weights, parameters=free), "the special values of a family"
+    )
     analyses = _Analyses(split, mapper)
     invalid = _field_denominators(split)
     if len(free) > 1:

@@ -49,6 +49,22 @@ def kovalevskaya_matrix(split: WeightedField) -> sp.Matrix:
     return jacobian + sp.diag(*split.weights)
 
 
+def matrix_in(algebra: IntegralAlgebra, component: Component, matrix: sp.Matrix) -> list[list]:
+    """K at the component's generic point, entry by entry in its algebra; an entry with
+    a denominator in the state (a field that divides by one) is its numerator's value
+    times the inverse of its denominator's, not zero where the field is defined."""
+    n, state = matrix.rows, component.variables
+
+    def value(expr: sp.Expr):
+        if expr.is_polynomial(*state):
+            return algebra.lift(component.evaluate(expr))
+        numer, denom = sp.fraction(sp.together(expr))
+        inverse = algebra.inverse(algebra.lift(component.evaluate(denom)))
+        return algebra.reduce(algebra.lift(component.evaluate(numer)) * inverse)
+
+    return [[value(matrix[i, j]) for j in range(n)] for i in range(n)]
+
+
 @dataclass(frozen=True)
 class Exponents:
     """The exponents of one balance, with multiplicity: ``values`` written out (sorted),
@@ -109,10 +125,10 @@ class ComponentPolynomial:
 def characteristic_polynomial(component: Component, matrix: sp.Matrix) -> ComponentPolynomial:
     """det(lambda - K) over the component's field, split as in the module doc."""
     ext = algebraic.Extension(component.symbol, component.minimal)
-    n, k, u = matrix.rows, ext.domain, component.symbol
+    k, u = ext.domain, component.symbol
     # Berkowitz's division-free algorithm in k[u]/(g), over Z[p] (integral_algebra)
     algebra = IntegralAlgebra(u, component.minimal)
-    rows = [[algebra.lift(component.evaluate(matrix[i, j])) for j in range(n)] for i in range(n)]
+    rows = matrix_in(algebra, component, matrix)
     charpoly = [algebra.poly(c) for c in berkowitz(rows, algebra, algebra.reduce)]
     # coords[i][j]: the coefficient of u^j in the coefficient of lambda^(n-i)
     coords = [ext.coordinates(c) for c in charpoly]

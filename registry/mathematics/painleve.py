@@ -35,7 +35,7 @@ import sympy as sp
 
 from . import algebraic
 from .integral_algebra import Element, IntegralAlgebra
-from .kovalevskaya import berkowitz
+from .kovalevskaya import berkowitz, matrix_in
 from .prime_components import Component
 from .weighted import WeightedField
 
@@ -138,15 +138,24 @@ class _Recursion:
         self.algebra = IntegralAlgebra(component.symbol, component.minimal, symbols)
         self.ext = algebraic.Extension(component.symbol, component.minimal)
         self.a = [[self.algebra.lift(component.evaluate(x))] for x in split.variables]
-        self.matrix = [
-            [self.algebra.lift(component.evaluate(matrix[i, j])) for j in range(n)]
-            for i in range(n)
+        #: every value the series divided by or needs non-zero (pivots, minors)
+        self.divisors: list[Element] = []
+        self.matrix = matrix_in(self.algebra, component, matrix)
+        #: each denominator D_d of the field as (coefficient, factors) terms, and 1/D_d(c):
+        #: the series of 1/D_d(X) is numbered n + d (``_series``)
+        self.denominators = [
+            [
+                (self.element(coeff), tuple(j for j, m in enumerate(mono) for _ in range(m)))
+                for mono, coeff in sp.Poly(d, *split.variables).terms()
+            ]
+            for d, _ in split.denominators
+        ]
+        self.inverses = [
+            self.inverse(self.algebra.lift(component.evaluate(d))) for d, _ in split.denominators
         ]
         self.terms = self._terms()
         self.memo: dict[tuple[int, ...], list[Element]] = {}
         self._used: dict[int, int] = {}  # free coefficients brought by each resonance
-        #: every value the series divided by or needs non-zero (pivots, minors)
-        self.divisors: list[Element] = []
 
     def element(self, expr: sp.Expr) -> Element:
         """A rational function of u (coefficients in k) as a reduced element of F."""
@@ -159,17 +168,15 @@ class _Recursion:
         return self.algebra.inverse(value)
 
     def _terms(self) -> list[list[tuple[Element, tuple[int, ...], int]]]:
-        """Per component: (coefficient, monomial as a tuple of variable indices, delay
-        1 - shift) for every term of the whole field."""
-        variables = self.split.variables
-        terms: list[list[tuple[Element, tuple[int, ...], int]]] = [[] for _ in variables]
-        for shift, part in self.split.parts.items():
-            for i, expr in enumerate(part):
-                if expr == 0:
-                    continue
-                for monomial, coeff in sp.Poly(expr, *variables).terms():
-                    factors = tuple(j for j, m in enumerate(monomial) for _ in range(m))
-                    terms[i].append((self.element(coeff), factors, 1 - shift))
+        """Per component: (coefficient, monomial as a tuple of series indices, delay
+        1 - shift) for every term of the whole field; index j < n is X_j, n + d the
+        series of 1/D_d(X)."""
+        n = len(self.split.variables)
+        terms: list[list[tuple[Element, tuple[int, ...], int]]] = [[] for _ in range(n)]
+        for term in self.split.terms:
+            factors = tuple(j for j, m in enumerate(term.monomial) for _ in range(m))
+            factors += tuple(n + d for d, e in enumerate(term.powers) for _ in range(e))
+            terms[term.component].append((self.element(term.coefficient), factors, 1 - term.shift))
         return terms
 
     def run(self, last: int) -> LaurentSeries:
@@ -331,18 +338,47 @@ class _Recursion:
         if not factors:
             return self.algebra.one if q == 0 else self.algebra.zero
         if len(factors) == 1:
-            return self.a[factors[0]][q]
+            return self._series(factors[0], q)
         known = self.memo.setdefault(factors, [])
         if q < len(known):
             return known[q]
         head, last = factors[:-1], factors[-1]
         value = self.algebra.zero
         for p in range(q + 1):
-            value += self._product(head, p) * self.a[last][q - p]
+            value += self._product(head, p) * self._series(last, q - p)
         value = self.algebra.reduce(value)
         if q == len(known) and q < len(self.a[0]) - 1:
             known.append(value)
         return value
+
+    def _series(self, j: int, q: int) -> Element:
+        """The order-q coefficient of X_j (j < n), or of 1/D_d(X) for j = n + d: with
+        S = D_d(X) (D_d weighted-homogeneous, so S = t^(deg) D_d(x) is a power series),
+        1/S has s_0 = 1/S_0 and s_q = -s_0 sum_{p=1..q} S_p s_(q-p). Kept like
+        ``_product``'s orders (the current one is recomputed)."""
+        n = len(self.a)
+        if j < n:
+            return self.a[j][q]
+        known = self.memo.setdefault((j,), [])
+        if q < len(known):
+            return known[q]
+        if q == 0:
+            value = self.inverses[j - n]
+        else:
+            total = self.algebra.zero
+            for p in range(1, q + 1):
+                total += self._denominator(j - n, p) * self._series(j, q - p)
+            value = self.algebra.reduce(-(self.inverses[j - n] * self.algebra.reduce(total)))
+        if q == len(known) and q < len(self.a[0]) - 1:
+            known.append(value)
+        return value
+
+    def _denominator(self, d: int, q: int) -> Element:
+        """The order-q coefficient of D_d(X) (a sum of products of the X's)."""
+        total = self.algebra.zero
+        for coeff, factors in self.denominators[d]:
+            total += coeff * self._product(factors, q)
+        return self.algebra.reduce(total)
 
     def _solve(self, system, rhs, symbols, costly: bool = True):
         """Solve system a = rhs over F (the system's entries lie in F, the right side in

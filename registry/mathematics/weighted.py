@@ -10,6 +10,12 @@ t^(1 - s); a term of shift above 1 would dominate the derivative, and no solutio
 like c t^(-w) under those weights. The field is *weighted-homogeneous* when it is its own
 leading part.
 
+A field may also divide by polynomials D(x) of the state (1/gamma3^2 in Goryachev's
+heavy top) when each D is weighted-homogeneous: a term x^m / D^e then has weighted degree
+|m| - e deg D, and along x = c t^(-w) with D(c) != 0 it is of order t^(e deg D - |m|),
+so the same shifts apply. Such a field is analysed where no D vanishes
+(``WeightedField.denominators``).
+
 >>> x, y = sp.symbols("x y")
 >>> split = split_field([x, y], [y + x**2, x * y + 1], [1, 2])
 >>> split.leading, split.homogeneous, split.shifts
@@ -18,6 +24,7 @@ leading part.
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
@@ -27,15 +34,31 @@ from ..errors import Problem, WeightedFieldError
 
 
 @dataclass(frozen=True)
+class Term:
+    """One term coefficient * x^monomial / prod_d D_d^powers[d] of dx_i/dt (i =
+    ``component``), with its shift."""
+
+    component: int
+    coefficient: sp.Expr
+    monomial: tuple[int, ...]
+    powers: tuple[int, ...]
+    shift: int
+
+
+@dataclass(frozen=True)
 class WeightedField:
-    """A polynomial field dx_i/dt = v_i(x) split into parts of one shift each
-    (``parts[s]``: the terms of shift s of every component, highest shift 1 first)."""
+    """A field dx_i/dt = v_i(x) split into parts of one shift each (``parts[s]``: the
+    terms of shift s of every component, highest shift 1 first), term by term
+    (``terms``); ``denominators``: the weighted-homogeneous polynomials D_d of the state
+    it divides by (none for a polynomial field), each with its weighted degree."""
 
     variables: tuple[sp.Symbol, ...]
     weights: tuple[int, ...]
     parameters: tuple[sp.Symbol, ...]
     field: tuple[sp.Expr, ...]
     parts: Mapping[int, tuple[sp.Expr, ...]]
+    terms: tuple[Term, ...] = ()
+    denominators: tuple[tuple[sp.Expr, int], ...] = ()
 
     @property
     def leading(self) -> tuple[sp.Expr, ...]:
@@ -82,17 +105,18 @@ def split_field(
                 Problem("field", "names neither a variable nor a parameter", ", ".join(undeclared))
             )
     parts: dict[int, list[list[sp.Expr]]] = {}
+    raw: list[tuple[int, sp.Expr, tuple[int, ...], dict[int, int], int]] = []
+    denominators: list[tuple[sp.Expr, int]] = []
     for i, component in enumerate(field):
-        try:
-            poly = sp.Poly(component, *variables)
-        except sp.PolynomialError:
-            problems.append(
-                Problem(f"field[{i}]", "not a polynomial in the variables", str(component))
-            )
+        read = _fraction(component, variables, weights if weighted else None, denominators)
+        if isinstance(read, Problem):
+            problems.append(Problem(f"field[{i}]", read.message, read.text))
             continue
+        poly, scale, powers = read
         for monomial, coeff in poly.terms():
             if coeff == 0:  # the zero polynomial's one term
                 continue
+            coeff = coeff / scale
             if not _rational_over_q(coeff, parameters):
                 problems.append(
                     Problem(
@@ -103,18 +127,21 @@ def split_field(
                 )
             elif weighted:
                 shift = sum(m * int(w) for m, w in zip(monomial, weights, strict=True))
+                shift -= sum(e * denominators[d][1] for d, e in powers.items())
                 shift -= int(weights[i])
                 term = coeff * sp.Mul(*(x**m for x, m in zip(variables, monomial, strict=True)))
+                term /= sp.Mul(*(denominators[d][0] ** e for d, e in powers.items()))
                 parts.setdefault(shift, [[] for _ in field])[i].append(term)
+                raw.append((i, coeff, tuple(monomial), powers, shift))
     too_high = sorted(s for s in parts if s > 1)
     for s in too_high:
-        terms = [t for component in parts[s] for t in component]
+        dominating = [t for component in parts[s] for t in component]
         problems.append(
             Problem(
                 "field",
                 f"terms of shift {s} > 1 dominate dx/dt under these weights, so no solution "
                 "behaves like c t^(-w)",
-                str(sp.Add(*terms)),
+                str(sp.Add(*dominating)),
             )
         )
     if not problems and 1 not in parts:
@@ -127,7 +154,81 @@ def split_field(
     ordered = {
         s: tuple(sp.Add(*component) for component in parts[s]) for s in sorted(parts, reverse=True)
     }
-    return WeightedField(variables, weights, tuple(parameters), field, ordered)
+    terms = tuple(
+        Term(i, coeff, monomial, tuple(powers.get(d, 0) for d in range(len(denominators))), shift)
+        for i, coeff, monomial, powers, shift in raw
+    )
+    return WeightedField(
+        variables, weights, tuple(parameters), field, ordered, terms, tuple(denominators)
+    )
+
+
+def _fraction(component, variables, weights, denominators):
+    """dx_i/dt as (numerator polynomial, constant, {d: power}) with its denominator's
+    factors in the state entered in ``denominators`` (each weighted-homogeneous, with its
+    degree; None for weights: degrees not wanted); a Problem where it is not a
+    polynomial divided by such a product."""
+    try:
+        return sp.Poly(component, *variables), sp.S.One, {}
+    except sp.PolynomialError:
+        pass
+    read = _factored(component, variables)
+    if read is None:
+        return Problem(
+            "", "not a polynomial in the variables, nor a polynomial divided by one", str(component)
+        )
+    numer, scale, factors = read
+    powers: dict[int, int] = {}
+    for factor, e in factors:
+        if not factor.free_symbols & set(variables):
+            scale *= factor**e
+            continue
+        if sp.Poly(factor, *variables).LC().could_extract_minus_sign():
+            factor, scale = -factor, scale * (-1) ** e
+        degrees = () if weights is None else weighted_degrees(factor, variables, weights)
+        if len(degrees) > 1:
+            return Problem(
+                "",
+                "divides by a polynomial that is not weighted-homogeneous under these weights, "
+                "so the terms have no single shift",
+                str(factor),
+            )
+        known = [d for d, (f, _) in enumerate(denominators) if sp.expand(f - factor) == 0]
+        if not known:
+            denominators.append((factor, degrees[0] if degrees else 0))
+        d = known[0] if known else len(denominators) - 1
+        powers[d] = powers.get(d, 0) + e
+    return sp.Poly(numer, *variables), scale, powers
+
+
+def polynomial_only(split: WeightedField, what: str) -> WeightedField:
+    """``split`` itself where its field is polynomial; WeightedFieldError for a divided
+    field, whose balance equations (multiplied by the denominators) only the single
+    analysis reads right (``balances``)."""
+    if split.denominators:
+        shown = ", ".join(sp.sstr(d) for d, _ in split.denominators)
+        raise WeightedFieldError(
+            [
+                Problem(
+                    "field",
+                    f"{what} are sought for polynomial fields only; this one divides by",
+                    shown,
+                )
+            ]
+        )
+    return split
+
+
+@functools.lru_cache(maxsize=256)
+def _factored(component: sp.Expr, variables: tuple[sp.Symbol, ...]):
+    """(numerator, constant, factors of the denominator) of a rational function of the
+    variables, None for anything else; kept, since the default weights try several
+    splits of one field."""
+    numer, denom = sp.fraction(sp.together(component))
+    if not (numer.is_polynomial(*variables) and denom.is_polynomial(*variables)):
+        return None
+    scale, factors = sp.factor_list(denom, *variables)
+    return numer, scale, tuple(factors)
 
 
 def _shape_problems(variables, field, weights) -> list[Problem]:

@@ -36,6 +36,9 @@ def _lines(result: ExponentResult) -> list[str]:
     if d.get("leading"):
         lines.append("the field is not weighted-homogeneous: its leading part is analysed,")
         lines += [f"    d{x}/dt = {v}" for x, v in d["leading"].items()]
+    if d.get("denominators"):
+        shown = ", ".join(d["denominators"])
+        lines.append(f"the field divides by {shown}: balances where none of these vanishes")
     if d.get("parameters"):
         lines.append(f"parameters (generic values): {', '.join(d['parameters'])}")
     for i, b in enumerate(d["balances"], 1):

@@ -46,17 +46,23 @@ def spectra(document) -> list[list[str]]:
 
 
 def independently(case, document, weights=None) -> None:
-    """Every reported balance solves v(c) + w c = 0, and plain sympy's eigenvalues of
-    Dv(c) + diag(w) there are the reported exponents, with multiplicities."""
+    """Every reported balance solves v(c) + w c = 0 (v the leading part, the field where
+    it is homogeneous), and plain sympy's eigenvalues of Dv(c) + diag(w) there are the
+    reported exponents, with multiplicities."""
     options = exponent_options(case, weights)
     found = case_field(case, options)
     names = {str(x): x for x in (*found.variables, *found.parameters)}
-    matrix = sp.Matrix(found.field).jacobian(found.variables) + sp.diag(*found.weights)
+    field = found.field
+    if "leading" in document:  # a field that is not homogeneous: its leading part
+        field = tuple(
+            sp.sympify(document["leading"][str(x)], locals=names) for x in found.variables
+        )
+    matrix = sp.Matrix(field).jacobian(found.variables) + sp.diag(*found.weights)
     for b in document["balances"]:
         point = {names[x]: sp.sympify(v, locals=names) for x, v in b["point"].items()}
         residual = [
             sp.simplify(v.xreplace(point) + w * point[x])
-            for x, v, w in zip(found.variables, found.field, found.weights, strict=True)
+            for x, v, w in zip(found.variables, field, found.weights, strict=True)
         ]
         assert residual == [0] * len(residual), b["point"]
         eigen = matrix.xreplace(point).eigenvals()
@@ -188,7 +194,8 @@ def test_a_system_that_is_not_polynomial_is_refused_naming_each_component():
     assert [line.split(": ")[1] for line in lines] == ["dM1/dt", "dM2/dt"]
     assert lines[0].startswith(
         f"{path}: dM1/dt: not a polynomial in the state variables (divided by a function of "
-        "gamma1, gamma2): the analysis seeks balances x = c t^(-w) of a polynomial field: '"
+        "gamma1, gamma2), nor a polynomial divided by one: the analysis seeks balances "
+        "x = c t^(-w) of a polynomial or rational field: '"
     )
     assert isinstance(info.value, ValueError) and info.value.file == str(path)
 
@@ -334,8 +341,9 @@ def test_the_catalog_s_new_forms_are_analysed_or_refused_with_the_reason():
     """Kovalevskaya's top in her own (omega, gamma) equations has the exponents of the
     (M, gamma) form (above): two families of balances, two isolated ones; the Chaplygin
     sleigh in (v, omega) is quadratic, with -1 and 2 (the energy's degree) at each
-    balance; a system with an angle among its state, or the Chaplygin ball's field
-    divided by a function of gamma, is refused."""
+    balance; a system with an angle among its state is refused, and so is the Chaplygin
+    ball's field, by the split: it divides by a polynomial in gamma that is not
+    weighted-homogeneous."""
     heavy = CASES / "heavy-top" / "kovalevskaya-1889-heavy-top-omega-equations.toml"
     case, result = analysed(heavy)
     assert result.decided and result.document["homogeneous"] is True
@@ -356,6 +364,41 @@ def test_the_catalog_s_new_forms_are_analysed_or_refused_with_the_reason():
     assert "'-R*wphi*wtheta*sin(phi)'" in str(info.value)
     ball = load_case(CASES / "nonholonomic" / "gaire-2025-chaplygin-ball-code.toml")
     with pytest.raises(ExponentError) as info:
-        case_field(ball, exponent_options(ball))
+        analyse_case(ball, exponent_options(ball))
     assert len(info.value.problems) == 6
-    assert "(divided by a function of gamma1, gamma2, gamma3)" in str(info.value)
+    assert all(
+        p.message.startswith("divides by a polynomial that is not weighted-homogeneous")
+        for p in info.value.problems
+    )
+
+
+def test_a_field_divided_by_gamma3_is_analysed_where_gamma3_is_not_zero():
+    """Goryachev's 1916 top is Goryachev and Chaplygin's (A = B = 4C, potential a gamma1)
+    with b/gamma3^2 added, a term of lower shift under (M: 1, gamma: 2). The leading part
+    is Goryachev and Chaplygin's, with its four balances (above); the two with
+    gamma3 = 0, where the exponents are -1/2 and 3/2, are not balances of the divided
+    field (its lower term is not lower there), and are left out, saying so."""
+    case, result = analysed(CASES / "heavy-top" / "goryachev-1916-heavy-top.toml")
+    d = result.document
+    assert d["denominators"] == ["gamma3"] and d["homogeneous"] is False
+    assert spectra(d) == [["-2", "-1", "2", "3", "3", "4"]] * 2
+    assert all(sp.sympify(b["point"]["gamma3"]) != 0 for b in d["balances"])
+    assert (
+        "it divides by gamma3, and its balances are those where none of these" in (d["statement"])
+    )
+    assert not d["painleve"]["passes"]
+    independently(case, d)
+
+
+def test_the_reference_paper_s_borisov_mamaev_case_is_analysed_but_not_as_a_family():
+    """Borisov and Mamaev's field divides by a power of gamma3 (the reference paper's
+    case); its balances solve the divided equations and their exponents are sympy's
+    eigenvalues of the Kovalevskaya matrix there. The special values of a divided
+    field are not sought: --free is refused, naming the components."""
+    case, result = analysed(CASES / "borisov-mamaev-1997.toml")
+    d = result.document
+    assert result.decided and d["denominators"] and d["balances"]
+    independently(case, d)
+    with pytest.raises(ExponentError) as info:
+        case_field(case, exponent_options(case, free=list(case.parameters)))
+    assert "are sought for polynomial fields only" in str(info.value)

@@ -26,6 +26,7 @@ from registry.discovery.painleve_strata import (
     half_integer_strata,
     painleve_strata,
 )
+from registry.errors import WeightedFieldError
 from registry.language.casefile import load_case
 from registry.mathematics.exponent_analysis import exponents
 from registry.mathematics.exponent_families import kind_of
@@ -368,3 +369,10 @@ def test_the_heavy_top_with_all_its_parameters_selects_euler_lagrange_and_kovale
     members_pass(found, FAMILIES / "heavy-top-five.toml", ["b", "c", "x0", "y0", "z0"])
     # b**2 = 1/2, quartics in the centre's coordinates
     assert all("no rational parametrisation" in u for u in found.undecided), found.undecided
+
+
+@pytest.mark.parametrize("stratify", [painleve_strata, half_integer_strata])
+def test_the_strata_of_a_divided_field_are_refused_not_misread(stratify):
+    x, y, a, b = sp.symbols("x y a b")
+    with pytest.raises(WeightedFieldError, match="polynomial fields only"):
+        stratify([x, y], [x**2 + b * x, a * y**3 / x], [1, 1], [a, b])

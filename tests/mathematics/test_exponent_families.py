@@ -13,8 +13,10 @@ from __future__ import annotations
 
 import json
 
+import pytest
 import sympy as sp
 
+from registry.errors import WeightedFieldError
 from registry.mathematics.exponent_families import exponent_family
 from tests.helpers.tops import HEAVY_WEIGHTS, STATE, heavy_top
 
@@ -114,3 +116,12 @@ def test_a_pole_that_holds_a_coordinate_of_a_family_of_balances_is_no_crash():
         budget=60,
     )
     assert report.result.decided or "time budget" in report.result.statement
+
+
+def test_a_family_of_divided_fields_is_refused_not_misread():
+    """Special values are sought for polynomial fields only: the balance equations of a
+    divided field are multiplied by its denominators, and their components where one
+    vanishes are not balances."""
+    x, y, a = sp.symbols("x y a")
+    with pytest.raises(WeightedFieldError, match="polynomial fields only"):
+        exponent_family([x, y], [x**2, a * y**3 / x], [1, 1], [a])

@@ -196,3 +196,53 @@ def test_the_projection_declines_a_jordan_block_and_elimination_counts_it():
     assert algebraic and all(
         step.missing == 1 for bl in algebraic for step in bl.painleve.resonances if step.order == 2
     )
+
+
+def divided(coupling, lower=0):
+    """x' = x^2 + lower (x = -1/t for lower 0), y' = a y^3 / x + coupling x under weights
+    (1, 1): for coupling and lower 0, y = (a t^2 + K)^(-1/2) exactly, so
+    y t = f1 t - (a/2) f1^3 t^3 + ... at the balance (-1, 0) (exponents -1, 1); the
+    coupling adds -coupling/t to y', a logarithm. The balances y = +-1/(sqrt(a) t) have
+    exponents -2, -1."""
+    return [x, y], [x**2 + lower, a * y**3 / x + coupling * x], [1, 1]
+
+
+def test_a_field_divided_by_a_state_variable_has_its_exponents_and_logarithm():
+    failing = exponents(*divided(eps))
+    found = {tuple(b.balance.point.values()): b for b in failing.balances}
+    root = sp.sqrt(1 / a)
+    assert set(found) == {(-1, 0), (-1, root), (-1, -root)}
+    assert found[(-1, 0)].exponents.values == (-1, 1)
+    assert found[(-1, root)].exponents.values == found[(-1, -root)].exponents.values == (-2, -1)
+    (step,) = found[(-1, 0)].painleve.resonances
+    assert step.order == 1 and len(step.conditions) == 1
+    assert sp.simplify(step.conditions[0] / eps).is_nonzero  # a multiple of the coupling
+    assert not failing.painleve_passes
+    assert exponents(*divided(0)).painleve_passes
+    assert exponents(*divided(0, b)).painleve_passes
+
+
+def test_the_series_of_a_divided_field_solves_its_equations():
+    """With lower = 0 the series is the exact solution's; with lower = b, 1/x has a
+    series of its own (x = -sqrt(b) cot(sqrt(b) t)), and the series still solves the
+    equations order by order."""
+    for lower in (0, b):
+        variables, field, weights = divided(0, lower)
+        split = split_field(variables, field, weights)
+        assert split.denominators == ((x, 1),) and split.leading == (x**2, a * y**3 / x)
+        (balance,) = [r for r in balances(split) if r.point[y] == 0]
+        matrix = kovalevskaya_matrix(split)
+        series = laurent_series(split, balance.component, matrix, {1: 1}, order=5)
+        (f1,) = series.resonances[0].free
+        if lower == 0:
+            assert [series.coefficients[k][1] for k in range(4)] == [0, f1, 0, -a * f1**3 / 2]
+        else:
+            assert [series.coefficients[k][0] for k in range(3)] == [-1, 0, b / 3]
+        laurent = {
+            v: sp.Add(*(t ** (k - w) * series.coefficients[k][i] for k in range(6)))
+            for i, (v, w) in enumerate(zip(variables, weights, strict=True))
+        }
+        for v, f, w in zip(variables, field, weights, strict=True):
+            residual = (sp.diff(laurent[v], t) - f.xreplace(laurent)) * t ** (w + 1)
+            expansion = sp.series(sp.together(residual), t, 0, 6).removeO()
+            assert all(sp.simplify(expansion.coeff(t, k)) == 0 for k in range(6)), (v, lower)

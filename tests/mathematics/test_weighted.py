@@ -50,7 +50,8 @@ def test_every_problem_is_listed_with_the_component_or_weight_it_concerns():
         split_field([x, y], [sp.sqrt(x) + y, sp.Float(0.5) * y * x], [1, 0])
     assert str(caught.value).splitlines() == [
         "weights[1]: not a positive integer: '0'",
-        "field[0]: not a polynomial in the variables: 'sqrt(x) + y'",
+        "field[0]: not a polynomial in the variables, nor a polynomial divided by one: "
+        "'sqrt(x) + y'",
         "field[1]: a coefficient is not a rational function over Q of the parameters: "
         "'0.500000000000000'",
     ]
@@ -84,3 +85,28 @@ def test_weighted_degrees_of_the_heavy_top_integrals():
     assert weighted_degrees(m1 * g1 + m2 * g2 + m3 * g3, STATE, HEAVY_WEIGHTS) == (3,)
     assert weighted_degrees(g1**2 + m1, STATE, HEAVY_WEIGHTS) == (4, 1)
     assert weighted_degrees(0, STATE, HEAVY_WEIGHTS) == ()
+
+
+def test_a_field_divided_by_weighted_homogeneous_polynomials_keeps_one_shift_per_term():
+    # under weights (1, 2): y^2/x^2 has degree 4 - 2 = 2 (shift 1 in x'), a x shift 0;
+    # x y^3/(x^2 + y)^2 has degree 7 - 4 = 3 (shift 1 in y')
+    field = [y**2 / x**2 + a * x, x * y**3 / (x**2 + y) ** 2]
+    split = split_field([x, y], field, [1, 2])
+    assert split.denominators == ((x, 1), (x**2 + y, 2))
+    assert split.shifts == (1, 0) and not split.homogeneous
+    assert split.leading == (y**2 / x**2, x * y**3 / (x**2 + y) ** 2)
+    assert split.parts[0] == (a * x, 0)
+    assert {(t.component, t.monomial, t.powers, t.shift) for t in split.terms} == {
+        (0, (0, 2), (2, 0), 1),
+        (0, (3, 0), (2, 0), 0),  # a x over the component's one denominator: a x^3 / x^2
+        (1, (1, 3), (0, 2), 1),
+    }
+
+
+def test_a_denominator_that_is_not_weighted_homogeneous_is_refused():
+    with pytest.raises(WeightedFieldError) as caught:
+        split_field([x, y], [x**2 / (1 + y), x * y], [1, 1])
+    assert str(caught.value).splitlines() == [
+        "field[0]: divides by a polynomial that is not weighted-homogeneous under these "
+        "weights, so the terms have no single shift: 'y + 1'"
+    ]
