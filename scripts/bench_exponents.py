@@ -17,7 +17,14 @@ machine, else wall clock as in the survey), printed sorted by CPU time with the
 result's summary (decided, balances, exponents, Painlevé test), and how many were
 decided within ``--within`` seconds (default ``BESIDE_SEARCH_EXPONENT_SECONDS``).
 
+With ``--conditions``: the failing compatibility conditions of Bobylev's top (over
+Q(B, C, a), at balances written in square roots), each written at its balance in the
+normal form of its square roots (``algebraic.value_at_root``) against sympy's ``radsimp``
+of the substituted expression (what was done before), in the same run, with the two
+compared at random rational values.
+
 Usage: python scripts/bench_exponents.py [--timeout 120] [--repeat 3]
+       python scripts/bench_exponents.py --conditions
        python scripts/bench_exponents.py --catalog [--budget 120] [--cpu] [--jobs 1] [--only TEXT]
                                          [--save FILE.json]
 Nothing here is asserted by the tests: machines are shared and noisy.
@@ -41,6 +48,7 @@ from registry.execution.time_budget import BudgetExceeded, time_limit
 from registry.mathematics import mechanics as mech
 from registry.mathematics.exponent_analysis import exponents
 
+ROOT = Path(__file__).resolve().parents[1]
 WEIGHTS = (1, 1, 1, 2, 2, 2)
 HALF, THIRD = sp.Rational(1, 2), sp.Rational(1, 3)
 CASES = {
@@ -192,6 +200,57 @@ def catalog(args) -> None:
     )
 
 
+def conditions(args) -> None:
+    """Each condition at its balance: square roots' normal form against radsimp."""
+    import random
+
+    from registry.discovery.exponents import case_field, exponent_options
+    from registry.language.casefile import load_case
+    from registry.mathematics.algebraic import value_at_root
+    from registry.mathematics.balances import balances
+    from registry.mathematics.kovalevskaya import (
+        balance_exponents,
+        characteristic_polynomial,
+        kovalevskaya_matrix,
+    )
+    from registry.mathematics.painleve import laurent_series
+    from registry.mathematics.weighted import split_field
+
+    case = load_case(ROOT / "data" / "cases" / "heavy-top" / "bobylev-1896-heavy-top.toml")
+    found = case_field(case, exponent_options(case))
+    split = split_field(found.variables, found.field, found.weights, parameters=found.parameters)
+    matrix = kovalevskaya_matrix(split)
+    work = []
+    for balance in balances(split):
+        if balance.root is None:
+            continue
+        polynomial = characteristic_polynomial(balance.component, matrix)
+        resonances = balance_exponents(balance, polynomial).resonances
+        series = laurent_series(split, balance.component, matrix, resonances)
+        u = balance.component.symbol
+        work += [(c, u, balance.root) for s in series.resonances for c in s.conditions]
+    ours = theirs = 0.0
+    rng = random.Random(1)
+    agree = True
+    for c, u, root in work:
+        clear_cache()
+        start = time.process_time()
+        mine = value_at_root(c, u, root)
+        ours += time.process_time() - start
+        clear_cache()
+        start = time.process_time()
+        other = sp.radsimp(sp.expand(c.subs(u, root)))
+        theirs += time.process_time() - start
+        values = {x: sp.Rational(rng.randint(2, 30), rng.randint(1, 7)) for x in other.free_symbols}
+        a, b = sp.N(mine.xreplace(values), 30), sp.N(other.xreplace(values), 30)
+        agree = agree and abs(a - b) <= 1e-20 * (1 + abs(a))
+    print(f"Bobylev's top: {len(work)} conditions at balances in square roots")
+    print(
+        f"  square roots' normal form: {ours:.3f} s   radsimp: {theirs:.3f} s   "
+        f"ratio {theirs / max(ours, 1e-9):.1f}x   agree at random values: {agree}"
+    )
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--timeout", type=float, default=120.0)
@@ -205,7 +264,13 @@ def main() -> None:
         "--cpu", action="store_true", help="--catalog: the budget in CPU seconds, not wall clock"
     )
     parser.add_argument("--save", default="", help="--catalog: the documents to this JSON file")
+    parser.add_argument(
+        "--conditions", action="store_true", help="conditions at balances: ours against radsimp"
+    )
     args = parser.parse_args()
+    if args.conditions:
+        conditions(args)
+        return
     if args.catalog:
         catalog(args)
         return

@@ -15,9 +15,12 @@ from __future__ import annotations
 import functools
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import flint
 import sympy as sp
+
+from .factoring import factor
 
 #: Digits of the ball arithmetic that identifies a root among candidates.
 DIGITS = 50
@@ -119,6 +122,84 @@ def exact_roots(poly: sp.Poly) -> tuple[sp.Expr, ...] | None:
     if poly.domain.is_QQ or poly.domain.is_ZZ:
         return tuple(sp.CRootOf(poly, i) for i in range(poly.degree()))
     return None
+
+
+def value_at_root(expr: sp.Expr, symbol: sp.Symbol, root: sp.Expr) -> sp.Expr | None:
+    """A polynomial in ``symbol`` (coefficients rational in the other symbols) at a root
+    written in square roots: the sum over products of distinct square roots (and I) of
+    factored rational coefficients, computed in Q(symbols) with s^2 = b for each square
+    root s = sqrt(b) of the root (b^(k/2) = b^((k-1)/2) sqrt(b) for the principal
+    branch). None where the root is not built so (nested roots, other powers, a square
+    root in a denominator): the caller simplifies the substituted expression instead."""
+    others = expr.free_symbols - {symbol}
+    read = _square_roots(root, others)
+    if read is None:
+        return None
+    form, k, squares, radicals = read
+    coefficients = sp.Poly(expr, symbol, domain=k).as_dict(native=True)
+    total: dict[tuple[int, ...], Any] = {}
+    power = {tuple(0 for _ in squares): k.one}
+    for j in range(max(e for (e,) in coefficients) + 1 if coefficients else 0):
+        if j:
+            power = _times(power, form, k, squares)
+        if (j,) in coefficients:
+            for key, v in power.items():
+                total[key] = total.get(key, k.zero) + coefficients[(j,)] * v
+    return sp.Add(
+        *(
+            factor(k.to_sympy(v))
+            * sp.Mul(*(r for r, bit in zip(radicals, key, strict=True) if bit))
+            for key, v in total.items()
+            if v
+        )
+    )
+
+
+def _square_roots(expr: sp.Expr, symbols: set[sp.Symbol]):
+    """``expr`` as {bits: coefficient}: coefficients in k = Q(symbols and the roots' own
+    symbols) times products of distinct square roots sqrt(b_i) (and I = sqrt(-1)), with
+    k, the squares b_i in k and the roots; None where it is not such a sum."""
+    powers = [p for p in expr.atoms(sp.Pow) if p.exp.is_Rational and not p.exp.is_integer]
+    if any(p.exp.q != 2 for p in powers):
+        return None
+    expr = sp.expand(expr)
+    powers = [p for p in expr.atoms(sp.Pow) if p.exp.is_Rational and not p.exp.is_integer]
+    bases = sorted({p.base for p in powers}, key=sp.default_sort_key)
+    if any(b.has(sp.I) or any(not q.exp.is_integer for q in b.atoms(sp.Pow)) for b in bases):
+        return None
+    roots = [sp.Dummy("s") for _ in bases]
+    i = sp.Dummy("i")
+    named = dict(zip(bases, roots, strict=True))
+    written = expr.xreplace({p: named[p.base] * p.base ** ((p.exp.p - 1) // 2) for p in powers})
+    written = sp.expand(written.xreplace({sp.I: i}))
+    symbols = symbols | set().union(set(), *(b.free_symbols for b in bases))
+    k = sp.QQ.frac_field(*sorted(symbols, key=str)) if symbols else sp.QQ
+    try:
+        poly = sp.Poly(written, *roots, i, domain=k)
+    except (sp.PolynomialError, sp.CoercionFailed):  # a root in a denominator
+        return None
+    squares = [*(k.from_sympy(b) for b in bases), -k.one]
+    form: dict[tuple[int, ...], Any] = {}
+    for monomial, c in poly.as_dict(native=True).items():
+        for b, m in zip(squares, monomial, strict=True):
+            c = c * b ** (m // 2)
+        key = tuple(m % 2 for m in monomial)
+        form[key] = form.get(key, k.zero) + c
+    return form, k, squares, [*(sp.sqrt(b) for b in bases), sp.I]
+
+
+def _times(x: dict, y: dict, k, squares: list) -> dict:
+    """The product of two sums of products of square roots (``_square_roots``)."""
+    out: dict[tuple[int, ...], Any] = {}
+    for k1, c1 in x.items():
+        for k2, c2 in y.items():
+            c = c1 * c2
+            for b, a1, a2 in zip(squares, k1, k2, strict=True):
+                if a1 and a2:
+                    c = c * b
+            key = tuple(a1 ^ a2 for a1, a2 in zip(k1, k2, strict=True))
+            out[key] = out.get(key, k.zero) + c
+    return out
 
 
 def _radical(expr: sp.Expr) -> bool:

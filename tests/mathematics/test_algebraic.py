@@ -49,3 +49,38 @@ def test_arithmetic_in_a_simple_extension():
     assert algebraic.minimal_polynomial(ext, ext.poly(u + 1), z).as_expr() == z**2 - 2 * z - 1
     with pytest.raises(ZeroDivisionError):
         ext.inverse(ext.poly(u**2 - 2))
+
+
+def _same_at_random_values(a: sp.Expr, b: sp.Expr) -> bool:
+    rng = __import__("random").Random(7)
+    symbols = sorted(a.free_symbols | b.free_symbols, key=str)
+    for _ in range(4):
+        values = {s: sp.Rational(rng.randint(2, 40), rng.randint(1, 9)) for s in symbols}
+        x, y = sp.N(a.xreplace(values), 40), sp.N(b.xreplace(values), 40)
+        if abs(x - y) > sp.Float(10) ** -30 * (1 + abs(x)):
+            return False
+    return True
+
+
+@pytest.mark.parametrize(
+    "root",
+    [
+        sp.sqrt(3) + 2,
+        (1 + sp.I * sp.sqrt(7)) / 2,
+        sp.sqrt(sp.Symbol("B")) * sp.sqrt(-1 / (sp.Symbol("B") - sp.Symbol("C")))
+        + sp.Symbol("B") * sp.sqrt(-1 / (sp.Symbol("B") ** 2 - 3 * sp.Symbol("C"))),
+        sp.Symbol("a") ** sp.Rational(3, 2) - 1 / sp.sqrt(sp.Symbol("a") + 1),
+        sp.Rational(5, 3),
+    ],
+)
+def test_a_polynomial_at_a_root_in_square_roots_is_its_value(root):
+    u, a, f = sp.symbols("u a f1")
+    condition = (a / 3 + f**2) * u**3 - u**2 / (a + 2) + 5 * f * u - 1
+    value = algebraic.value_at_root(condition, u, root)
+    assert value is not None and _same_at_random_values(value, condition.subs(u, root))
+
+
+def test_a_root_that_is_not_in_square_roots_is_left_to_the_caller():
+    u, a = sp.symbols("u a")
+    for root in (sp.cbrt(2), sp.sqrt(1 + sp.sqrt(a)), 1 / (1 + sp.sqrt(a))):
+        assert algebraic.value_at_root(u**2 + a * u, u, root) is None
