@@ -131,12 +131,14 @@ def value_at_root(expr: sp.Expr, symbol: sp.Symbol, root: sp.Expr) -> sp.Expr | 
     root s = sqrt(b) of the root (b^(k/2) = b^((k-1)/2) sqrt(b) for the principal
     branch). None where the root is not built so (nested roots, other powers, a square
     root in a denominator): the caller simplifies the substituted expression instead."""
-    others = expr.free_symbols - {symbol}
-    read = _square_roots(root, others)
+    read = _square_roots(root, (expr.free_symbols | root.free_symbols) - {symbol})
     if read is None:
         return None
     form, k, squares, radicals = read
-    coefficients = sp.Poly(expr, symbol, domain=k).as_dict(native=True)
+    try:
+        coefficients = sp.Poly(expr, symbol, domain=k).as_dict(native=True)
+    except (sp.PolynomialError, sp.CoercionFailed):  # not a polynomial over Q(symbols)
+        return None
     total: dict[tuple[int, ...], Any] = {}
     power = {tuple(0 for _ in squares): k.one}
     for j in range(max(e for (e,) in coefficients) + 1 if coefficients else 0):

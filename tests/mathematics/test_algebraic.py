@@ -3,6 +3,8 @@ them, the identification of a root among candidates, and arithmetic in k[u]/(g).
 
 from __future__ import annotations
 
+import random
+
 import flint
 import pytest
 import sympy as sp
@@ -52,7 +54,7 @@ def test_arithmetic_in_a_simple_extension():
 
 
 def _same_at_random_values(a: sp.Expr, b: sp.Expr) -> bool:
-    rng = __import__("random").Random(7)
+    rng = random.Random(7)
     symbols = sorted(a.free_symbols | b.free_symbols, key=str)
     for _ in range(4):
         values = {s: sp.Rational(rng.randint(2, 40), rng.randint(1, 9)) for s in symbols}
@@ -84,3 +86,10 @@ def test_a_root_that_is_not_in_square_roots_is_left_to_the_caller():
     u, a = sp.symbols("u a")
     for root in (sp.cbrt(2), sp.sqrt(1 + sp.sqrt(a)), 1 / (1 + sp.sqrt(a))):
         assert algebraic.value_at_root(u**2 + a * u, u, root) is None
+    assert algebraic.value_at_root(sp.sqrt(a) * u, u, sp.sqrt(2)) is None  # not over Q(a)
+
+
+def test_a_root_s_own_symbols_outside_its_square_roots_stay_exact():
+    u, x0 = sp.symbols("u x0")
+    value = algebraic.value_at_root(u**2 - 2 * x0 * u, u, x0 + sp.sqrt(2))
+    assert sp.expand(value - (2 - x0**2)) == 0
