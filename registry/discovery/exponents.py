@@ -37,7 +37,7 @@ from ..mathematics.exponent_families import (
     kind_of,
 )
 from ..mathematics.grading import candidates, per_variable, shift
-from ..mathematics.weighted import split_field
+from ..mathematics.weighted import by_denominator, expanded, split_field
 from ..model import Case, ExponentOptions, ExponentResult, Weights, as_weights
 from .exponent_statement import family_statement, statement
 from .identification.catalog_index import CatalogIndex
@@ -141,7 +141,7 @@ def _default_weights(dynamics: Dynamics) -> Weights:
         is not None
     ):
         return dynamics.grading
-    field = [sp.expand(dynamics.expanded(v)) for v in dynamics.field]
+    field = [expanded(dynamics.expanded(v), dynamics.variables) for v in dynamics.field]
     for weights in (own, *candidates(dynamics.vectors)):
         try:
             split_field(
@@ -173,10 +173,11 @@ def case_field(case: Case, options: ExponentOptions) -> CaseField:
     state = set(dynamics.variables)
     field = []
     for x, v in zip(dynamics.variables, dynamics.field, strict=True):
-        expr = sp.expand(dynamics.expanded(v))
-        numer, denom = sp.fraction(sp.together(expr))
-        below = sorted(map(str, denom.free_symbols & state))
-        if not (numer.is_polynomial(*state) and denom.is_polynomial(*state)):
+        expr = expanded(dynamics.expanded(v), dynamics.variables)
+        groups = by_denominator(expr, dynamics.variables)
+        denominators = [sp.fraction(sp.together(expr))[1]] if groups is None else list(groups)
+        below = sorted({str(x) for d in denominators for x in d.free_symbols & state})
+        if groups is None:
             why = f" (divided by a function of {', '.join(below)})" if below else ""
             problems.append(
                 Problem(

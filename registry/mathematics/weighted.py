@@ -90,7 +90,7 @@ def split_field(
     other than the variables; when ``parameters`` is given, exactly those).
     """
     variables = tuple(variables)
-    field = tuple(sp.expand(sp.sympify(v)) for v in field)
+    field = tuple(expanded(v, variables) for v in field)
     problems = _shape_problems(variables, field, weights)
     if len(field) != len(variables) or len(weights) != len(variables):
         raise WeightedFieldError(problems)
@@ -112,11 +112,7 @@ def split_field(
         if isinstance(read, Problem):
             problems.append(Problem(f"field[{i}]", read.message, read.text))
             continue
-        poly, scale, powers = read
-        for monomial, coeff in poly.terms():
-            if coeff == 0:  # the zero polynomial's one term
-                continue
-            coeff = coeff / scale
+        for monomial, coeff, powers in read:
             if not _rational_over_q(coeff, parameters):
                 problems.append(
                     Problem(
@@ -164,22 +160,40 @@ def split_field(
 
 
 def _fraction(component, variables, weights, denominators):
-    """dx_i/dt as (numerator polynomial, constant, {d: power}) with its denominator's
-    factors in the state entered in ``denominators`` (each weighted-homogeneous, with its
-    degree; None for weights: degrees not wanted); a Problem where it is not a
-    polynomial divided by such a product."""
-    try:
-        return sp.Poly(component, *variables), sp.S.One, {}
-    except sp.PolynomialError:
-        pass
-    read = _factored(component, variables)
-    if read is None:
+    """The terms of dx_i/dt as (monomial, coefficient, {d: power}), the factors in the
+    state of its denominators entered in ``denominators`` (each weighted-homogeneous,
+    with its degree; None for weights: degrees not wanted); a Problem where it is not a
+    sum of polynomials divided by such products."""
+    if component.is_polynomial(*variables):
+        poly = sp.Poly(component, *variables)
+        return [(m, c, {}) for m, c in poly.terms() if c != 0]
+    groups = by_denominator(component, variables)
+    if groups is None:
         return Problem(
             "", "not a polynomial in the variables, nor a polynomial divided by one", str(component)
         )
-    numer, scale, factors = read
+    merged: dict[tuple[tuple[int, int], ...], sp.Expr] = {}
+    for denom, numer in groups.items():
+        read = _factors(denom, variables, weights, denominators)
+        if isinstance(read, Problem):
+            return read
+        scale, powers = read
+        key = tuple(sorted(powers.items()))
+        merged[key] = merged.get(key, sp.S.Zero) + numer / scale
+    return [
+        (monomial, coeff, dict(key))
+        for key, numer in merged.items()
+        for monomial, coeff in sp.Poly(numer, *variables).terms()
+        if coeff != 0  # the zero polynomial's one term
+    ]
+
+
+def _factors(denom, variables, weights, denominators):
+    """(constant, {d: power}) of one denominator over the factors in ``denominators``,
+    or a Problem for a factor that is not weighted-homogeneous."""
+    scale: sp.Expr = sp.S.One
     powers: dict[int, int] = {}
-    for factor, e in factors:
+    for factor, e in _factored(denom, tuple(variables)):
         if not factor.free_symbols & set(variables):
             scale *= factor**e
             continue
@@ -198,7 +212,34 @@ def _fraction(component, variables, weights, denominators):
             denominators.append((factor, degrees[0] if degrees else 0))
         d = known[0] if known else len(denominators) - 1
         powers[d] = powers.get(d, 0) + e
-    return sp.Poly(numer, *variables), scale, powers
+    return scale, powers
+
+
+def by_denominator(expr: sp.Expr, variables: Sequence[sp.Symbol]) -> dict[sp.Expr, sp.Expr] | None:
+    """``expr``'s terms summed by their denominator ({denominator: numerator}, the
+    denominator left in factors, 1 for the polynomial part); None where a term is not a
+    polynomial in the variables divided by one. Terms are not brought to one fraction:
+    a polynomial term times (gamma1 + gamma2 + gamma3)^60 would be thousands."""
+    groups: dict[sp.Expr, sp.Expr] = {}
+    for term in sp.Add.make_args(sp.expand_mul(sp.sympify(expr))):
+        numer, denom = sp.fraction(term)
+        if not (numer.is_polynomial(*variables) and denom.is_polynomial(*variables)):
+            return None
+        if not denom.free_symbols & set(variables):
+            numer, denom = numer / denom, sp.S.One
+        groups[denom] = groups.get(denom, sp.S.Zero) + numer
+    return groups
+
+
+def expanded(expr: sp.Expr, variables: Sequence[sp.Symbol]) -> sp.Expr:
+    """``expr`` expanded; where it divides by the variables, each numerator expanded over
+    its denominator kept in factors (``by_denominator``; sympy's expand would multiply
+    out a power such as (gamma1 + gamma2 + gamma3)^60 in a denominator, term by term)."""
+    expr = sp.sympify(expr)
+    groups = None if expr.is_polynomial(*variables) else by_denominator(expr, variables)
+    if groups is None:
+        return sp.expand(expr)
+    return sp.Add(*(sp.expand(numer) / denom for denom, numer in groups.items()))
 
 
 def polynomial_only(split: WeightedField, what: str) -> WeightedField:
@@ -220,15 +261,12 @@ def polynomial_only(split: WeightedField, what: str) -> WeightedField:
 
 
 @functools.lru_cache(maxsize=256)
-def _factored(component: sp.Expr, variables: tuple[sp.Symbol, ...]):
-    """(numerator, constant, factors of the denominator) of a rational function of the
-    variables, None for anything else; kept, since the default weights try several
+def _factored(denom: sp.Expr, variables: tuple[sp.Symbol, ...]) -> tuple:
+    """The factors of a denominator over the variables (sympy's factor_list, which
+    factors the base of a power once); kept, since the default weights try several
     splits of one field."""
-    numer, denom = sp.fraction(sp.together(component))
-    if not (numer.is_polynomial(*variables) and denom.is_polynomial(*variables)):
-        return None
-    scale, factors = sp.factor_list(denom, *variables)
-    return numer, scale, tuple(factors)
+    constant, factors = sp.factor_list(denom, *variables)
+    return (*factors, (constant, 1))
 
 
 def _shape_problems(variables, field, weights) -> list[Problem]:

@@ -98,7 +98,7 @@ def test_a_field_divided_by_weighted_homogeneous_polynomials_keeps_one_shift_per
     assert split.parts[0] == (a * x, 0)
     assert {(t.component, t.monomial, t.powers, t.shift) for t in split.terms} == {
         (0, (0, 2), (2, 0), 1),
-        (0, (3, 0), (2, 0), 0),  # a x over the component's one denominator: a x^3 / x^2
+        (0, (1, 0), (0, 0), 0),  # a x stays a polynomial term
         (1, (1, 3), (0, 2), 1),
     }
 
@@ -110,3 +110,16 @@ def test_a_denominator_that_is_not_weighted_homogeneous_is_refused():
         "field[0]: divides by a polynomial that is not weighted-homogeneous under these "
         "weights, so the terms have no single shift: 'y + 1'"
     ]
+
+
+def test_a_power_in_a_denominator_stays_a_power():
+    """Terms are not brought to one fraction: x^2 stays a polynomial term beside
+    a y / (x + y)^60, whose denominator is the factor x + y to the power 60 (one
+    fraction would multiply x^2 by the expanded (x + y)^60, 61 terms of degree 62)."""
+    split = split_field([x, y], [x**2 + a * y / (x + y) ** 60, x * y], [1, 1])
+    assert split.denominators == ((x + y, 1),)
+    assert {(t.component, t.monomial, t.powers, t.shift) for t in split.terms} == {
+        (0, (2, 0), (0,), 1),
+        (0, (0, 1), (60,), -60),
+        (1, (1, 1), (0,), 1),
+    }
