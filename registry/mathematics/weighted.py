@@ -32,6 +32,11 @@ import sympy as sp
 
 from ..errors import Problem, WeightedFieldError
 
+#: A term of a divided field multiplies at most this many series (the numerator's
+#: variables and each power of a denominator): the Laurent series forms its products
+#: factor by factor, and x^1001 / y^1000 has shift 1 under weights (1, 1).
+MAX_DIVIDED_FACTORS = 100
+
 
 @dataclass(frozen=True)
 class Term:
@@ -113,7 +118,18 @@ def split_field(
             problems.append(Problem(f"field[{i}]", read.message, read.text))
             continue
         for monomial, coeff, powers in read:
-            if not _rational_over_q(coeff, parameters):
+            term = coeff * sp.Mul(*(x**m for x, m in zip(variables, monomial, strict=True)))
+            term /= sp.Mul(*(denominators[d][0] ** e for d, e in powers.items()))
+            if powers and sum(monomial) + sum(powers.values()) > MAX_DIVIDED_FACTORS:
+                problems.append(
+                    Problem(
+                        f"field[{i}]",
+                        f"a divided term of more than {MAX_DIVIDED_FACTORS} factors (numerator "
+                        "and denominator): beyond what the Laurent series multiplies out",
+                        str(term),
+                    )
+                )
+            elif not _rational_over_q(coeff, parameters):
                 problems.append(
                     Problem(
                         f"field[{i}]",
@@ -125,8 +141,6 @@ def split_field(
                 shift = sum(m * int(w) for m, w in zip(monomial, weights, strict=True))
                 shift -= sum(e * denominators[d][1] for d, e in powers.items())
                 shift -= int(weights[i])
-                term = coeff * sp.Mul(*(x**m for x, m in zip(variables, monomial, strict=True)))
-                term /= sp.Mul(*(denominators[d][0] ** e for d, e in powers.items()))
                 parts.setdefault(shift, [[] for _ in field])[i].append(term)
                 raw.append((i, coeff, tuple(monomial), powers, shift))
     too_high = sorted(s for s in parts if s > 1)

@@ -123,3 +123,14 @@ def test_a_power_in_a_denominator_stays_a_power():
         (0, (0, 1), (60,), -60),
         (1, (1, 1), (0,), 1),
     }
+
+
+def test_a_divided_term_of_too_many_factors_is_refused():
+    # x^101 / y^100 has shift 1 under weights (1, 1), but its series would multiply
+    # 201 factors
+    with pytest.raises(WeightedFieldError) as caught:
+        split_field([x, y], [x**101 / y**100, x * y], [1, 1])
+    assert str(caught.value) == (
+        "field[0]: a divided term of more than 100 factors (numerator and denominator): "
+        "beyond what the Laurent series multiplies out: 'x**101/y**100'"
+    )
