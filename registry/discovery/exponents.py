@@ -176,7 +176,7 @@ def case_field(case: Case, options: ExponentOptions) -> CaseField:
         expr = expanded(dynamics.expanded(v), dynamics.variables)
         groups = by_denominator(expr, dynamics.variables)
         denominators = [sp.fraction(sp.together(expr))[1]] if groups is None else list(groups)
-        below = sorted({str(x) for d in denominators for x in d.free_symbols & state})
+        below = sorted({str(s) for d in denominators for s in d.free_symbols & state})
         if groups is None:
             why = f" (divided by a function of {', '.join(below)})" if below else ""
             problems.append(

@@ -215,8 +215,9 @@ def test_a_field_divided_by_a_state_variable_has_its_exponents_and_logarithm():
     assert found[(-1, 0)].exponents.values == (-1, 1)
     assert found[(-1, root)].exponents.values == found[(-1, -root)].exponents.values == (-2, -1)
     (step,) = found[(-1, 0)].painleve.resonances
-    assert step.order == 1 and len(step.conditions) == 1
-    assert sp.simplify(step.conditions[0] / eps).is_nonzero  # a multiple of the coupling
+    # by hand: at order 1 the rest is the coupling times X_0 = -1, in y's equation, which
+    # K - 1 = diag(-2, 0) does not reach
+    assert step.order == 1 and step.conditions[0] in (eps, -eps) and len(step.conditions) == 1
     assert not failing.painleve_passes
     assert exponents(*divided(0)).painleve_passes
     assert exponents(*divided(0, b)).painleve_passes
