@@ -174,7 +174,8 @@ def case_field(case: Case, options: ExponentOptions) -> CaseField:
     field = []
     for x, v in zip(dynamics.variables, dynamics.field, strict=True):
         expr = expanded(dynamics.expanded(v), dynamics.variables)
-        groups = by_denominator(expr, dynamics.variables)
+        polynomial = expr.is_polynomial(*dynamics.variables)
+        groups = {} if polynomial else by_denominator(expr, dynamics.variables)
         denominators = [sp.fraction(sp.together(expr))[1]] if groups is None else list(groups)
         below = sorted({str(s) for d in denominators for s in d.free_symbols & state})
         if groups is None:
