@@ -30,6 +30,7 @@ from dataclasses import dataclass
 import sympy as sp
 
 from . import algebraic
+from .groebner import groebner
 from .prime_components import Component, components
 from .weighted import WeightedField
 
@@ -114,7 +115,7 @@ def _triangular_points(component: Component) -> list[dict[sp.Symbol, sp.Expr]] |
     apart numerically. None otherwise."""
     variables = component.variables
     domain = component.domain
-    basis = sp.groebner(component.ideal, *variables, order="lex", domain=domain).exprs
+    basis = groebner(component.ideal, variables, domain, order="lex").exprs
     levels = {}
     for e in basis:
         leading = next(x for x in variables if e.has(x))

@@ -122,7 +122,17 @@ class Component:
 
     def evaluate(self, expr: sp.Expr) -> sp.Poly:
         """A polynomial in the variables (coefficients in k) at the generic point, as a
-        polynomial in u reduced modulo the minimal polynomial."""
+        polynomial in u reduced modulo the minimal polynomial; remembered, since the
+        Kovalevskaya matrix's entries are asked for by the exponents and by the series."""
+        if expr not in self._values:
+            self._values[expr] = self._evaluated(expr)
+        return self._values[expr]
+
+    @functools.cached_property
+    def _values(self) -> dict[sp.Expr, sp.Poly]:
+        return {}
+
+    def _evaluated(self, expr: sp.Expr) -> sp.Poly:
         bound = [x for x in self.variables if x not in self.free]
         if not bound:
             return sp.Poly(expr, self.symbol, domain=self.domain)
@@ -749,10 +759,30 @@ def same_components(ours: Sequence[Component], theirs: Sequence[Component]) -> b
 
 
 def _maximal(found: list[Component]) -> tuple[Component, ...]:
-    """The components contained in no other (a duplicate kept once), largest first."""
+    """The components contained in no other (a duplicate kept once), largest first
+    (``_inside``)."""
     ordered = sorted(found, key=lambda c: -c.dimension)
     kept: list[Component] = []
     for c in ordered:
-        if not any(all(c.vanishes(q) for q in other.equations()) for other in kept):
+        if not any(_inside(c, other) for other in kept):
             kept.append(c)
     return tuple(kept)
+
+
+def _inside(c: Component, other: Component) -> bool:
+    """Whether the component c lies in ``other``, of dimension at least c's. Of one
+    dimension, one lies in the other only if they are the same set: over the same free
+    variables, a different degree, or a different minimal polynomial of the same linear
+    form, tells them apart without evaluating anything."""
+    if (c.dimension, c.free) == (other.dimension, other.free):
+        if c.degree != other.degree:
+            return False
+        if c.element == other.element and _coefficients(c) != _coefficients(other):
+            return False  # the same form, another minimal polynomial: another set
+    # the short equations first: one that does not vanish settles it
+    return all(c.vanishes(q) for q in sorted(other.equations(), key=sp.count_ops))
+
+
+def _coefficients(c: Component) -> list:
+    """The coefficients of the component's (monic) minimal polynomial, highest first."""
+    return c.minimal.monic().all_coeffs()

@@ -14,6 +14,7 @@ from registry.mathematics.groebner import groebner
 from registry.mathematics.prime_components import (
     _Algebra,
     _Decomposition,
+    _maximal,
     components,
     same_components,
 )
@@ -42,6 +43,23 @@ def test_a_family_and_isolated_points_with_the_points_on_the_family_dropped():
     assert points(pair) == {(sp.sqrt(2), 0), (-sp.sqrt(2), 0)}
     # (0, 0) is on the line: no separate component, although it solves the system
     assert len(components([x * (x**2 - 2), x * y, y * (y - 1)], [x, y])) == 2
+
+
+def test_components_are_kept_once_and_only_those_inside_another_are_dropped():
+    def one(equations):
+        (component,) = components(equations, [x, y], origin=())
+        return component
+
+    pair = one([x**2 - 2, y])  # (+-sqrt 2, 0)
+    shifted = one([x**2 - 2, y - 1])  # the same x, another y: same degree and form
+    other = one([x**2 - 3, y])  # same degree, another minimal polynomial
+    line, origin = one([x]), one([x, y])
+    assert pair.element == shifted.element and pair.degree == other.degree == 2
+    kept = _maximal([pair, shifted, other, one([y, x**2 - 2]), origin, line])
+    assert kept[0] is line and len(kept) == 4  # the origin lies on the line
+    assert {tuple(sorted(points(c))) for c in kept[1:]} == {
+        tuple(sorted(points(c))) for c in (pair, shifted, other)
+    }
 
 
 def test_the_origin_is_left_out_and_a_prime_component_keeps_conjugate_points_together():
