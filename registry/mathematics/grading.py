@@ -25,6 +25,7 @@ import sympy as sp
 from ..dynamics import Vector
 from ..model import Weights, as_weights
 from . import mechanics as mech
+from .weighted import by_denominator, expanded
 
 #: The gradings of the reference paper's state tried, in order of preference (the
 #: survey's usual ones first).
@@ -60,9 +61,15 @@ def shift(
 
 
 class _Monomials:
-    """The monomials in the state of the numerator and denominator of each component of a
-    field, computed once (on first use) for every weighting ``shift`` tries: the weights
-    change only how the monomials are summed."""
+    """The monomials in the state of each component of a field, computed once (on first
+    use) for every weighting ``shift`` tries: the weights change only how the monomials
+    are summed. A component is read term by term, its terms summed by denominator, each
+    denominator kept in its factors (``weighted.by_denominator``): brought to one
+    fraction, e/(gamma1 + gamma2 + gamma3)^400 would multiply every polynomial term by
+    the expanded power (minutes and gigabytes). Where every group is weighted-homogeneous
+    with one shift, so is their sum; terms whose parts cancel only across different
+    denominators are not read as homogeneous (one fraction, which sympy does not cancel,
+    did not read them so either)."""
 
     def __init__(
         self, field: Sequence[sp.Expr], shorthands: Mapping[sp.Symbol, sp.Expr], state: list
@@ -70,32 +77,61 @@ class _Monomials:
         self.field = list(field)
         self.shorthands = dict(shorthands)
         self.state = state
-        self._parts: dict[int, tuple] = {}
+        self._groups: dict[int, list | None] = {}
 
-    def parts(self, i: int) -> tuple:
-        """(numerator's monomials, denominator's) of component i: each a list of exponent
-        tuples, () for 0, None for no polynomial in the state."""
-        found = self._parts.get(i)
-        if found is None:
-            x = self.field[i]
-            numer, denom = sp.fraction(sp.together(sp.sympify(x).subs(self.shorthands)))
-            found = self._parts[i] = (_monoms(numer, self.state), _monoms(denom, self.state))
-        return found
+    def groups(self, i: int) -> list | None:
+        """Component i's terms by denominator: (numerator's monomials, [(monomials of a
+        factor of the denominator, its power), ...] or None) for each; None where a term
+        is not a polynomial divided by one."""
+        if i not in self._groups:
+            x = sp.sympify(self.field[i]).subs(self.shorthands)
+            grouped = by_denominator(x, self.state)
+            self._groups[i] = (
+                None
+                if grouped is None
+                else [
+                    (_monoms(numer, self.state), _factors(denom, self.state))
+                    for denom, numer in grouped.items()
+                ]
+            )
+        return self._groups[i]
 
     def shift(self, w: Sequence[int]) -> int | None:
+        """The shift when every group of every component is weighted-homogeneous with the
+        same one, else None."""
         shifts: set[int] = set()
-        for i, (wi, _) in enumerate(zip(w, self.field, strict=True)):
-            numer, denom = self.parts(i)
-            degree = _degree(numer, w)
-            below = _degree(denom, w)
-            if degree is None or not below:  # not homogeneous (a denominator is never 0)
+        for i, wi in enumerate(w):
+            groups = self.groups(i)
+            if groups is None:
                 return None
-            if degree == ():  # the component is zero
-                continue
-            shifts.add(degree[0] - below[0] - wi)
-            if len(shifts) > 1:
-                return None
+            for numer, factors in groups:
+                degree = _degree(numer, w)
+                if degree == ():  # these terms sum to zero
+                    continue
+                if factors is None:
+                    return None
+                below = [(_degree(m, w), e) for m, e in factors]
+                if degree is None or not all(d for d, _ in below):  # not homogeneous
+                    return None
+                shifts.add(degree[0] - sum(d[0] * e for d, e in below if d) - wi)
+                if len(shifts) > 1:
+                    return None
         return next(iter(shifts), 0)
+
+
+def _factors(denom: sp.Expr, state: Sequence[sp.Symbol]) -> list | None:
+    """A denominator as [(monomials of a factor, its power), ...], None where a factor is
+    not a polynomial in the state to a positive integer power."""
+    found = []
+    for factor in sp.Mul.make_args(denom):
+        base, power = factor.as_base_exp()
+        if not (power.is_Integer and power > 0):
+            return None
+        monoms = _monoms(base, state)
+        if not monoms:
+            return None
+        found.append((monoms, int(power)))
+    return found
 
 
 def _monoms(expr: sp.Expr, state: Sequence[sp.Symbol]) -> list | tuple | None:
@@ -180,7 +216,8 @@ def ring_degree(expr: sp.Expr, weight_of: Mapping[sp.Symbol, int]) -> int | None
     inverses weighing nothing and sqrt(b) half of b; None for an expression outside such
     a ring. Shorthands such as ``s`` count as constants (a known integral wherever it is
     one)."""
-    expr = sp.expand(sp.sympify(expr))
+    # numerators expanded, denominators kept in factors (they weigh nothing)
+    expr = sp.expand_mul(expanded(expr, list(weight_of)))
     state = set(weight_of)
 
     def weight(e: sp.Expr) -> int | None:

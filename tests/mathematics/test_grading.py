@@ -53,3 +53,18 @@ def test_every_weighting_reads_the_same_monomials_as_shift_one_by_one():
         )
         found = homogeneous_weights(f)
         assert found == (None if first is None else (("M", first[0]), ("gamma", first[1])))
+
+
+def test_a_field_divided_by_a_large_power_is_graded_term_by_term():
+    # b gamma1^2/gamma3 (weight 4 - 2) added to Goryachev-Chaplygin's potential keeps the
+    # shift under (1, 2), b/gamma3^2 (weight -4) does not; (gamma1 + gamma2 + gamma3)^400
+    # in a denominator is read in its factors (one fraction: 80 000 terms multiplied out)
+    b, e = sp.symbols("b e")
+    goryachev = M1**2 + M2**2 + 4 * M3**2 + 2 * g1
+    assert shift(field(goryachev + b * g1**2 / g3), (1, 2)) == 1
+    assert shift(field(goryachev + b * g1**2 / g3), (1, 1)) is None
+    assert shift(field(goryachev + b / g3**2), (1, 2)) is None
+    s = g1 + g2 + g3
+    assert shift(field(M1**2 + M2**2 + M3**2 + e * g1**402 / s**400), (1, 1)) == 1
+    assert shift(field(M1**2 + M2**2 + M3**2 + e * g1**403 / s**400), (1, 1)) is None
+    assert shift(field(M1**2 + M2**2 + M3**2 + e / s**400), (1, 2)) is None
