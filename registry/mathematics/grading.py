@@ -25,7 +25,7 @@ import sympy as sp
 from ..dynamics import Vector
 from ..model import Weights, as_weights
 from . import mechanics as mech
-from .weighted import by_denominator, expanded
+from .weighted import MAX_DIVIDED_FACTORS, by_denominator, expanded
 
 #: The gradings of the reference paper's state tried, in order of preference (the
 #: survey's usual ones first).
@@ -68,8 +68,9 @@ class _Monomials:
     fraction, e/(gamma1 + gamma2 + gamma3)^400 would multiply every polynomial term by
     the expanded power (minutes and gigabytes). Where every group is weighted-homogeneous
     with one shift, so is their sum; terms whose parts cancel only across different
-    denominators are not read as homogeneous (one fraction, which sympy does not cancel,
-    did not read them so either)."""
+    denominators (x^2/(y (y + 1)) + x^2/(y + 1) = x^2/y) are read again as one fraction,
+    which cancels them, unless a denominator has more than MAX_DIVIDED_FACTORS factors
+    (a term the analysis refuses anyway)."""
 
     def __init__(
         self, field: Sequence[sp.Expr], shorthands: Mapping[sp.Symbol, sp.Expr], state: list
@@ -78,6 +79,7 @@ class _Monomials:
         self.shorthands = dict(shorthands)
         self.state = state
         self._groups: dict[int, list | None] = {}
+        self._parts: dict[int, tuple] = {}
 
     def groups(self, i: int) -> list | None:
         """Component i's terms by denominator: (numerator's monomials, [(monomials of a
@@ -96,7 +98,49 @@ class _Monomials:
             )
         return self._groups[i]
 
+    def parts(self, i: int) -> tuple:
+        """(numerator's monomials, denominator's) of component i brought to one fraction:
+        each a list of exponent tuples, () for 0, None for no polynomial in the state."""
+        if i not in self._parts:
+            x = sp.sympify(self.field[i]).subs(self.shorthands)
+            numer, denom = sp.fraction(sp.together(x))
+            self._parts[i] = (_monoms(numer, self.state), _monoms(denom, self.state))
+        return self._parts[i]
+
     def shift(self, w: Sequence[int]) -> int | None:
+        """d such that the field is homogeneous of shift d under ``w``, or None."""
+        found = self._shift_by_groups(w)
+        if found is not None or not self._small():
+            return found
+        return self._shift_whole(w)
+
+    def _small(self) -> bool:
+        """Whether no denominator has more than MAX_DIVIDED_FACTORS factors, so that each
+        component may be brought to one fraction."""
+        for i in range(len(self.field)):
+            for _, factors in self.groups(i) or ():
+                if factors is None:
+                    return False
+                if sum(e * _size(m) for m, e in factors) > MAX_DIVIDED_FACTORS:
+                    return False
+        return True
+
+    def _shift_whole(self, w: Sequence[int]) -> int | None:
+        shifts: set[int] = set()
+        for i, wi in enumerate(w):
+            numer, denom = self.parts(i)
+            degree = _degree(numer, w)
+            below = _degree(denom, w)
+            if degree is None or not below:  # not homogeneous (a denominator is never 0)
+                return None
+            if degree == ():  # the component is zero
+                continue
+            shifts.add(degree[0] - below[0] - wi)
+            if len(shifts) > 1:
+                return None
+        return next(iter(shifts), 0)
+
+    def _shift_by_groups(self, w: Sequence[int]) -> int | None:
         """The shift when every group of every component is weighted-homogeneous with the
         same one, else None."""
         shifts: set[int] = set()
@@ -132,6 +176,11 @@ def _factors(denom: sp.Expr, state: Sequence[sp.Symbol]) -> list | None:
             return None
         found.append((monoms, int(power)))
     return found
+
+
+def _size(monoms: list) -> int:
+    """The largest total degree of a polynomial's monomials."""
+    return max((sum(m) for m in monoms), default=0)
 
 
 def _monoms(expr: sp.Expr, state: Sequence[sp.Symbol]) -> list | tuple | None:

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import sympy as sp
 
+from registry.dynamics import Vector
 from registry.mathematics import mechanics as mech
 from registry.mathematics.grading import grading_note, homogeneous_weights, shift
 
@@ -68,3 +69,15 @@ def test_a_field_divided_by_a_large_power_is_graded_term_by_term():
     assert shift(field(M1**2 + M2**2 + M3**2 + e * g1**402 / s**400), (1, 1)) == 1
     assert shift(field(M1**2 + M2**2 + M3**2 + e * g1**403 / s**400), (1, 1)) is None
     assert shift(field(M1**2 + M2**2 + M3**2 + e / s**400), (1, 2)) is None
+
+
+def test_terms_that_cancel_across_denominators_are_read_as_one_fraction():
+    # x^2/(y (y + 1)) + x^2/(y + 1) = x^2/y: neither term is homogeneous, their sum is
+    x, y, z = sp.symbols("x y z")
+    state = (Vector("v", (x, y, z), 1),)
+
+    def graded(component):
+        return shift([component, y, z], (("v", 1),), state, {}, [x, y, z])
+
+    assert graded(x**2 / y) == graded(x**2 / (y * (y + 1)) + x**2 / (y + 1)) == 0
+    assert graded(x**2 / (y * (y + 1)) + x / (y + 1)) is None
