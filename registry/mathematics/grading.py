@@ -110,20 +110,21 @@ class _Monomials:
     def shift(self, w: Sequence[int]) -> int | None:
         """d such that the field is homogeneous of shift d under ``w``, or None."""
         found = self._shift_by_groups(w)
-        if found is not None or not self._small():
+        if found is not None or not self._rereadable():
             return found
         return self._shift_whole(w)
 
-    def _small(self) -> bool:
-        """Whether no denominator has more than MAX_DIVIDED_FACTORS factors, so that each
-        component may be brought to one fraction."""
-        for i in range(len(self.field)):
-            for _, factors in self.groups(i) or ():
-                if factors is None:
-                    return False
-                if sum(e * _size(m) for m, e in factors) > MAX_DIVIDED_FACTORS:
-                    return False
-        return True
+    def _rereadable(self) -> bool:
+        """Whether some component divides by the state (a polynomial field's one fraction
+        is its groups again) and no denominator has more than MAX_DIVIDED_FACTORS factors,
+        so that each component may be brought to one fraction."""
+        sizes = [
+            sum(e * _size(m) for m, e in factors)
+            for i in range(len(self.field))
+            for _, factors in self.groups(i) or ()
+            if factors is not None
+        ]
+        return any(sizes) and max(sizes) <= MAX_DIVIDED_FACTORS
 
     def _shift_whole(self, w: Sequence[int]) -> int | None:
         shifts: set[int] = set()
