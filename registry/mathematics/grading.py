@@ -92,7 +92,7 @@ class _Monomials:
                 None
                 if grouped is None
                 else [
-                    (_monoms(numer, self.state), _factors(denom, self.state))
+                    (_monoms(numer, self.state), _powers(denom, self.state))
                     for denom, numer in grouped.items()
                 ]
             )
@@ -164,9 +164,11 @@ class _Monomials:
         return next(iter(shifts), 0)
 
 
-def _factors(denom: sp.Expr, state: Sequence[sp.Symbol]) -> list | None:
-    """A denominator as [(monomials of a factor, its power), ...], None where a factor is
-    not a polynomial in the state to a positive integer power."""
+def _powers(denom: sp.Expr, state: Sequence[sp.Symbol]) -> list | None:
+    """A denominator as written, [(monomials of a base, its power), ...], None where a
+    base is not a polynomial in the state to a positive integer power. Not factored
+    (``weighted._factors`` does that for the split): a product is weighted-homogeneous
+    exactly when each base is."""
     found = []
     for factor in sp.Mul.make_args(denom):
         base, power = factor.as_base_exp()
