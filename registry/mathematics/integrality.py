@@ -7,8 +7,8 @@ tau(p) that is not constant pins p: tau(p) = m for an integer m. When tau is a M
 function (numerator and denominator of degree <= 1), p = P(m) is a rational function
 of m and every other coefficient becomes sigma(m) = Q(m) + R(m)/D(m), deg R < deg D.
 With L the common denominator of Q's coefficients, sigma(m) in Z forces
-|L R(m)| >= |D(m)| or R(m) = 0: a finite set of m, bounded by the roots of
-D^2 - L^2 R^2 (Cauchy's bound), so the search is complete. Where every sigma is a
+|L R(m)| >= |D(m)| or R(m) = 0: a finite set of m, no larger in size than the largest
+real root of D^2 - L^2 R^2 (isolated exactly), so the search is complete. Where every sigma is a
 polynomial, sigma(m) mod 1 depends on m mod L only: the solutions are residue classes,
 infinite families p = P(r + L n), n in Z. Either way the candidates are necessary
 conditions; a factor of degree >= 2 must still split over Z, which the caller checks
@@ -26,6 +26,7 @@ that case is searched, not complete). Higher degrees are searched over small hei
 
 from __future__ import annotations
 
+import functools
 import itertools
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -134,25 +135,51 @@ def _denominator(s: sp.Expr, m: sp.Symbol) -> int:
 
 def _integer_points(s: sp.Expr, m: sp.Symbol) -> set[int] | None:
     """The integers m where sigma = Q + R/D can be an integer: the integer roots of R
-    and |m| up to the bound of D^2 - L^2 R^2 (None beyond ``MAX_BOUND``)."""
+    and |m| up to the largest real root of D^2 - L^2 R^2, beyond which |L R| < |D|
+    (None beyond ``MAX_BOUND``)."""
     numer, denom = sp.fraction(sp.cancel(s))
     q, r = sp.div(numer, denom, m)
     scale = _denominator(q, m) if q != 0 else 1
     bound_poly = sp.Poly(sp.expand(denom**2 - scale**2 * r**2), m)
-    coeffs = bound_poly.all_coeffs()
-    bound = 1 + max((abs(sp.Rational(c) / coeffs[0]) for c in coeffs[1:]), default=0)
+    ends = [abs(end) for interval, _ in bound_poly.intervals() for end in interval]
+    bound = max(ends, default=0)
     if bound > MAX_BOUND:
         return None
-    limit = int(sp.floor(bound))
+    limit = int(sp.ceiling(bound))
     points = set(range(-limit, limit + 1))
     points |= {int(z) for z in sp.Poly(r, m).ground_roots() if z.is_integer} if r != 0 else set()
     return {k for k in points if _is_integer_at(s, m, k)}
 
 
 def _is_integer_at(s: sp.Expr, m: sp.Symbol, k: int) -> bool:
+    numer, denom = _rational_polys(s, m)
+    if numer is None:  # coefficients beyond Q: sympy's arithmetic
+        n, d = sp.fraction(sp.cancel(s))
+        value = d.subs(m, k)
+        return value != 0 and _integer_value(n.subs(m, k) / value)
+    d = _horner(denom, k)
+    return d != 0 and _horner(numer, k) % d == 0
+
+
+@functools.lru_cache(maxsize=256)
+def _rational_polys(s: sp.Expr, m: sp.Symbol):
+    """Numerator and denominator of a rational function of m as integer coefficient
+    lists (highest first), or (None, None) where a coefficient is not rational."""
     numer, denom = sp.fraction(sp.cancel(s))
-    d = denom.subs(m, k)
-    return d != 0 and _integer_value(numer.subs(m, k) / d)
+    try:
+        polys = sp.Poly(numer, m, domain="QQ"), sp.Poly(denom, m, domain="QQ")
+    except (sp.PolynomialError, sp.CoercionFailed):
+        return None, None
+    coefficients = [poly.all_coeffs() for poly in polys]
+    scale = sp.ilcm(*(c.q for row in coefficients for c in row), 1)
+    return tuple(tuple(int(c * scale) for c in row) for row in coefficients)
+
+
+def _horner(coefficients: tuple[int, ...], k: int) -> int:
+    total = 0
+    for c in coefficients:
+        total = total * k + c
+    return total
 
 
 def _integer_value(value: sp.Expr) -> bool:

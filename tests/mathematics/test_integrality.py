@@ -22,6 +22,31 @@ def test_a_pinned_coefficient_bounds_the_others_and_the_search_is_complete():
     assert sorted(found.values) == [-2, -1, -sp.Rational(1, 2), sp.Rational(1, 2), 1, 2]
 
 
+def test_a_bound_far_beyond_cauchys_is_found_from_the_real_roots():
+    """Hénon and Heiles's x²y + p y³/3 under (x, y, px, py) = (2, 2, 3, 3): the exponents
+    that vary are 5/2 +- sqrt(24p - 23)/2 and 5/2 +- sqrt(1 + 48/p)/2 (balances with
+    x != 0 and x = 0). Doubled, their coefficients are 48 - 24p and 24 - 48/p: with
+    24 - 48/p = m, 48 - 24p = 48 + 1152/(m - 24), so m - 24 divides 1152. Cauchy's bound
+    on D² - R² is 1.3 million, past the enumeration's limit; its real roots bound |m| by
+    1176. The values in (1/2)Z are those where both square roots are integers:
+    (m² + 23)(k² - 1) = 1152 for integers m, k, that is p = 1, 2, 6 and 16."""
+    balances = [lam**2 - 5 * lam + 12 - 6 * p, p * lam**2 - 5 * p * lam + 6 * p - 12]
+    doubled = [sp.expand(4 * f.subs(lam, lam / 2)) for f in balances]
+    found = integer_candidates(doubled, p, lam)
+    assert found.complete and found.families == ()
+    halves = {
+        v
+        for v in found.values
+        if all(
+            r.is_integer
+            for f in doubled
+            for r in sp.roots(sp.Poly(f.subs(p, v), lam), multiple=True)
+        )
+        and all(sp.degree(f.subs(p, v), lam) == 2 for f in doubled)
+    }
+    assert halves == {1, 2, 6, 16}
+
+
 def test_polynomial_coefficients_give_residue_classes():
     found = integer_candidates([lam - p / 2, lam - p**2 / 4 - p / 2], p, lam)
     # p/2 = m: p = 2m, and m^2 + m is always an integer: every even p
