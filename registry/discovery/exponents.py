@@ -37,6 +37,7 @@ from ..mathematics.exponent_families import (
     kind_of,
 )
 from ..mathematics.grading import candidates, per_variable, shift
+from ..mathematics.leading_weights import leading_weights
 from ..mathematics.weighted import by_denominator, expanded, split_field
 from ..model import Case, ExponentOptions, ExponentResult, Weights, as_weights
 from .exponent_statement import family_statement, statement
@@ -128,7 +129,10 @@ def _default_weights(dynamics: Dynamics) -> Weights:
     homogeneous under it; else the first of the vectors' own weights (M: 1, gamma: 2 for
     the reference paper's state, under which a deformation such as so(4)'s is of lower
     shift) and the other gradings tried (``grading.candidates``) under which the field has
-    a leading part (no term of shift above 1); else the vectors' own weights."""
+    a leading part (no term of shift above 1) keeping a term of every component that is
+    not zero; else the weights of the integer program that asks the same
+    (``leading_weights``: Hénon and Heiles's x, y: 2, px, py: 3); else the first of those
+    tried with a leading part at all; else the vectors' own weights."""
     own = tuple((v.name, v.weight) for v in dynamics.vectors)
     if dynamics.grading and (
         shift(
@@ -142,17 +146,21 @@ def _default_weights(dynamics: Dynamics) -> Weights:
     ):
         return dynamics.grading
     field = [expanded(dynamics.expanded(v), dynamics.variables) for v in dynamics.field]
+    partial = None  # the first weights with a leading part that drops some component
     for weights in (own, *candidates(dynamics.vectors)):
         try:
-            split_field(
+            split = split_field(
                 dynamics.variables,
                 field,
                 per_variable(weights, dynamics.vectors, dynamics.variables),
             )
         except WeightedFieldError:
             continue
-        return weights
-    return own
+        if all(v != 0 for v, f in zip(split.leading, field, strict=True) if f != 0):
+            return weights
+        partial = partial or weights
+    found = leading_weights(field, dynamics.vectors, dynamics.variables)
+    return found or partial or own
 
 
 def case_field(case: Case, options: ExponentOptions) -> CaseField:

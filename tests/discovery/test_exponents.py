@@ -173,6 +173,19 @@ def test_the_default_weights_are_the_grading_under_which_the_field_is_homogeneou
     assert exponent_options(komarov, {"gamma": 1}).weights == (("M", 1), ("gamma", 1))
 
 
+def test_a_state_whose_own_weights_drop_a_component_gets_weights_that_keep_every_one():
+    """Hénon and Heiles's system: under its variables' own weight 1, dx/dt = px is of
+    lower order than dpx/dt = -2xy and the leading part has no balance; by default the
+    analysis takes x, y: 2 and px, py: 3 (``leading_weights``) and finds the three
+    balances, x = +-3 sqrt(2 - e), y = -3 and x = 0, y = -6/e."""
+    case = load_case(FAMILIES / "henon-heiles.toml")
+    options = exponent_options(case)
+    assert options.weights == (("x", 2), ("y", 2), ("px", 3), ("py", 3))
+    document = analyse_case(case, options).document
+    assert len(document["balances"]) == 3
+    assert {b["point"]["y"] for b in document["balances"]} == {"-3", "-6/e"}
+
+
 def test_options_name_their_problems_with_the_file():
     path = CLASSICAL / "kovalevskaya-top.toml"
     case = load_case(path)
