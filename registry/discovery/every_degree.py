@@ -141,7 +141,11 @@ def _family(search: Search, d: Mapping[str, Any]) -> str:
         match = points.get(tuple(s.when))
         if match is not None:
             passes = match.get("painleve", {}).get("passes")
-            verdict = "the ARS test passes" if passes else "a compatibility condition fails"
+            verdict = {
+                True: "the ARS test passes",
+                False: "the ARS test fails",
+                None: "the ARS test not made",
+            }[passes]
             parts.append(
                 f"where {where} the search finds more integrals and every exponent is "
                 f"{_kind(match['kind'])} ({verdict})"

@@ -99,13 +99,7 @@ def _painleve(document: Mapping[str, Any]) -> str:
         return f"{ARS} needs every exponent to be an integer: it fails"
     failing = painleve["conditions"]
     if failing:
-        first = failing[0]
-        where = f"balance {first['balance']}, resonance {first['resonance']}"
-        return (
-            f"{ARS}: a compatibility condition fails ({where}), so the Laurent series needs "
-            "a logarithmic term: the general solution has movable logarithmic branch points "
-            "and the field does not have the Painlevé property"
-        )
+        return f"{ARS}: {_obstruction(failing[0])}"
     if painleve["passes"]:
         return (
             f"{ARS} passes (integer exponents, every compatibility condition holds): "
@@ -236,16 +230,35 @@ def _painleve_everywhere(
         for s in special
         if s["kind"] == "integer" and not _every_value(s) and s.get("painleve", {}).get("passes")
     ]
-    first = failing[0]
-    where = f"balance {first['balance']}, resonance {first['resonance']}"
-    fails = (
-        f"for generic values a compatibility condition fails ({where}: {first['condition']}), "
-        "so there the field does not have the Painlevé property"
-    )
+    fails = f"for generic values {_obstruction(failing[0])}"
     if not passing:
         return f"{fails}; {ARS} passes at no value found"
     how = "exactly" if complete else "at least"
     return f"{fails}; {ARS} passes {how} at: {'; '.join(passing)}"
+
+
+def _obstruction(first: Mapping[str, Any]) -> str:
+    """What fails first, and what follows from it: a compatibility condition or a free
+    coefficient missing at a resonance r > 0 (a logarithmic term, so no Painlevé
+    property), or a free leading coefficient missing at the exponent 0 (the general
+    solution is not a Laurent series about that balance: the test fails)."""
+    where = f"balance {first['balance']}, resonance {first['resonance']}"
+    if first["missing"] and first["resonance"] == 0:
+        return (
+            f"at balance {first['balance']} the exponent 0 is more frequent than the "
+            f"dimensions of the family of balances there ({first['missing']} free leading "
+            "coefficient(s) missing), so the general solution is not a Laurent series "
+            "about that balance and the test fails"
+        )
+    if first["missing"]:
+        what = f"{first['missing']} free coefficient(s) missing ({where})"
+    else:
+        what = f"a compatibility condition fails ({where}: {first['condition']})"
+    return (
+        f"{what}, so the Laurent series needs a logarithmic term: the general solution "
+        "has movable logarithmic branch points and the field does not have the Painlevé "
+        "property"
+    )
 
 
 def _every_value(entry: Mapping[str, Any]) -> bool:
@@ -267,5 +280,7 @@ def _special_text(entry: Mapping[str, Any]) -> str:
         return f"{when} (not analysed: {'; '.join(entry['notes'])})"
     if entry["kind"] != "integer":
         return when
-    verdict = "ARS test passes" if painleve["passes"] else "a compatibility condition fails"
+    verdict = {True: "ARS test passes", False: "ARS test fails", None: "ARS test not made"}[
+        painleve["passes"]
+    ]
     return f"{when} ({verdict})"

@@ -690,8 +690,8 @@ def _member(analysis: ExponentAnalysis) -> dict[str, Any]:
     return {
         "exponents": [b["exponents"] for b in part["balances"]],
         "degrees": part["degrees"],
-        "painleve": {
-            "passes": part["painleve"]["passes"],
+        "painleve": {  # passes: None where only the exponents were computed
+            "passes": part["painleve"]["passes"] if analysis.tested else None,
             "conditions": part["painleve"]["conditions"],
         },
     }

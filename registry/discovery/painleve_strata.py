@@ -15,6 +15,10 @@ there. So at p0 outside E:
 
 * a resonance that lacks a free coefficient lacks it at p0 too (the rank of K - r is
   the generic one), and the test fails;
+* an exponent 0 more often than the component has dimensions fails the test for the
+  generic members, and at every value where the balance equations do not depend on
+  the parameters; elsewhere the values where the balance joins a larger family are not
+  sought, so a stratum that nothing else cuts is then left undecided;
 * a compatibility condition c, reduced modulo g, holds at every conjugate balance
   exactly when each of its coefficients (in u, the free coefficients and the family's
   free coordinates) vanishes at p0: these are the equations J;
@@ -150,6 +154,9 @@ class _Necessary:
     #: some exponents that vary are not among ``varying`` (a part that differs between
     #: conjugate balances)
     partial: bool = False
+    #: a component's exponent 0 has a larger multiplicity than its dimension: its
+    #: generic members fail, but where its balances join a larger family is not known
+    deficient: bool = False
 
     @property
     def cuts(self) -> bool:
@@ -315,6 +322,13 @@ class _Walk:
                 self.undecided.append(f"{here.text()}: its balances were not found")
                 return
             necessary = self._necessary(split, whole)
+        if not necessary.cuts and necessary.deficient:
+            self.undecided.append(
+                f"{here.text()}: a balance has exponent 0 more often than its family has "
+                "dimensions (the test fails for generic members); where its balances join "
+                "a larger family was not sought"
+            )
+            return
         if not necessary.cuts:
             if necessary.decided:
                 analysis = analyse(split, seed=self.seed, painleve=not self.half)
@@ -393,6 +407,14 @@ class _Walk:
                 continue
             if self.half:
                 continue  # the exponents only: no series
+            if sum(1 for r in roots if r == 0) > component.dimension:
+                # balances that do not depend on the parameters cannot join a larger
+                # family at special values: the test fails at every one
+                if any(e.free_symbols & params for e in balance_equations(split)):
+                    out.deficient = True
+                else:
+                    out.fails = True
+                    continue
             resonances: dict[int, int] = {}
             for r in roots:
                 if r >= 1:

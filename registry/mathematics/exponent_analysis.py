@@ -111,6 +111,8 @@ class ExponentAnalysis:
     seconds: float = field(default=0.0, compare=False)
     #: the polynomials of the state the field divides by (balances lie off their zeros)
     denominators: tuple[sp.Expr, ...] = ()
+    #: whether the ARS test was made (an analysis of the exponents only has no series)
+    tested: bool = True
 
     @property
     def all_integer(self) -> bool:
@@ -132,8 +134,9 @@ class ExponentAnalysis:
     @property
     def painleve_passes(self) -> bool:
         """The ARS test passes: every exponent of every balance is an integer and every
-        compatibility condition holds (necessary for the Painlevé property, not a proof)."""
-        return self.all_integer and self.compatible
+        compatibility condition holds (necessary for the Painlevé property, not a proof).
+        False where the test was not made."""
+        return self.tested and self.all_integer and self.compatible
 
     @property
     def conditions(self) -> tuple[str, ...]:
@@ -219,6 +222,8 @@ def _analyse(split: WeightedField, painleve: bool, seed: int, start: float) -> E
             series = laurent_series(split, balance.component, matrix, found.resonances)
             per_component[key] = (polynomial, series)
         steps = () if series is None else _at_balance(series.resonances, balance)
+        if painleve:
+            steps = (*_leading_step(balance, found), *steps)
         results.append(
             BalanceResult(balance, found, Painleve(steps), _balance_notes(balance, found))
         )
@@ -232,7 +237,20 @@ def _analyse(split: WeightedField, painleve: bool, seed: int, start: float) -> E
         _notes(split, results, painleve),
         time.perf_counter() - start,
         tuple(d for d, _ in split.denominators),
+        painleve,
     )
+
+
+def _leading_step(balance: Balance, found: Exponents) -> tuple[Resonance, ...]:
+    """The exponent 0 as a resonance of the leading order: each zero exponent needs a
+    free leading coefficient, a direction along which the balances form a family. Its
+    multiplicity m exceeds the family's dimension d where balances meet or degenerate
+    (Hénon and Heiles's x²y + 2y³/3: the balance with x ≠ 0 has x² = 0), and the test
+    then fails: m - d constants of the general solution are missing."""
+    zeros = sum(1 for v in found.values if v.is_zero)
+    if not zeros:
+        return ()
+    return (Resonance(0, zeros, tuple(balance.free), ()),)
 
 
 def _at_balance(steps: Sequence[Resonance], balance: Balance) -> tuple[Resonance, ...]:

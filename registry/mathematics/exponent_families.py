@@ -636,6 +636,6 @@ def _exponents(analysis: ExponentAnalysis) -> list[list[str]]:
 
 def _painleve(analysis: ExponentAnalysis) -> dict:
     return {
-        "passes": analysis.painleve_passes,
+        "passes": analysis.painleve_passes if analysis.tested else None,
         "conditions": list(analysis.conditions),
     }

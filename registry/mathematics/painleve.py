@@ -53,7 +53,9 @@ class Resonance:
     (``free``) and the compatibility conditions that do not vanish (``conditions``, in
     the free coefficients of earlier resonances, the parameters and the component's u;
     empty when they all hold). Fewer than m free coefficients means K - r is not
-    diagonalizable: the general solution then needs t^r log t as well."""
+    diagonalizable: the general solution then needs t^r log t as well. At r = 0 the free
+    coefficients are the leading ones, the free coordinates of a family of balances:
+    fewer than m means the balance is not on a family of dimension m."""
 
     order: int
     multiplicity: int
@@ -76,7 +78,13 @@ class Resonance:
             f"compatibility condition at resonance {self.order} fails: {sp.sstr(c)}"
             for c in self.conditions
         ]
-        if self.missing:
+        if self.missing and self.order == 0:
+            texts.append(
+                f"exponent 0 has multiplicity {self.multiplicity} but the balances here form "
+                f"a family of dimension {len(self.free)}: {self.missing} free leading "
+                "coefficient(s) missing (the general solution is not a Laurent series there)"
+            )
+        elif self.missing:
             texts.append(
                 f"resonance {self.order} has multiplicity {self.multiplicity} but brings "
                 f"{len(self.free)} free coefficients (K - {self.order} is not "

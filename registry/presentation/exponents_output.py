@@ -89,15 +89,19 @@ def _painleve(resonances: Sequence[Mapping[str, Any]]) -> list[str]:
     failing = []
     for r in resonances:
         failing += [f"resonance {r['order']}: condition fails: {c}" for c in r["conditions"]]
-        if r["missing"]:
+        if r["missing"] and r["order"] == 0:
+            failing.append(
+                f"exponent 0: {r['missing']} free leading coefficient(s) missing (the "
+                "balance is not on a family of that dimension)"
+            )
+        elif r["missing"]:
             failing.append(
                 f"resonance {r['order']}: {r['missing']} free coefficient(s) missing (a "
                 "logarithmic term is needed)"
             )
     if failing:
         return failing
-    if resonances:
-        orders = ", ".join(str(r["order"]) for r in resonances)
+    if orders := ", ".join(str(r["order"]) for r in resonances if r["order"]):
         return [f"Painlevé: every compatibility condition holds (resonances {orders})"]
     return []
 
@@ -158,7 +162,8 @@ def _special(
             when += f" ({s['index']['ranges']})"
         line = f"  {s['kind']}: {when}"
         if "painleve" in s:
-            line += f"; Painlevé (ARS) test {'passes' if s['painleve']['passes'] else 'fails'}"
+            verdict = {True: "passes", False: "fails", None: "not made"}[s["painleve"]["passes"]]
+            line += f"; Painlevé (ARS) test {verdict}"
         lines.append(line)
         lines += _exponent_lines(s.get("exponents", ()))
         lines += [f"      note: {n}" for n in s.get("notes", ())]

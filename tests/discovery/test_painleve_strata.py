@@ -371,6 +371,38 @@ def test_the_heavy_top_with_all_its_parameters_selects_euler_lagrange_and_kovale
     assert all("no rational parametrisation" in u for u in found.undecided), found.undecided
 
 
+def test_henon_heiles_passes_where_chang_tabor_and_weiss_found_it():
+    """H = (px² + py²)/2 + (A x² + B y²)/2 + x²y + e y³/3 (C/D = -e in Chang, Tabor and
+    Weiss, J. Math. Phys. 23 (1982) 531), weights (2, 2, 3, 3): the test passes exactly
+    at e = 6 (any A, B) and at e = 1 with A = B, their two Painlevé cases, and the list
+    is complete. Every exponent is in (1/2)Z exactly at e = 1, 2, 6 and 16: their weak
+    Painlevé case C/D = -16 (3/2 and 7/2), and e = 2, where the balances with x != 0
+    meet the one with x = 0, whose exponent 0 then fails the test at every A, B."""
+    path = FAMILIES / "henon-heiles.toml"
+    case = load_case(path)
+    weights = {"x": 2, "y": 2, "px": 3, "py": 3}
+    found = case_field(case, exponent_options(case, weights, free=["e", "A", "B"]))
+    system = (found.variables, found.field, found.weights, found.free)
+    passing = painleve_strata(*system)
+    assert sets(passing) == {frozenset({"e = 6"}), frozenset({"e = 1", "A = B"})}
+    assert passing.complete
+    half = half_integer_strata(*system)
+    assert sets(half) == {frozenset({f"e = {v}"}) for v in (1, 2, 6, 16)}
+    assert half.complete
+    kinds = {frozenset(sets_of(s)): kind_of(s.analysis) for s in half.passing}
+    assert kinds[frozenset({"e = 16"})] == "half-integer"
+    e, a, b = found.free
+
+    def member(values):
+        field = [sp.sympify(v).xreplace(values) for v in found.field]
+        return exponents(found.variables, field, found.weights)
+
+    assert member({e: 6, a: sp.Rational(1, 2), b: 3}).painleve_passes
+    assert member({e: 1, a: 2, b: 2}).painleve_passes
+    assert not member({e: 1, a: 1, b: 2}).painleve_passes  # A = B matters
+    assert not member({e: 2, a: 1, b: 3}).painleve_passes  # the exponent 0
+
+
 @pytest.mark.parametrize("stratify", [painleve_strata, half_integer_strata])
 def test_the_strata_of_a_divided_field_are_refused_not_misread(stratify):
     x, y, a, b = sp.symbols("x y a b")

@@ -94,3 +94,35 @@ def test_a_top_with_three_symbolic_parameters_agrees_with_its_members():
         inertia = (2 * member[c], member[b], member[c])
         own = exponents(STATE, heavy_top(inertia, (member[a], 0, 0)), HEAVY_WEIGHTS)
         assert texts(generic, member) == texts(own)
+
+
+def test_an_exponent_0_that_no_family_of_balances_carries_fails_the_test():
+    """Hénon and Heiles's x²y + 2y³/3 (Chang, Tabor and Weiss's C/D = -2) under
+    (x, y, px, py) = (2, 2, 3, 3): the balances with x != 0 need x² = 9(2 - 2) = 0, so
+    the one balance left, x = 0, y = -3, is a double root with exponents -1, 0, 5, 6
+    (x'' = 6x/t² there: t^3 and t^-2). No family of balances carries the exponent 0,
+    so the general solution misses a constant and the test fails; its compatibility
+    conditions at 5 and 6 all hold, so only the exponent 0 can decide it."""
+    px, py = sp.symbols("px py")
+    field = [px, py, -x - 2 * x * y, -3 * y - x**2 - 2 * y**2]
+    result = exponents([x, y, px, py], field, [2, 2, 3, 3])
+    (balance,) = result.balances
+    assert dict(balance.balance.point) == {x: 0, y: -3, px: 0, py: 6}
+    assert sorted(balance.exponents.values) == [-1, 0, 5, 6]
+    assert result.all_integer and not result.painleve_passes
+    (leading, *others) = balance.painleve.resonances
+    assert (leading.order, leading.multiplicity, leading.missing) == (0, 1, 1)
+    assert all(r.holds for r in others) and [r.order for r in others] == [5, 6]
+    assert "exponent 0 has multiplicity 1" in result.conditions[0]
+
+
+def test_an_exponent_0_along_a_family_of_balances_is_its_free_coordinate():
+    """Lagrange's top (1, 1, 2) with the centre on its axis: rotations about the axis
+    make each balance with gamma != 0 a family of dimension 1, whose exponent 0 is that
+    family's free coordinate, and the test passes."""
+    result = exponents(STATE, heavy_top((1, 1, 2), (0, 0, 1)), HEAVY_WEIGHTS)
+    families = [b for b in result.balances if b.balance.dimension]
+    assert families and result.painleve_passes
+    for b in families:
+        (leading,) = [r for r in b.painleve.resonances if r.order == 0]
+        assert leading.multiplicity == b.balance.dimension == len(leading.free)
