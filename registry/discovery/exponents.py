@@ -638,16 +638,23 @@ def _half_integer_sets(strata: Strata) -> dict[str, Any]:
     return {"sets": sets, **_coverage(strata)}
 
 
+#: The note of a set whose leading part has no balance: it passes, but vacuously.
+NO_BALANCE = "the leading part has no balance here: the test has nothing to check"
+
+
 def _stratum(s) -> dict[str, Any]:
     """One set found by a stratification: equations, free parameters, analysis, notes."""
     entry: dict[str, Any] = {
         "when": [f"{p} = {sp.sstr(v)}" for p, v in s.values.items()],
         "free": [str(p) for p in s.free],
     }
+    vacuous = []
     if s.analysis is not None:
         entry |= _member(s.analysis)
+        if not s.analysis.balances:
+            vacuous = [NO_BALANCE]
     integers = [f"{p} runs over the integers" for p in s.free if p.is_integer]
-    entry["notes"] = [*s.notes, *integers]
+    entry["notes"] = [*s.notes, *vacuous, *integers]
     return entry
 
 

@@ -128,6 +128,8 @@ def _strata(
         if "same_as" in s:
             lines.append(f"      {_same_as(s['same_as'])}")
         lines += _exponent_lines(s.get("exponents", ()))
+        if "exponents" in s and not s["exponents"]:
+            lines.append("      no balance: the test has nothing to check")
     if not sets:
         lines.append("  no set that was analysed")
     lines.append(f"complete: {'yes' if found['complete'] else 'no'}")

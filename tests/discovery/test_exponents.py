@@ -26,9 +26,16 @@ from collections import Counter
 import pytest
 import sympy as sp
 
-from registry.discovery.exponents import analyse_case, case_field, exponent_options, refused
+from registry.discovery.exponents import (
+    NO_BALANCE,
+    analyse_case,
+    case_field,
+    exponent_options,
+    refused,
+)
 from registry.errors import ExponentError
 from registry.language.casefile import load_case
+from registry.presentation.exponents_output import exponents_text
 from tests.helpers.clocks import cpu_bound
 from tests.helpers.samples import CASES, CLASSICAL, FAMILIES, TEST_DATA
 
@@ -184,6 +191,22 @@ def test_a_state_whose_own_weights_drop_a_component_gets_weights_that_keep_every
     document = analyse_case(case, options).document
     assert len(document["balances"]) == 3
     assert {b["point"]["y"] for b in document["balances"]} == {"-3", "-6/e"}
+
+
+def test_a_set_without_balances_passes_vacuously_and_says_so():
+    """Lorenz's system at sigma = 0: x is a constant and the leading part (dx/dt =
+    sigma y, dy/dt = -xz, dz/dt = xy) has no balance, so the test has nothing to check
+    there; the set is listed (the list must hold it to be complete) with that note, and
+    the other sets, with balances, without it."""
+    case = load_case(FAMILIES / "lorenz.toml")
+    result = analyse_case(case, exponent_options(case, free=["sigma", "r", "b"]))
+    passing = result.document["painleve_sets"]["passing"]
+    (vacuous,) = [s for s in passing if s["when"] == ["sigma = 0"]]
+    assert vacuous["exponents"] == [] and NO_BALANCE in vacuous["notes"]
+    others = [s for s in passing if s is not vacuous]
+    assert len(others) == 3 and all(s["exponents"] and NO_BALANCE not in s["notes"] for s in others)
+    text = exponents_text(result)
+    assert "  sigma = 0 (r, b free)\n      no balance: the test has nothing to check" in text
 
 
 def test_options_name_their_problems_with_the_file():

@@ -403,6 +403,30 @@ def test_henon_heiles_passes_where_chang_tabor_and_weiss_found_it():
     assert not member({e: 2, a: 1, b: 3}).painleve_passes  # the exponent 0
 
 
+def test_lorenz_passes_exactly_where_tabor_and_weiss_found_it():
+    """dx/dt = sigma (y - x), dy/dt = r x - y - x z, dz/dt = x y - b z, with the default
+    weights (x: 1, y, z: 2, which keep every component in the leading part): the test
+    passes exactly at (sigma, b, r) = (1/2, 1, 0), (1, 2, 1/9) and (1/3, 0, r), Tabor
+    and Weiss's list (Phys. Rev. A 24 (1981) 2157), and at sigma = 0, where x is a
+    constant and the system linear; the list is complete. Every exponent is an integer
+    (-1, 2, 4) for every value, so the half-integer list is the whole space."""
+    path = FAMILIES / "lorenz.toml"
+    found = strata_of(path, ["sigma", "r", "b"])
+    assert sets(found) == {
+        frozenset({"sigma = 0"}),
+        frozenset({"sigma = 1/3", "b = 0"}),
+        frozenset({"sigma = 1", "r = 1/9", "b = 2"}),
+        frozenset({"sigma = 1/2", "r = 0", "b = 1"}),
+    }
+    assert found.complete
+    members_pass(found, path, ["sigma", "r", "b"])
+    case = load_case(path)
+    system = case_field(case, exponent_options(case, free=["sigma", "r", "b"]))
+    sigma, r, b = system.free
+    field = [sp.sympify(v).xreplace({sigma: 1, r: sp.Rational(1, 8), b: 2}) for v in system.field]
+    assert not exponents(system.variables, field, system.weights).painleve_passes  # r moved
+
+
 @pytest.mark.parametrize("stratify", [painleve_strata, half_integer_strata])
 def test_the_strata_of_a_divided_field_are_refused_not_misread(stratify):
     x, y, a, b = sp.symbols("x y a b")
