@@ -27,7 +27,6 @@ from collections.abc import Sequence
 
 import numpy as np
 import sympy as sp
-from scipy.optimize import Bounds, LinearConstraint, milp
 
 from ..dynamics import Vector, Weights
 
@@ -41,6 +40,9 @@ def leading_weights(
     """The weights of the module doc for dx/dt = ``field`` (listed in the order of
     ``variables``), or None where none exist up to ``LARGEST`` or the field is not a
     polynomial in the state."""
+    # imported here: scipy.optimize takes half a second, and most states never get here
+    from scipy.optimize import Bounds, LinearConstraint, milp
+
     index = {x: k for k, v in enumerate(vectors) for x in v.components}
     if set(variables) != set(index):
         return None
