@@ -379,9 +379,9 @@ def _analysis_part(analysis: ExponentAnalysis) -> dict[str, Any]:
         "all_integer": analysis.all_integer,
         "all_rational": analysis.all_rational,
         "degrees": list(analysis.degrees),
-        "painleve": {
-            "passes": analysis.painleve_passes,
-            "compatible": analysis.compatible,
+        "painleve": {  # passes: None where only the exponents were computed
+            "passes": analysis.painleve_verdict,
+            "compatible": analysis.compatible if analysis.tested else None,
             "conditions": conditions,
         },
     }
@@ -568,7 +568,7 @@ def _family_document(
         document |= _analysis_part(generic)  # the Painlevé test of generic members
     else:
         document |= {"balances": [], "all_integer": None, "all_rational": None, "degrees": []}
-        document["painleve"] = {"passes": False, "compatible": None, "conditions": []}
+        document["painleve"] = {"passes": None, "compatible": None, "conditions": []}
     dropped: list[str] = []
     special = [s for s in family.special if _kept(s, dropped)]
     document["special"] = [_special(s) for s in special]
@@ -697,8 +697,8 @@ def _member(analysis: ExponentAnalysis) -> dict[str, Any]:
     return {
         "exponents": [b["exponents"] for b in part["balances"]],
         "degrees": part["degrees"],
-        "painleve": {  # passes: None where only the exponents were computed
-            "passes": part["painleve"]["passes"] if analysis.tested else None,
+        "painleve": {
+            "passes": part["painleve"]["passes"],
             "conditions": part["painleve"]["conditions"],
         },
     }

@@ -139,6 +139,15 @@ class ExponentAnalysis:
         return self.tested and self.all_integer and self.compatible
 
     @property
+    def painleve_verdict(self) -> bool | None:
+        """``painleve_passes`` where it is known: False wherever some exponent is not an
+        integer (the series is then not needed), None where the exponents are all
+        integers but the series was not computed."""
+        if not self.all_integer:
+            return False
+        return self.compatible if self.tested else None
+
+    @property
     def conditions(self) -> tuple[str, ...]:
         """The failing compatibility conditions, each with its balance (1-based)."""
         return tuple(

@@ -636,6 +636,6 @@ def _exponents(analysis: ExponentAnalysis) -> list[list[str]]:
 
 def _painleve(analysis: ExponentAnalysis) -> dict:
     return {
-        "passes": analysis.painleve_passes if analysis.tested else None,
+        "passes": analysis.painleve_verdict,
         "conditions": list(analysis.conditions),
     }

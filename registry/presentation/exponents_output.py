@@ -48,7 +48,7 @@ def _lines(result: ExponentResult) -> list[str]:
     if d["balances"]:
         degrees = ", ".join(map(str, d["degrees"])) or "none"
         lines.append(f"degrees (Yoshida): {degrees}")
-        verdict = "passes" if d["painleve"]["passes"] else "fails"
+        verdict = {True: "passes", False: "fails", None: "not made"}[d["painleve"]["passes"]]
         lines.append(f"Painlevé (ARS) test{' for generic values' if d['free'] else ''}: {verdict}")
     if "special" in d:
         lines += _special(d["special"], d["complete"], d["coverage"])

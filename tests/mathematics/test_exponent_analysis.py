@@ -126,3 +126,19 @@ def test_an_exponent_0_along_a_family_of_balances_is_its_free_coordinate():
     for b in families:
         (leading,) = [r for r in b.painleve.resonances if r.order == 0]
         assert leading.multiplicity == b.balance.dimension == len(leading.free)
+
+
+def test_without_the_series_the_verdict_is_known_only_where_an_exponent_is_not_an_integer():
+    """Kovalevskaya's top has integer exponents: without its series the test is not
+    decided (None), and ``painleve_passes`` never says it passes; with the series it
+    passes. A top with moments (1, 2, 3) has an irrational exponent: it fails either way."""
+    fields = {
+        "kovalevskaya": heavy_top((2, 2, 1), (1, 0, 0)),
+        "distinct": heavy_top((1, 2, 3), (1, 1, 1)),
+    }
+    bare = {k: exponents(STATE, f, HEAVY_WEIGHTS, painleve=False) for k, f in fields.items()}
+    assert bare["kovalevskaya"].painleve_verdict is None
+    assert not bare["kovalevskaya"].painleve_passes
+    tested = exponents(STATE, fields["kovalevskaya"], HEAVY_WEIGHTS)
+    assert tested.painleve_verdict is True and tested.painleve_passes
+    assert bare["distinct"].painleve_verdict is False
