@@ -254,8 +254,9 @@ def _leading_step(balance: Balance, found: Exponents) -> tuple[Resonance, ...]:
     """The exponent 0 as a resonance of the leading order: each zero exponent needs a
     free leading coefficient, a direction along which the balances form a family. Its
     multiplicity m exceeds the family's dimension d where balances meet or degenerate
-    (Hénon and Heiles's x²y + 2y³/3: the balance with x ≠ 0 has x² = 0), and the test
-    then fails: m - d constants of the general solution are missing."""
+    (Hénon and Heiles's x²y + 2y³/3: the balances with x ≠ 0 need x² = 0 and merge into
+    the one with x = 0), and the test then fails: m - d constants of the general
+    solution are missing."""
     zeros = sum(1 for v in found.values if v.is_zero)
     if not zeros:
         return ()

@@ -8,13 +8,13 @@ function (numerator and denominator of degree <= 1), p = P(m) is a rational func
 of m and every other coefficient becomes sigma(m) = Q(m) + R(m)/D(m), deg R < deg D.
 With L the common denominator of Q's coefficients, sigma(m) in Z forces
 |L R(m)| >= |D(m)| or R(m) = 0: a finite set of m, no larger in size than the largest
-real root of D^2 - L^2 R^2 (isolated exactly), so the search is complete. Where every sigma is a
-polynomial, sigma(m) mod 1 depends on m mod L only: the solutions are residue classes,
-infinite families p = P(r + L n), n in Z. Either way the candidates are necessary
-conditions; a factor of degree >= 2 must still split over Z, which the caller checks
-at each candidate value (in a residue family only a bounded range can be checked, and
-the answer is then not complete). A pinning tau of higher degree is searched over a
-bounded range of m only.
+real root of D^2 - L^2 R^2 (isolated exactly), so the search is complete. Where every
+sigma is a polynomial, sigma(m) mod 1 depends on m mod L only: the solutions are
+residue classes, infinite families p = P(r + L n), n in Z. Either way the candidates
+are necessary conditions; a factor of degree >= 2 must still split over Z, which the
+caller checks at each candidate value (in a residue family only a bounded range can be
+checked, and the answer is then not complete). A pinning tau of higher degree is
+searched over a bounded range of m only.
 
 *Rationals* (for rational p). Linear factors have rational roots at every rational p;
 a quadratic factor has them exactly when its discriminant is a rational square. With
