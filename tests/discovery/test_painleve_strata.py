@@ -420,6 +420,8 @@ def test_lorenz_passes_exactly_where_tabor_and_weiss_found_it():
     }
     assert found.complete
     members_pass(found, path, ["sigma", "r", "b"])
+    half = strata_of(path, ["sigma", "r", "b"], half_integer_strata)
+    assert sets(half) == {frozenset()} and half.complete
     case = load_case(path)
     system = case_field(case, exponent_options(case, free=["sigma", "r", "b"]))
     sigma, r, b = system.free
