@@ -79,10 +79,15 @@ class Resonance:
             for c in self.conditions
         ]
         if self.missing and self.order == 0:
+            where = (
+                f"the balances here form a family of dimension {len(self.free)}"
+                if self.free
+                else "the balance is isolated"
+            )
             texts.append(
-                f"exponent 0 has multiplicity {self.multiplicity} but the balances here form "
-                f"a family of dimension {len(self.free)}: {self.missing} free leading "
-                "coefficient(s) missing (the general solution is not a Laurent series there)"
+                f"exponent 0 has multiplicity {self.multiplicity} but {where}: "
+                f"{self.missing} free leading coefficient(s) missing (the general solution "
+                "is not a Laurent series there)"
             )
         elif self.missing:
             texts.append(
