@@ -48,7 +48,7 @@ def _lines(result: ExponentResult) -> list[str]:
     if d["balances"]:
         degrees = ", ".join(map(str, d["degrees"])) or "none"
         lines.append(f"degrees (Yoshida): {degrees}")
-        verdict = {True: "passes", False: "fails", None: "not made"}[d["painleve"]["passes"]]
+        verdict = _verdict(d["painleve"]["passes"])
         lines.append(f"Painlevé (ARS) test{' for generic values' if d['free'] else ''}: {verdict}")
     if "special" in d:
         lines += _special(d["special"], d["complete"], d["coverage"])
@@ -59,6 +59,11 @@ def _lines(result: ExponentResult) -> list[str]:
     lines.append(result.statement)
     lines.append(f"{result.seconds:.2f} s")
     return lines
+
+
+def _verdict(passes: bool | None) -> str:
+    """The Painlevé test's verdict in a word (None: the series was not computed)."""
+    return {True: "passes", False: "fails", None: "not made"}[passes]
 
 
 def _heading(d: Mapping[str, Any]) -> str:
@@ -164,8 +169,7 @@ def _special(
             when += f" ({s['index']['ranges']})"
         line = f"  {s['kind']}: {when}"
         if "painleve" in s:
-            verdict = {True: "passes", False: "fails", None: "not made"}[s["painleve"]["passes"]]
-            line += f"; Painlevé (ARS) test {verdict}"
+            line += f"; Painlevé (ARS) test {_verdict(s['painleve']['passes'])}"
         lines.append(line)
         lines += _exponent_lines(s.get("exponents", ()))
         lines += [f"      note: {n}" for n in s.get("notes", ())]

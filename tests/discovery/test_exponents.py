@@ -207,6 +207,9 @@ def test_a_set_without_balances_passes_vacuously_and_says_so():
     assert len(others) == 3 and all(s["exponents"] and NO_BALANCE not in s["notes"] for s in others)
     text = exponents_text(result)
     assert "  sigma = 0 (r, b free)\n      no balance: the test has nothing to check" in text
+    # the generic members' exponents are integers, their series not computed
+    assert "Painlevé (ARS) test for generic values: not made" in text
+    assert result.document["painleve"]["passes"] is None
 
 
 def test_options_name_their_problems_with_the_file():
