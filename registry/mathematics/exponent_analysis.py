@@ -136,7 +136,7 @@ class ExponentAnalysis:
         """The ARS test passes: every exponent of every balance is an integer and every
         compatibility condition holds (necessary for the Painlevé property, not a proof).
         False where the test was not made."""
-        return self.tested and self.all_integer and self.compatible
+        return self.painleve_verdict is True
 
     @property
     def painleve_verdict(self) -> bool | None:

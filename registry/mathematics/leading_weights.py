@@ -67,12 +67,10 @@ def leading_weights(
     # e_t . w - w_i <= 1, and e_t . w - w_i - M z_t >= 1 - M
     upper = LinearConstraint(np.hstack([w_part, np.zeros((m, m))]), -np.inf, 1)
     lower = LinearConstraint(np.hstack([w_part, -big * marks]), 1 - big, np.inf)
-    components = sorted(set(owners))
-    keep = np.zeros((len(components), n + m))
-    for r, i in enumerate(components):
-        for t, owner in enumerate(owners):
-            if owner == i:
-                keep[r, n + t] = 1
+    row_of = {i: r for r, i in enumerate(sorted(set(owners)))}  # a row per non-zero component
+    keep = np.zeros((len(row_of), n + m))
+    for t, owner in enumerate(owners):
+        keep[row_of[owner], n + t] = 1
     kept = LinearConstraint(keep, 1, np.inf)
     cost = np.concatenate([np.ones(n), -(n * LARGEST + 1) * np.ones(m)])
     bounds = Bounds(np.concatenate([np.ones(n), np.zeros(m)]),
