@@ -828,10 +828,13 @@ class ExponentResult:
         return len(self.document.get("balances", ()))
 
     @property
-    def passes(self) -> bool:
-        """The Painlevé (ARS) test passes: integer exponents, every condition holding."""
+    def passes(self) -> bool | None:
+        """The Painlevé (ARS) test's verdict: True where it passes (integer exponents,
+        every condition holding), False where it fails, None where it was not made (an
+        undecided analysis, or integer exponents whose Laurent series was not computed)."""
         painleve = self.document.get("painleve") or {}
-        return bool(painleve.get("passes", False))
+        verdict = painleve.get("passes") if self.decided else None
+        return None if verdict is None else bool(verdict)
 
     @property
     def statement(self) -> str:

@@ -194,7 +194,8 @@ def _half_integer_sets(found: Mapping[str, Any]) -> str:
 def _listed(sets: Sequence[Mapping[str, Any]]) -> str:
     """A stratification's sets: each its equations and the parameters left free on it."""
     return "; ".join(
-        ", ".join(s["when"]) + (f" ({', '.join(s['free'])} free)" if s["free"] else "")
+        (", ".join(s["when"]) or "every value")
+        + (f" ({', '.join(s['free'])} free)" if s["free"] else "")
         for s in sets
     )
 

@@ -367,7 +367,7 @@ def _document(
 
 def _analysis_part(analysis: ExponentAnalysis) -> dict[str, Any]:
     """Balances, exponents, degrees and the Painlevé test of one analysis."""
-    balances = [_balance(b) for b in analysis.balances]
+    balances = [_balance(b, analysis.tested) for b in analysis.balances]
     conditions = [
         {"balance": i, **c}
         for i, b in enumerate(balances, 1)
@@ -387,14 +387,15 @@ def _analysis_part(analysis: ExponentAnalysis) -> dict[str, Any]:
     }
 
 
-def _balance(b: BalanceResult) -> dict[str, Any]:
-    """One balance: the maths' entry, with its Painlevé test resonance by resonance and
-    its coordinates along a family of balances named ``along``."""
+def _balance(b: BalanceResult, tested: bool) -> dict[str, Any]:
+    """One balance: the maths' entry, with its Painlevé test resonance by resonance (its
+    ``compatible`` null where the analysis computed no series) and its coordinates along
+    a family of balances named ``along``."""
     entry = b.as_dict()
     named = {} if b.balance.root is not None else {b.balance.component.symbol: sp.Symbol("theta")}
     entry["along"] = entry.pop("free")
     entry["painleve"] = {
-        "compatible": b.painleve.compatible,
+        "compatible": b.painleve.compatible if tested else None,
         "resonances": [
             {
                 "order": r.order,
@@ -587,6 +588,8 @@ def _family_document(
     document["coverage"] = coverage
     if strata is not None:
         document["painleve_sets"] = _painleve_sets(strata)
+        if document["painleve"]["passes"] is None:
+            document["painleve"]["passes"] = _generic_verdict(strata)
     if half is not None:
         document["half_integer_sets"] = _half_integer_sets(half)
     document["statement"] = family_statement(document, options.weights_text())
@@ -594,6 +597,16 @@ def _family_document(
     document["method"] = METHOD
     document["decided"] = True
     return document
+
+
+def _generic_verdict(strata: Strata) -> bool | None:
+    """The generic members' Painlevé test where the family's own analysis did not make it
+    (several parameters), read from the stratification: passing where the whole space is
+    a passing set (its series computed over Q(p)), failing where the list is complete
+    and every passing set is smaller, unknown otherwise."""
+    if any(not s.values for s in strata.passing):
+        return True
+    return False if strata.complete else None
 
 
 def _kept(s: SpecialSet, dropped: list[str]) -> bool:

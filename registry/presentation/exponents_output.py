@@ -4,12 +4,17 @@ a fresh analysis and a stored one read the same."""
 
 from __future__ import annotations
 
+import re
 from collections import Counter
 from collections.abc import Mapping, Sequence
 from typing import Any
 
 from ..model import ExponentResult
 from .text_table import wrapped
+
+#: Expressions longer than this many characters are elided in the text (the JSON has
+#: them whole): a family's generic point over Q(p) can run to pages.
+LONG = 400
 
 
 def exponents_text(result: ExponentResult, width: int | None = None) -> str:
@@ -48,7 +53,7 @@ def _lines(result: ExponentResult) -> list[str]:
     if d["balances"]:
         degrees = ", ".join(map(str, d["degrees"])) or "none"
         lines.append(f"degrees (Yoshida): {degrees}")
-        verdict = _verdict(d["painleve"]["passes"])
+        verdict = painleve_word(d["painleve"]["passes"])
         lines.append(f"Painlevé (ARS) test{' for generic values' if d['free'] else ''}: {verdict}")
     if "special" in d:
         lines += _special(d["special"], d["complete"], d["coverage"])
@@ -61,7 +66,7 @@ def _lines(result: ExponentResult) -> list[str]:
     return lines
 
 
-def _verdict(passes: bool | None) -> str:
+def painleve_word(passes: bool | None) -> str:
     """The Painlevé test's verdict in a word (None: the series was not computed)."""
     return {True: "passes", False: "fails", None: "not made"}[passes]
 
@@ -73,10 +78,12 @@ def _heading(d: Mapping[str, Any]) -> str:
 
 
 def _balance(i: int, b: Mapping[str, Any]) -> list[str]:
-    point = ", ".join(f"{x} = {v}" for x, v in b["point"].items())
+    point = ", ".join(f"{x} = {shown(v)}" for x, v in b["point"].items())
     lines = [f"balance {i}: {point}"]
     if b.get("root_of"):
-        lines.append(f"    theta: a root of {b['root_of']}")
+        lines.append(f"    theta: a root of {shown(b['root_of'])}")
+    if any(len(v) > LONG for v in [*b["point"].values(), b.get("root_of") or ""]):
+        lines.append("    (long expressions elided: registry exponents --json prints them whole)")
     if b.get("dimension"):
         lines.append(
             f"    a family of balances of dimension {b['dimension']} (along "
@@ -84,16 +91,26 @@ def _balance(i: int, b: Mapping[str, Any]) -> list[str]:
         )
     kind = "integers" if b["integer"] else "rational" if b["rational"] else "not all rational"
     lines.append(f"    exponents: {', '.join(b['exponents'])} ({kind})")
-    lines += [f"    {text}" for text in _painleve(b["painleve"]["resonances"])]
+    resonances = b["painleve"]["resonances"]
+    lines += [f"    {text}" for text in failures(resonances) or _holding(resonances)]
     return lines
 
 
-def _painleve(resonances: Sequence[Mapping[str, Any]]) -> list[str]:
-    """The Painlevé test at one balance, resonance by resonance, where it fails; one line
-    where every condition holds."""
+def shown(expression: str) -> str:
+    """An expression as printed, or where it is longer than ``LONG``, the symbols it
+    involves and its length."""
+    if len(expression) <= LONG:
+        return expression
+    names = ", ".join(dict.fromkeys(re.findall(r"[A-Za-z_][A-Za-z0-9_]*", expression)))
+    return f"<an expression in {names}: {len(expression)} characters>"
+
+
+def failures(resonances: Sequence[Mapping[str, Any]]) -> list[str]:
+    """Where the Painlevé test fails at one balance, resonance by resonance: each failing
+    condition, each free coefficient missing (none: the test holds there)."""
     failing = []
     for r in resonances:
-        failing += [f"resonance {r['order']}: condition fails: {c}" for c in r["conditions"]]
+        failing += [f"resonance {r['order']}: condition fails: {shown(c)}" for c in r["conditions"]]
         if r["missing"] and r["order"] == 0:
             failing.append(
                 f"exponent 0: {r['missing']} free leading coefficient(s) missing (the "
@@ -104,8 +121,11 @@ def _painleve(resonances: Sequence[Mapping[str, Any]]) -> list[str]:
                 f"resonance {r['order']}: {r['missing']} free coefficient(s) missing (a "
                 "logarithmic term is needed)"
             )
-    if failing:
-        return failing
+    return failing
+
+
+def _holding(resonances: Sequence[Mapping[str, Any]]) -> list[str]:
+    """The line of a balance where every compatibility condition holds."""
     if orders := ", ".join(str(r["order"]) for r in resonances if r["order"]):
         return [f"Painlevé: every compatibility condition holds (resonances {orders})"]
     return []
@@ -129,7 +149,7 @@ def _strata(
     for s in sets:
         free = f" ({', '.join(s['free'])} free)" if s["free"] else ""
         kind = f" [{s['kind']}]" if kinds and s.get("kind") else ""
-        lines.append(f"  {', '.join(s['when'])}{free}{kind}")
+        lines.append(f"  {', '.join(s['when']) or 'every value'}{free}{kind}")
         if "same_as" in s:
             lines.append(f"      {_same_as(s['same_as'])}")
         lines += _exponent_lines(s.get("exponents", ()))
@@ -169,7 +189,7 @@ def _special(
             when += f" ({s['index']['ranges']})"
         line = f"  {s['kind']}: {when}"
         if "painleve" in s:
-            line += f"; Painlevé (ARS) test {_verdict(s['painleve']['passes'])}"
+            line += f"; Painlevé (ARS) test {painleve_word(s['painleve']['passes'])}"
         lines.append(line)
         lines += _exponent_lines(s.get("exponents", ()))
         lines += [f"      note: {n}" for n in s.get("notes", ())]

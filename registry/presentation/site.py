@@ -38,6 +38,7 @@ from ..model import Case, CheckResult, Correction, ExponentResult, Verdict
 from . import bibtex, latex
 from .audit_json import audit_document
 from .cas_export import LANGUAGES, export
+from .exponents_output import failures, painleve_word, shown
 from .mathml import NAMES, equation, mathml
 
 if TYPE_CHECKING:
@@ -524,24 +525,24 @@ def _exponents(entry: ExponentEntry | None) -> dict[str, Any] | None:
     if entry is None:
         return None
     d = entry.result.document
-    balances = [
-        {
-            "point": ", ".join(f"{x} = {v}" for x, v in b["point"].items()),
-            "root_of": b.get("root_of", ""),
-            "family": b.get("dimension", 0),
-            "along": ", ".join(b.get("along", ())),
-            "exponents": ", ".join(b["exponents"]),
-            "compatible": b["painleve"]["compatible"],
-            "failing": [
-                f"resonance {r['order']}: condition fails: {c}"
-                for r in b["painleve"]["resonances"] for c in r["conditions"]
-            ] + [
-                f"resonance {r['order']}: {r['missing']} free coefficient(s) missing"
-                for r in b["painleve"]["resonances"] if r["missing"]
-            ],
-        }
-        for b in d.get("balances", ())
-    ]  # fmt: skip
+    balances = []
+    for b in d.get("balances", ()):
+        whole = ", ".join(f"{x} = {v}" for x, v in b["point"].items())
+        point = ", ".join(f"{x} = {shown(v)}" for x, v in b["point"].items())
+        root_of = b.get("root_of", "")
+        elided = [w for w, s in ((whole, point), (root_of, shown(root_of))) if w != s]
+        balances.append(
+            {
+                "point": point,
+                "root_of": shown(root_of),
+                "whole": elided,  # the point and polynomial elided above, in full
+                "family": b.get("dimension", 0),
+                "along": ", ".join(b.get("along", ())),
+                "exponents": ", ".join(b["exponents"]),
+                "compatible": b["painleve"]["compatible"],
+                "failing": failures(b["painleve"]["resonances"]),
+            }
+        )
     special = [
         {
             "kind": s["kind"],
@@ -561,7 +562,7 @@ def _exponents(entry: ExponentEntry | None) -> dict[str, Any] | None:
         "homogeneous": d.get("homogeneous"),
         "balances": balances,
         "degrees": ", ".join(map(str, d.get("degrees", ()))) or "none",
-        "passes": entry.result.passes,
+        "painleve": painleve_word(entry.result.passes),
         "family": "special" in d,
         "special": special,
         "complete": ", ".join(

@@ -32,7 +32,7 @@ from sqlalchemy.orm import DeclarativeBase, Mapped, mapped_column
 from sqlalchemy.types import TypeDecorator
 
 #: Version of the table layout, kept in the ``meta`` table (the Alembic revision, as a number).
-SCHEMA_VERSION = 11
+SCHEMA_VERSION = 12
 
 #: The states of an audit run; every run starts as ``running``.
 RUN_STATUSES = ("running", "complete", "failed", "interrupted")
@@ -336,7 +336,8 @@ class ExponentRow(Base):
     homogeneous: Mapped[bool] = mapped_column(Boolean)
     all_integer: Mapped[bool] = mapped_column(Boolean)
     all_rational: Mapped[bool] = mapped_column(Boolean)
-    passes: Mapped[bool] = mapped_column(Boolean)
+    #: the Painlevé test: passes, fails, or NULL where it was not made
+    passes: Mapped[bool | None] = mapped_column(Boolean)
     degrees: Mapped[list[int]] = mapped_column(JSON)
     balances: Mapped[int]
     statement: Mapped[str] = mapped_column(Text, default="")

@@ -28,11 +28,13 @@ import sympy as sp
 
 from registry.discovery.exponents import (
     NO_BALANCE,
+    _generic_verdict,
     analyse_case,
     case_field,
     exponent_options,
     refused,
 )
+from registry.discovery.painleve_strata import Strata
 from registry.errors import ExponentError
 from registry.language.casefile import load_case
 from registry.presentation.exponents_output import exponents_text
@@ -207,9 +209,31 @@ def test_a_set_without_balances_passes_vacuously_and_says_so():
     assert len(others) == 3 and all(s["exponents"] and NO_BALANCE not in s["notes"] for s in others)
     text = exponents_text(result)
     assert "  sigma = 0 (r, b free)\n      no balance: the test has nothing to check" in text
-    # the generic members' exponents are integers, their series not computed
-    assert "Painlevé (ARS) test for generic values: not made" in text
-    assert result.document["painleve"]["passes"] is None
+    # the generic members' exponents are integers and their own series is not computed,
+    # but the complete list holds no set as large as the space: they fail
+    assert result.document["painleve_sets"]["complete"]
+    assert "Painlevé (ARS) test for generic values: fails" in text
+    assert result.document["painleve"]["passes"] is False
+    assert [b["painleve"]["compatible"] for b in result.document["balances"]] == [None] * len(
+        result.document["balances"]
+    )
+
+
+def test_a_family_passing_on_the_whole_space_passes_for_generic_values():
+    """Lagrange's tops (1, 1, 1/lam), centre z on the axis, lam and z free: with two
+    parameters the family's own analysis computes no series, but the stratification
+    computes it over Q(lam, z) and passes on the whole space, so the generic members
+    pass; with the list cut short, nothing is said (``_generic_verdict``)."""
+    case = load_case(FAMILIES / "lagrange-lam.toml")
+    result = analyse_case(case, exponent_options(case, free=["lam", "z"]))
+    ((whole,),) = [[s for s in result.document["painleve_sets"]["passing"] if not s["when"]]]
+    assert whole["free"] == ["lam", "z"] and whole["painleve"]["passes"] is True
+    assert result.document["painleve"]["passes"] is True
+    assert "  every value (lam, z free)" in exponents_text(result)
+    lam = sp.Symbol("lam")
+    cut_short = Strata((lam,), passing=(), undecided=("lam = 1",), visited=1)
+    assert _generic_verdict(cut_short) is None
+    assert _generic_verdict(Strata((lam,), passing=(), undecided=(), visited=1)) is False
 
 
 def test_options_name_their_problems_with_the_file():

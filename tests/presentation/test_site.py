@@ -42,6 +42,8 @@ from click.testing import CliRunner
 import registry
 from registry.cli import main
 from registry.language.casefile import parse_case_text
+from registry.model import ExponentOptions, ExponentResult
+from registry.presentation import site
 from registry.presentation.site import bracket
 from tests.helpers.samples import AFFINE, CASES, FAMILIES, HAMILTONIAN, SEED, YEHIA_B, ZHUKOVSKY
 
@@ -111,6 +113,8 @@ def built(tmp_path_factory) -> SimpleNamespace:
         reg.survey([RENAMED], jobs=1)
         reg.analyse_exponents(SO4, record=True)
         reg.analyse_exponents(HOSTILE_ID, free=["c"], record=True, jobs=1)
+        reg.add(FAMILIES / "lagrange-lam.toml")  # two parameters: generic series not computed
+        reg.analyse_exponents("family-lagrange-lam", free=["lam", "z"], record=True, jobs=1)
         reg.identify([RENAMED, AFFINE], jobs=1)
         reg.discover(FAMILIES / f"{GYROSTATS}.toml", **GYROSTATS_SEARCH, record=True, jobs=1)
         first = reg.site(folder / "one")
@@ -149,7 +153,8 @@ def test_every_case_has_its_permanent_page_downloads_and_alias_redirect(built):
     ids = list(built.cases["case"])
     family = f"family-{GYROSTATS}"  # recorded by its search, with its special set
     recorded = {family, f"{family}-where-k1-0-k2-0"}
-    assert set(ids) == {*SEED, RENAMED, HOSTILE_ID, SO31, SO4, *recorded} - {ZHUKOVSKY}
+    lagrange = "family-lagrange-lam"
+    assert set(ids) == {*SEED, RENAMED, HOSTILE_ID, SO31, SO4, lagrange, *recorded} - {ZHUKOVSKY}
     for case_id in ids:
         for ext in ("html", "toml", "audit.json", "m", "mpl", "py"):
             assert (built.site / "cases" / f"{case_id}.{ext}").is_file(), (case_id, ext)
@@ -303,6 +308,39 @@ def test_a_case_page_shows_its_newest_kovalevskaya_analysis(built):
     assert "With the newest search" not in section  # no search of this case
     other = _exponents_section(built, YEHIA_B)
     assert "No Kovalevskaya analysis recorded for this case." in other
+
+
+def test_a_family_s_generic_painleve_test_comes_from_its_stratification(built):
+    """Lagrange's tops with lam and z free: the family's own analysis computes no series
+    with two parameters, but the stratification passes on the whole space; the balances
+    say that their own series was not computed (the page once read "fails")."""
+    section = _exponents_section(built, "family-lagrange-lam")
+    assert "Painlevé (ARS) test for generic values: passes." in section
+    assert section.count("no series computed for this balance") == 2
+    assert "every condition holds" not in section
+
+
+def test_a_long_balance_is_elided_on_the_page_and_shown_whole_on_request():
+    """A family's generic point over Q(p) can run to pages (Schottky's so(4) body:
+    50 000 characters): the table shows which symbols each coordinate involves, and a
+    disclosure holds the whole point."""
+    long = " + ".join(f"{k}*theta**{k}*kappa" for k in range(1, 80))
+    balance = {
+        "point": {"M1": long, "M2": "0"}, "root_of": "theta**2 - kappa = 0",
+        "exponents": ["-1", "2"], "integer": True, "rational": True, "dimension": 0,
+        "along": [], "painleve": {"compatible": True, "resonances": []},
+    }  # fmt: skip
+    document = {"weights": {"M": 1}, "balances": [balance], "painleve": {"passes": True}}
+    result = ExponentResult("demo", "h", ExponentOptions((("M", 1),)), document)
+    shown = site._exponents(site.ExponentEntry(1, 1, result))
+    (b,) = shown["balances"]
+    assert b["point"] == f"M1 = <an expression in theta, kappa: {len(long)} characters>, M2 = 0"
+    assert b["whole"] == [f"M1 = {long}, M2 = 0"]
+    assert b["root_of"] == "theta**2 - kappa = 0"  # short: shown as it is
+    assert shown["painleve"] == "passes"
+    untested = {**document, "painleve": {"passes": None}}
+    result = ExponentResult("demo", "h", ExponentOptions((("M", 1),)), untested)
+    assert site._exponents(site.ExponentEntry(1, 1, result))["painleve"] == "not made"
 
 
 def _same_system_section(built, case_id: str) -> str:

@@ -130,7 +130,7 @@ def upgraded(table: str, row: dict) -> dict:
 def test_revisions_form_one_chain_ending_at_the_schema_version():
     assert migrate.known_revisions() == [
         "0001", "0002", "0003", "0004", "0005", "0006", "0007", "0008", "0009", "0010",
-        "0011",
+        "0011", "0012",
     ]  # fmt: skip
     assert int(migrate.head()) == SCHEMA_VERSION
 
@@ -246,7 +246,7 @@ def test_a_newer_revision_is_refused_with_a_clear_message(db_target, databases, 
     before = _snapshot(path)
     expected = (
         f"database {str(path)!r} has schema revision 0099, newer than this registry "
-        "supports (revision 0011); upgrade the registry package to open it"
+        "supports (revision 0012); upgrade the registry package to open it"
     )
     with pytest.raises(SchemaTooNewError) as info:
         Store(path)
@@ -378,7 +378,7 @@ def test_revision_0007_copies_each_stored_systems_hamiltonian_and_kappa(tmp_path
         store.add_case(hamiltonian_form)
         store.add_case(inertia_form)
     with closing(sqlite3.connect(path)) as conn, conn:  # back to what 0006 built
-        conn.execute("DROP TABLE identifications")  # 0011
+        conn.execute("DROP TABLE identifications")  # 0011 (0012 changes only exponents)
         conn.execute("ALTER TABLE discoveries DROP COLUMN same_as")  # 0010
         conn.execute("DROP TABLE exponents")
         conn.execute("DROP TABLE drift_curves")
@@ -399,6 +399,38 @@ def test_revision_0007_copies_each_stored_systems_hamiltonian_and_kappa(tmp_path
         hamiltonian_form.id: (hamiltonian_form.system.hamiltonian.text, "-1"),
         inertia_form.id: (None, "0"),
     }
+
+
+# SQLite: a database as revision 0011 left it, an untested Painlevé verdict stored false
+def test_revision_0012_reads_an_untested_painleve_verdict_as_null(tmp_path):
+    """Before 0012 the column held false where the test was not made, which read as
+    "fails"; the upgrade reads each row's verdict again from its document."""
+    from tests.helpers.samples import CASES
+
+    path = tmp_path / "r11.sqlite"
+    with registry.open(path) as reg:
+        reg.add(CASES / "free-rigid-body" / "euler-1765-free-rigid-body.toml")
+        reg.analyse_exponents("euler-1765-free-rigid-body", record=True)
+    with closing(sqlite3.connect(path)) as conn, conn:
+        (document,) = conn.execute("SELECT document FROM exponents").fetchone()
+        untested = json.loads(document)
+        untested["painleve"] = {"passes": None, "compatible": None, "conditions": []}
+        conn.execute(
+            "INSERT INTO exponents (case_pk, options, options_key, code_version, started_at,"
+            " seconds, decided, homogeneous, all_integer, all_rational, passes, degrees,"
+            " balances, statement, document) SELECT case_pk, options, options_key,"
+            " code_version, started_at, seconds, decided, homogeneous, all_integer,"
+            " all_rational, 0, degrees, balances, statement, ? FROM exponents",
+            (json.dumps(untested),),
+        )
+        conn.execute("UPDATE alembic_version SET version_num = '0011'")
+        conn.execute("UPDATE meta SET value = '11' WHERE key = 'schema_version'")
+
+    with Store(path) as store:
+        assert store.upgraded_from == "0011"
+    assert [r["passes"] for r in rows_all(path, "exponents")] == [True, None]
+    with registry.open(path) as reg:
+        assert list(reg.exponents()["painleve"]) == [True, None]
 
 
 # ---------------------------------------------- upgrades from every earlier revision

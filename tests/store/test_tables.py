@@ -17,7 +17,7 @@ from tests.helpers.stores import audit_of, count
 def test_a_store_has_schema_version(store):
     with store.engine.connect() as conn:
         value = conn.scalar(text("SELECT value FROM meta WHERE key = 'schema_version'"))
-    assert value == str(tables.SCHEMA_VERSION) == "11"
+    assert value == str(tables.SCHEMA_VERSION) == "12"
 
 
 def test_foreign_keys_are_enforced(store, sample_case):
