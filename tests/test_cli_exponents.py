@@ -9,6 +9,7 @@ import json
 
 from click.testing import CliRunner
 
+import registry
 from registry.cli import main
 from tests.helpers.samples import CASES, CLASSICAL, TEST_DATA
 
@@ -114,6 +115,11 @@ def test_the_sets_with_half_integer_exponents_name_goryachev_chaplygins_plane(tm
     assert d["special"] == [] and d["half_integer_sets"]["complete"]
     assert all("same_as" not in s for s in d["half_integer_sets"]["sets"])
     assert [s["when"] for s in d["painleve_sets"]["passing"]] == [["x0 = 0", "y0 = 0"]]
+    empty = tmp_path / "empty.sqlite"  # a registry without cases names none either
+    registry.open(empty).close()
+    assert empty.exists()
+    text = run("--db", str(empty), "exponents", path, "--free", "x0,y0,z0").stdout
+    assert "catalog" not in text and "z0 = 0 (x0, y0 free) [half-integer]" in text
 
 
 def test_with_a_registry_each_set_found_is_named_by_the_cases_it_is(tmp_path):

@@ -92,7 +92,8 @@ def exponents_run(
     """``Registry.analyse_exponents``: analyse a case file, a stored case or a ``Case``;
     reuse an analysis recorded before, record this one if asked. Without a store (a case
     file or a ``Case`` analysed on its own), nothing is reused or recorded, and the sets
-    a family's stratifications find are not named by catalog cases."""
+    a family's stratifications find are not named by catalog cases; nor are they by an
+    empty registry."""
     if request.record and store is not None:
         store.require_writer("record an exponent analysis")
     if store is None:
@@ -104,8 +105,11 @@ def exponents_run(
         found = store.stored_exponents(stored.pk, options, code_version())
         if found is not None and not _outgrown(found[1], request.budget):
             return ExponentReport(found[1], found[0], reused=True)
-    # with several free parameters each set found is named by the stored cases it is
+    # with several free parameters each set found is named by the stored cases it is (an
+    # empty registry names none: "matches no catalog case" would then say nothing)
     catalog = catalog_index(store) if store is not None and len(options.free) > 1 else None
+    if catalog is not None and not catalog.entries:
+        catalog = None
     result = analyse_case(case, options, budget=request.budget, executor=executor, catalog=catalog)
     events = tuple(executor.events)
     if not request.record or store is None:
