@@ -30,6 +30,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 import sympy as sp
+from sympy.polys.polyroots import roots_quadratic
 
 from . import algebraic
 from .balances import Balance
@@ -229,7 +230,14 @@ def _poly(factor: sp.Expr) -> sp.Poly:
 def _balance_roots(balance: Balance, polynomial: ComponentPolynomial) -> list[sp.Expr] | None:
     """The roots of H at one balance: over Q, the roots of H's norm at which H vanishes
     at the balance (ball arithmetic), counted to H's degree; elsewhere the roots of H with
-    the balance's root put in, where sympy writes them briefly. None when neither works."""
+    the balance's root put in, where sympy writes them briefly. None when neither works.
+
+    Where that root brings radicals among the parameters (sympy's domain EX), H is not
+    factored: sympy's ``roots`` factors over the algebraic extension first, a minute for a
+    quadratic. Nothing is lost by not factoring: a root of H in k = Q(p) at one balance
+    is fixed by the conjugations of k[u]/(g), so it is a root at every conjugate balance,
+    a factor of G already; H's roots are never in k, never rational. A quadratic's are
+    then written by the formula, a higher degree's are left implicit."""
     component, u, rest = balance.component, balance.component.symbol, polynomial.rest
     if balance.root is None:  # written in terms of u, a root of the minimal polynomial
         linear = sp.Poly(rest, LAMBDA)
@@ -239,6 +247,10 @@ def _balance_roots(balance: Balance, polynomial: ComponentPolynomial) -> list[sp
     if polynomial.norm:
         return _roots_by_norm(component, polynomial, balance.root)
     at = sp.Poly(sp.expand(rest.subs(u, balance.root)), LAMBDA)
+    if at.domain == sp.EX and at.free_symbols - {LAMBDA}:
+        if at.degree() == 1:
+            return [sp.together(-at.nth(0) / at.nth(1))]
+        return list(roots_quadratic(at)) if at.degree() == 2 else None
     roots = sp.roots(at)
     if sum(roots.values()) != at.degree():
         return None

@@ -98,10 +98,11 @@ def _balance(i: int, b: Mapping[str, Any]) -> list[str]:
 
 def shown(expression: str) -> str:
     """An expression as printed, or where it is longer than ``LONG``, the symbols it
-    involves and its length."""
+    involves (not the functions, not I) and its length."""
     if len(expression) <= LONG:
         return expression
-    names = ", ".join(dict.fromkeys(re.findall(r"[A-Za-z_][A-Za-z0-9_]*", expression)))
+    found = set(re.findall(r"\b([A-Za-z_][A-Za-z0-9_]*)\b(?!\()", expression)) - {"I"}
+    names = ", ".join(sorted(found))
     return f"<an expression in {names}: {len(expression)} characters>"
 
 

@@ -215,3 +215,29 @@ def test_the_characteristic_polynomial_splits_into_a_common_and_a_varying_part()
     polynomial = characteristic_polynomial(component, kovalevskaya_matrix(split))
     assert polynomial.common == ((LAMBDA + 1, 1),)
     assert sp.degree(polynomial.rest, LAMBDA) == 1 and polynomial.norm
+
+
+def test_exponents_among_radicals_of_the_parameters_by_the_quadratic_formula():
+    """Moments (1, 1, c), centre (x0, y0, z0): the balances off the axis have coordinates
+    with I and sqrt(x0**2 + y0**2), and two exponents that vary, the roots of a quadratic
+    written by the formula (sympy's roots factored it over the extension for a minute).
+    They are the eigenvalues: with the four shared ones (-1, 2, 3, 4) they sum to the
+    trace of the Kovalevskaya matrix and multiply to its determinant, at a sample point;
+    they are never rational (a rational root would be shared by the conjugate balances)."""
+    c = sp.Symbol("c", positive=True)
+    x0, y0, z0 = sp.symbols("x0 y0 z0", real=True)
+    field = heavy_top((1, 1, c), (x0, y0, z0))
+    split = split_field(STATE, field, HEAVY_WEIGHTS)
+    result = exponents(STATE, field, HEAVY_WEIGHTS, parameters=(c, x0, y0, z0), painleve=False)
+    matrix = kovalevskaya_matrix(split)
+    at = {c: sp.Rational(3, 7), x0: sp.Rational(2, 3), y0: sp.Rational(-5, 4), z0: 3}
+    varying = [b for b in result.balances if b.balance.point[STATE[5]].has(sp.I)]
+    assert len(varying) == 2
+    for b in varying:
+        values = b.exponents.values
+        assert {-1, 2, 3, 4} <= set(values) and len(values) == 6
+        assert not b.exponents.rational and any(v.has(sp.sqrt(x0**2 + y0**2)) for v in values)
+        k = matrix.xreplace(b.balance.point).xreplace(at)
+        total, product = sp.Add(*values).xreplace(at), sp.Mul(*values).xreplace(at)
+        assert abs(sp.N(total - k.trace(), 30)) < 1e-25
+        assert abs(sp.N(product - k.det(), 30)) < 1e-25

@@ -334,7 +334,7 @@ def test_a_long_balance_is_elided_on_the_page_and_shown_whole_on_request():
     result = ExponentResult("demo", "h", ExponentOptions((("M", 1),)), document)
     shown = site._exponents(site.ExponentEntry(1, 1, result))
     (b,) = shown["balances"]
-    assert b["point"] == f"M1 = <an expression in theta, kappa: {len(long)} characters>, M2 = 0"
+    assert b["point"] == f"M1 = <an expression in kappa, theta: {len(long)} characters>, M2 = 0"
     assert b["whole"] == [f"M1 = {long}, M2 = 0"]
     assert b["root_of"] == "theta**2 - kappa = 0"  # short: shown as it is
     assert shown["painleve"] == "passes"
