@@ -23,8 +23,14 @@ normal form of its square roots (``algebraic.value_at_root``) against sympy's ``
 of the substituted expression (what was done before), in the same run, with the two
 compared at random rational values.
 
+With ``--radicals``: the varying exponents of the heavy top with moments (1, 1, c) and
+its centre anywhere, at balances whose coordinates bring I and square roots of the
+parameters, by the quadratic formula (what the analysis does) against sympy's ``roots``
+(what it did), in the same run, compared at a random point.
+
 Usage: python scripts/bench_exponents.py [--timeout 120] [--repeat 3]
        python scripts/bench_exponents.py --conditions
+       python scripts/bench_exponents.py --radicals [--timeout 120]
        python scripts/bench_exponents.py --catalog [--budget 120] [--cpu] [--jobs 1] [--only TEXT]
                                          [--save FILE.json]
 Nothing here is asserted by the tests: machines are shared and noisy.
@@ -251,6 +257,56 @@ def conditions(args) -> None:
     )
 
 
+def radicals(args) -> None:
+    """The varying exponents at balances whose coordinates bring radicals of the
+    parameters (moments (1, 1, c), centre (x0, y0, z0)): the quadratic formula, as
+    ``kovalevskaya._balance_roots`` writes them, against sympy's ``roots``, which factors
+    over the extension first (time limit ``--timeout``), compared at a random point."""
+    from sympy.polys.polyroots import roots_quadratic
+
+    from registry.mathematics.balances import balances
+    from registry.mathematics.kovalevskaya import (
+        LAMBDA,
+        characteristic_polynomial,
+        kovalevskaya_matrix,
+    )
+    from registry.mathematics.weighted import split_field
+
+    c = sp.Symbol("c", positive=True)
+    centre = sp.symbols("x0 y0 z0", real=True)
+    field = heavy_top((1, 1, c), centre)
+    split = split_field(mech.STATE, field, WEIGHTS, parameters=(c, *centre))
+    matrix = kovalevskaya_matrix(split)
+    work = []
+    for balance in balances(split):
+        if balance.root is None:
+            continue
+        rest = characteristic_polynomial(balance.component, matrix).rest
+        at = sp.Poly(sp.expand(rest.subs(balance.component.symbol, balance.root)), LAMBDA)
+        if at.domain == sp.EX and at.degree() == 2:
+            work.append(at)
+    point = {c: sp.Rational(3, 7), centre[0]: sp.Rational(2, 3), centre[1]: -1, centre[2]: 3}
+    for at in work:
+        clear_cache()
+        start = time.process_time()
+        mine = roots_quadratic(at)
+        ours_s = time.process_time() - start
+        clear_cache()
+        start = time.process_time()
+        try:
+            theirs = limited(args.timeout, lambda a=at: list(sp.roots(a)))
+            theirs_s = f"{time.process_time() - start:.2f} s"
+            key = lambda r: (sp.re(r), sp.im(r))  # noqa: E731
+            values = [sorted((sp.N(r.xreplace(point), 30) for r in rs), key=key)
+                      for rs in (mine, theirs)]  # fmt: skip
+            agree = all(abs(a - b) < 1e-20 for a, b in zip(*values, strict=True))
+            ratio = f"{(time.process_time() - start) / max(ours_s, 1e-9):.0f}x"
+        except BudgetExceeded:
+            theirs_s, agree, ratio = f"over {args.timeout:.0f} s", "-", "-"
+        print(f"  formula: {ours_s:.3f} s   sympy roots: {theirs_s}   ratio {ratio}   "
+              f"agree at a random point: {agree}")  # fmt: skip
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--timeout", type=float, default=120.0)
@@ -267,7 +323,13 @@ def main() -> None:
     parser.add_argument(
         "--conditions", action="store_true", help="conditions at balances: ours against radsimp"
     )
+    parser.add_argument(
+        "--radicals", action="store_true", help="exponents among radicals: formula vs roots"
+    )
     args = parser.parse_args()
+    if args.radicals:
+        radicals(args)
+        return
     if args.conditions:
         conditions(args)
         return
