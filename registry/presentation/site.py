@@ -530,12 +530,14 @@ def _exponents(entry: ExponentEntry | None) -> dict[str, Any] | None:
         whole = ", ".join(f"{x} = {v}" for x, v in b["point"].items())
         point = ", ".join(f"{x} = {shown(v)}" for x, v in b["point"].items())
         root_of = b.get("root_of", "")
+        conditions = [c for r in b["painleve"]["resonances"] for c in r["conditions"]]
         elided = [w for w, s in ((whole, point), (root_of, shown(root_of))) if w != s]
+        elided += [c for c in conditions if shown(c) != c]
         balances.append(
             {
                 "point": point,
                 "root_of": shown(root_of),
-                "whole": elided,  # the point and polynomial elided above, in full
+                "whole": elided,  # the point, polynomial and conditions elided, in full
                 "family": b.get("dimension", 0),
                 "along": ", ".join(b.get("along", ())),
                 "exponents": ", ".join(b["exponents"]),

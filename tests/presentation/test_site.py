@@ -338,6 +338,22 @@ def test_a_long_balance_is_elided_on_the_page_and_shown_whole_on_request():
     assert b["whole"] == [f"M1 = {long}, M2 = 0"]
     assert b["root_of"] == "theta**2 - kappa = 0"  # short: shown as it is
     assert shown["painleve"] == "passes"
+    condition = {"order": 2, "conditions": [f"{long} = 0"], "missing": 0}
+    failing = {**balance, "painleve": {"compatible": False, "resonances": [condition]}}
+    shown = site._exponents(
+        site.ExponentEntry(
+            1,
+            1,
+            ExponentResult(
+                "demo", "h", ExponentOptions((("M", 1),)), {**document, "balances": [failing]}
+            ),
+        )
+    )
+    (b,) = shown["balances"]
+    assert b["failing"] == [
+        f"resonance 2: condition fails: <an expression in kappa, theta: {len(long) + 4} characters>"
+    ]
+    assert b["whole"] == [f"M1 = {long}, M2 = 0", f"{long} = 0"]  # fmt: skip
     untested = {**document, "painleve": {"passes": None}}
     result = ExponentResult("demo", "h", ExponentOptions((("M", 1),)), untested)
     assert site._exponents(site.ExponentEntry(1, 1, result))["painleve"] == "not made"
