@@ -306,7 +306,7 @@ class _Views:
             "claims": self.claims[case.id],
             "newest_search": search,
             "search_discoveries": [_discovery(d, ns) for d in found],
-            "exponents": _exponents(self.catalog.exponents.get(case.id)),
+            "exponents": _exponents(self.catalog.exponents.get(case.id), frozenset(self.entries)),
             **self.same_systems(case.id),
             "history": history,
             "source_bibtex": self.bib[case.id].text if case.id in self.bib else "",
@@ -518,10 +518,13 @@ def _classifications(searches: list[dict[str, Any]], views: _Views) -> list[dict
 # ------------------------------------------------------------------ writing
 
 
-def _exponents(entry: ExponentEntry | None) -> dict[str, Any] | None:
+def _exponents(
+    entry: ExponentEntry | None, pages: frozenset[str] = frozenset()
+) -> dict[str, Any] | None:
     """A case's newest Kovalevskaya analysis for its page: the weights, each balance with
     its exponents and Painlevé test, the degrees, a family's special sets (with what the
-    method guarantees of their list), the statements."""
+    method guarantees of their list), the sets its stratifications found (each named by
+    the cases it is, linked where ``pages`` has them), the statements."""
     if entry is None:
         return None
     d = entry.result.document
@@ -571,8 +574,45 @@ def _exponents(entry: ExponentEntry | None) -> dict[str, Any] | None:
             f"{k.replace('_', '-')} {'yes' if v else 'no'}" for k, v in complete.items()
         ),
         "coverage": [] if all(complete.values()) else list(d.get("coverage", ())),
+        "strata": [
+            _strata(d[key], heading, pages)
+            for key, heading in (
+                ("painleve_sets", "Sets where the Painlevé (ARS) test passes"),
+                ("half_integer_sets", "Sets where every exponent is in ½ℤ"),
+            )
+            if key in d
+        ],
         "statement": entry.result.statement,
         "every_degree": entry.every_degree,
+    }
+
+
+def _strata(found: dict[str, Any], heading: str, pages: frozenset[str]) -> dict[str, Any]:
+    """One stratification of a family for its page: each set (its equations, the
+    parameters free on it, its kind, its exponents once each with their count, the
+    catalog cases it is), whether the list is complete, and what was left undecided."""
+    sets = []
+    for s in found.get("passing", found.get("sets", ())):
+        shared = Counter(", ".join(e) for e in s.get("exponents", ()))
+        sets.append(
+            {
+                "when": ", ".join(s["when"]) or "every value",
+                "free": ", ".join(s["free"]),
+                "kind": s.get("kind") or "",
+                "exponents": [
+                    f"{e}" + (f" ({n} balances)" if n > 1 else "") for e, n in shared.items()
+                ],  # fmt: skip
+                "same_as": [(c, c in pages) for c in s.get("same_as", ())],
+                "named": "same_as" in s,
+                "notes": list(s.get("notes", ())),
+            }
+        )
+    return {
+        "heading": heading,
+        "sets": sets,
+        "strata": found["strata"],
+        "complete": found["complete"],
+        "undecided": list(found["undecided"]),
     }
 
 

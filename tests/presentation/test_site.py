@@ -318,6 +318,19 @@ def test_a_family_s_generic_painleve_test_comes_from_its_stratification(built):
     assert "Painlevé (ARS) test for generic values: passes." in section
     assert section.count("no series computed for this balance") == 2
     assert "every condition holds" not in section
+    # both stratifications, each set with its exponents and the catalog's cases it is
+    assert (
+        "Sets where the Painlevé (ARS) test passes (1 strata analysed; complete: yes)"
+        in section
+    )
+    assert "Sets where every exponent is in ½ℤ (1 strata analysed; complete: yes)" in section
+    rows = re.findall(r"<tr><th scope=\"row\">(.*?)</tr>", section, flags=re.S)
+    sets = [r for r in rows if r.startswith("<code>every value</code>")]
+    assert len(sets) == 2 and "(lam, z free) [integer]" in sets[1]
+    assert all("<code>-1, 0, 1, 2, 3, 4 (2 balances)</code>" in r for r in sets)
+    for row in sets:  # compared with the catalog: the cases it is, each linked to its page
+        named = re.findall(r'<a href="([^"]+)\.html">\1</a>', row.rsplit("<td>", 1)[1])
+        assert named and set(named) <= set(built.cases["case"])
 
 
 def test_a_long_balance_is_elided_on_the_page_and_shown_whole_on_request():
