@@ -55,6 +55,9 @@ def _lines(result: ExponentResult) -> list[str]:
         lines.append(f"degrees (Yoshida): {degrees}")
         verdict = painleve_word(d["painleve"]["passes"])
         lines.append(f"Painlevé (ARS) test{' for generic values' if d['free'] else ''}: {verdict}")
+    elif "painleve_sets" in d and d["painleve"]["passes"] is not None:  # generic: not analysed
+        verdict = painleve_word(d["painleve"]["passes"])
+        lines.append(f"Painlevé (ARS) test for generic values: {verdict} (by the sets below)")
     if "special" in d:
         lines += _special(d["special"], d["complete"], d["coverage"])
     if "painleve_sets" in d:

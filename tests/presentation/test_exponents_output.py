@@ -147,3 +147,23 @@ def test_a_long_point_is_elided_to_its_symbols_and_length():
     text = exponents_text(result({"balances": [short], "degrees": [8], "painleve": untested}))
     assert "balance 1: x = 1, y = gamma3\n    theta: a root of theta**2 - 2 = 0\n" in text
     assert "elided" not in text
+
+
+def test_a_generic_verdict_read_from_the_stratification_is_said_so():
+    """The distinct-moments heavy top: its generic members' balances were not computed
+    within the budget, but the complete list of sets where the test passes holds only
+    Euler's top, so generic members fail; the text says where that comes from."""
+    euler = {
+        "when": ["x0 = 0", "y0 = 0", "z0 = 0"],
+        "free": ["p", "q"],
+        "exponents": [["-1", "1", "2", "2", "2", "3"]],
+        "notes": [],
+    }
+    sets = {"passing": [euler], "complete": True, "undecided": [], "strata": 14}
+    document = {"free": ["p", "q", "x0", "y0", "z0"], "balances": [], "all_integer": None,
+                "painleve": {"passes": False}, "painleve_sets": sets}  # fmt: skip
+    lines = exponents_text(result(document)).splitlines()
+    assert lines[1] == "Painlevé (ARS) test for generic values: fails (by the sets below)"
+    assert "  x0 = 0, y0 = 0, z0 = 0 (p, q free)" in lines
+    unknown = {**document, "painleve": {"passes": None}}
+    assert "generic values" not in exponents_text(result(unknown))
