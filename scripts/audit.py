@@ -52,7 +52,7 @@ def exponents_line(reports: list) -> str:
         if r.exponents is not None
     }
     decided = [a for a in analyses.values() if a.decided]
-    passing = sum(a.passes for a in decided)
+    passing = sum(a.passes is True for a in decided)  # None: the test was not made
     within = len({r.search.case for r in reports if r.bounded})
     return (
         f"{len(analyses)} Kovalevskaya analyses: {len(decided)} decided, {passing} passing "

@@ -5,9 +5,11 @@ from __future__ import annotations
 
 import importlib.util
 from pathlib import Path
+from types import SimpleNamespace
 
 from registry.execution.executor import InProcess
 from registry.language.casefile import load_case
+from registry.model import ExponentOptions, ExponentResult
 from registry.runs.search_run import SearchRequest, search_run, survey_run
 from registry.store import frames
 from registry.store.database import Store
@@ -86,6 +88,26 @@ def test_the_main_job_sums_up_the_analyses_in_one_line():
     assert _main_job().exponents_line(reports) == (
         "1 Kovalevskaya analyses: 1 decided, 1 passing the ARS test, 1 case(s) with every "
         "degree Yoshida allows searched; see reg.exponents()"
+    )
+
+
+def test_the_main_job_counts_a_test_not_made_as_not_passing():
+    """An analysis whose Painlevé test was not made (passes None) is decided but does not
+    pass; the line is still written (a sum over None would raise)."""
+    options = ExponentOptions((("M", 1), ("gamma", 2)))
+    made = {True: "a", None: "b", False: "c"}
+    reports = [
+        SimpleNamespace(
+            search=SimpleNamespace(case=case),
+            exponents=ExponentResult(case, "h", options, {"painleve": {"passes": verdict}}),
+            bounded=False,
+        )
+        for verdict, case in made.items()
+    ]
+    assert (
+        _main_job()
+        .exponents_line(reports)
+        .startswith("3 Kovalevskaya analyses: 3 decided, 1 passing the ARS test, 0 case(s)")
     )
 
 
