@@ -599,9 +599,7 @@ def _strata(found: dict[str, Any], heading: str, pages: frozenset[str]) -> dict[
                 "when": ", ".join(s["when"]) or "every value",
                 "free": ", ".join(s["free"]),
                 "kind": s.get("kind") or "",
-                "exponents": [
-                    f"{e}" + (f" ({n} balances)" if n > 1 else "") for e, n in shared.items()
-                ],  # fmt: skip
+                "exponents": [e + (f" ({n} balances)" if n > 1 else "") for e, n in shared.items()],
                 "same_as": [(c, c in pages) for c in s.get("same_as", ())],
                 "named": "same_as" in s,
                 "notes": list(s.get("notes", ())),

@@ -319,10 +319,7 @@ def test_a_family_s_generic_painleve_test_comes_from_its_stratification(built):
     assert section.count("no series computed for this balance") == 2
     assert "every condition holds" not in section
     # both stratifications, each set with its exponents and the catalog's cases it is
-    assert (
-        "Sets where the Painlevé (ARS) test passes (1 strata analysed; complete: yes)"
-        in section
-    )
+    assert "Sets where the Painlevé (ARS) test passes (1 strata analysed; complete: yes)" in section
     assert "Sets where every exponent is in ½ℤ (1 strata analysed; complete: yes)" in section
     rows = re.findall(r"<tr><th scope=\"row\">(.*?)</tr>", section, flags=re.S)
     sets = [r for r in rows if r.startswith("<code>every value</code>")]
@@ -336,40 +333,33 @@ def test_a_family_s_generic_painleve_test_comes_from_its_stratification(built):
 def test_a_long_balance_is_elided_on_the_page_and_shown_whole_on_request():
     """A family's generic point over Q(p) can run to pages (Schottky's so(4) body:
     50 000 characters): the table shows which symbols each coordinate involves, and a
-    disclosure holds the whole point."""
+    disclosure holds the whole point, and a long failing condition."""
     long = " + ".join(f"{k}*theta**{k}*kappa" for k in range(1, 80))
     balance = {
         "point": {"M1": long, "M2": "0"}, "root_of": "theta**2 - kappa = 0",
         "exponents": ["-1", "2"], "integer": True, "rational": True, "dimension": 0,
         "along": [], "painleve": {"compatible": True, "resonances": []},
     }  # fmt: skip
-    document = {"weights": {"M": 1}, "balances": [balance], "painleve": {"passes": True}}
-    result = ExponentResult("demo", "h", ExponentOptions((("M", 1),)), document)
-    shown = site._exponents(site.ExponentEntry(1, 1, result))
+
+    def page(balance: dict, passes: bool | None = True) -> dict:
+        document = {"weights": {"M": 1}, "balances": [balance], "painleve": {"passes": passes}}
+        result = ExponentResult("demo", "h", ExponentOptions((("M", 1),)), document)
+        return site._exponents(site.ExponentEntry(1, 1, result))
+
+    shown = page(balance)
     (b,) = shown["balances"]
     assert b["point"] == f"M1 = <an expression in kappa, theta: {len(long)} characters>, M2 = 0"
     assert b["whole"] == [f"M1 = {long}, M2 = 0"]
     assert b["root_of"] == "theta**2 - kappa = 0"  # short: shown as it is
     assert shown["painleve"] == "passes"
     condition = {"order": 2, "conditions": [f"{long} = 0"], "missing": 0}
-    failing = {**balance, "painleve": {"compatible": False, "resonances": [condition]}}
-    shown = site._exponents(
-        site.ExponentEntry(
-            1,
-            1,
-            ExponentResult(
-                "demo", "h", ExponentOptions((("M", 1),)), {**document, "balances": [failing]}
-            ),
-        )
-    )
-    (b,) = shown["balances"]
-    assert b["failing"] == [
-        f"resonance 2: condition fails: <an expression in kappa, theta: {len(long) + 4} characters>"
+    (b,) = page({**balance, "painleve": {"compatible": False, "resonances": [condition]}})[
+        "balances"
     ]
-    assert b["whole"] == [f"M1 = {long}, M2 = 0", f"{long} = 0"]  # fmt: skip
-    untested = {**document, "painleve": {"passes": None}}
-    result = ExponentResult("demo", "h", ExponentOptions((("M", 1),)), untested)
-    assert site._exponents(site.ExponentEntry(1, 1, result))["painleve"] == "not made"
+    elided = f"<an expression in kappa, theta: {len(long) + 4} characters>"
+    assert b["failing"] == [f"resonance 2: condition fails: {elided}"]
+    assert b["whole"] == [f"M1 = {long}, M2 = 0", f"{long} = 0"]
+    assert page(balance, passes=None)["painleve"] == "not made"
 
 
 def _same_system_section(built, case_id: str) -> str:

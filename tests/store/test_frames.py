@@ -140,3 +140,26 @@ def test_every_kovalevskaya_analysis_is_a_row_and_none_is_overwritten(store, sam
     assert store.stored_exponents(stored.pk, options, "code-1") == (a, first)
     assert store.stored_exponents(stored.pk, options)[0] == b  # the newest, any code
     assert store.newest_exponents()[sample_case.id][0] == b
+
+
+def test_the_painleve_column_holds_passes_fails_and_not_made(store, sample_case):
+    """The frame's ``painleve`` is true, false, or null where the test was not made: an
+    analysis that computed no series, or one that was not decided (it once held false,
+    which read as "fails")."""
+    from registry.model import ExponentOptions, ExponentResult
+
+    store.add_case(sample_case)
+    (stored,) = store.case_versions()
+    options = ExponentOptions((("M", 1), ("gamma", 2)))
+    documents = [
+        {"painleve": {"passes": True}},
+        {"painleve": {"passes": False}},
+        {"painleve": {"passes": None}},
+        {"decided": False, "reason": "time budget exceeded", "painleve": {"passes": True}},
+    ]
+    for document in documents:
+        result = ExponentResult(sample_case.id, sample_case.content_hash, options, document)
+        store.record_exponents(stored.pk, result, "code")
+    frame = frames.exponents_frame(store)
+    assert frame["painleve"].tolist() == [True, False, None, None]
+    assert frame["decided"].tolist() == [True, True, True, False]
