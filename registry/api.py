@@ -458,8 +458,9 @@ class Registry:
         """One row per recorded Kovalevskaya analysis, oldest first: the case version, the
         weights, the free parameters, whether it was decided, whether the field is
         weighted-homogeneous, the balances, whether every exponent is an integer
-        (rational), Yoshida's degrees, the Painlevé test, a family's special sets, the
-        statement, code version and time."""
+        (rational), Yoshida's degrees, the Painlevé test (``painleve``: True, False, or
+        None where it was not made), a family's special sets, the statement, code version
+        and time."""
         from .store import frames
 
         return frames.exponents_frame(self.store)
