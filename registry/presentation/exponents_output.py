@@ -167,12 +167,13 @@ def _strata(
 
 
 def _exponent_lines(lists: Sequence[Sequence[str]]) -> list[str]:
+    return [f"      exponents {e}" for e in distinct_exponents(lists)]
+
+
+def distinct_exponents(lists: Sequence[Sequence[str]]) -> list[str]:
     """Each distinct list of a set's exponents once, with how many balances share it."""
     counts = Counter(tuple(exponents) for exponents in lists)
-    return [
-        f"      exponents {', '.join(e)}" + (f" ({n} balances)" if n > 1 else "")
-        for e, n in counts.items()
-    ]
+    return [", ".join(e) + (f" ({n} balances)" if n > 1 else "") for e, n in counts.items()]
 
 
 def _same_as(cases: Sequence[str], shown: int = 3) -> str:

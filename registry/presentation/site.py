@@ -38,7 +38,7 @@ from ..model import Case, CheckResult, Correction, ExponentResult, Verdict
 from . import bibtex, latex
 from .audit_json import audit_document
 from .cas_export import LANGUAGES, export
-from .exponents_output import failures, painleve_word, shown
+from .exponents_output import distinct_exponents, failures, painleve_word, shown
 from .mathml import NAMES, equation, mathml
 
 if TYPE_CHECKING:
@@ -593,13 +593,12 @@ def _strata(found: dict[str, Any], heading: str, pages: frozenset[str]) -> dict[
     catalog cases it is), whether the list is complete, and what was left undecided."""
     sets = []
     for s in found.get("passing", found.get("sets", ())):
-        shared = Counter(", ".join(e) for e in s.get("exponents", ()))
         sets.append(
             {
                 "when": ", ".join(s["when"]) or "every value",
                 "free": ", ".join(s["free"]),
                 "kind": s.get("kind") or "",
-                "exponents": [e + (f" ({n} balances)" if n > 1 else "") for e, n in shared.items()],
+                "exponents": distinct_exponents(s.get("exponents", ())),
                 "same_as": [(c, c in pages) for c in s.get("same_as", ())],
                 "named": "same_as" in s,
                 "notes": list(s.get("notes", ())),
