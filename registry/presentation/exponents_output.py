@@ -15,6 +15,9 @@ from .text_table import wrapped
 #: Expressions longer than this many characters are elided in the text (the JSON has
 #: them whole): a family's generic point over Q(p) can run to pages.
 LONG = 400
+#: The most special sets of one kind the text shows; the others are counted (a grid
+#: searched over several parameters can find hundreds; the JSON has every one).
+SHOWN = 12
 
 
 def exponents_text(result: ExponentResult, width: int | None = None) -> str:
@@ -188,7 +191,15 @@ def _special(
     special: Sequence[Mapping[str, Any]], complete: Mapping[str, bool], coverage: Sequence[str]
 ) -> list[str]:
     lines = ["special sets:" if special else "special sets: none"]
+    kinds = Counter(s["kind"] for s in special)
+    seen: Counter[str] = Counter()
     for s in special:
+        seen[s["kind"]] += 1
+        if seen[s["kind"]] > SHOWN:
+            if seen[s["kind"]] == kinds[s["kind"]]:
+                more = kinds[s["kind"]] - SHOWN
+                lines.append(f"  {s['kind']}: {more} more set(s), not shown (--json lists them)")
+            continue
         when = ", ".join(s["when"]) or "every value"
         if "index" in s:
             when += f" ({s['index']['ranges']})"

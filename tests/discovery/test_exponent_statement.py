@@ -136,3 +136,15 @@ def test_the_half_integer_sets_say_complete_only_where_they_are():
     found |= {"sets": []}
     text = family_statement({**family(done, []), "half_integer_sets": found}, "M: 1, gamma: 2")
     assert "no set that was analysed has every exponent in (1/2)Z" in text
+
+
+def test_a_long_list_of_special_sets_names_a_few_and_counts_the_others():
+    points = [
+        {"when": [f"a = {k}"], "kind": "integer", "painleve": {"passes": False}, "notes": []}
+        for k in range(20)
+    ]
+    partial = {"integer": False, "half_integer": False, "rational": False}
+    text = family_statement(family(partial, points), "x: 1")
+    assert "is an integer at least at: a = 0 (ARS test fails); " in text
+    assert "a = 5 (ARS test fails); and 14 more (each in the list of special sets)" in text
+    assert "a = 6 " not in text

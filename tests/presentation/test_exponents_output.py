@@ -74,6 +74,35 @@ def test_a_family_lists_its_special_sets_and_completeness():
     assert "  coverage: half-integer: searched" in text
 
 
+def test_a_grid_with_hundreds_of_special_sets_shows_a_dozen_of_each_kind_and_counts_the_rest():
+    """A family searched on a grid over several parameters (Lotka-Volterra's ABC system
+    finds 518 sets on 11 values per parameter) lists a dozen sets of each kind."""
+    special = [
+        {"when": [f"a = {k}", "b = 1"], "kind": kind, "exponents": [["-1", "1"]], "notes": []}
+        for kind, count in (("integer", 15), ("rational", 3))
+        for k in range(count)
+    ]
+    text = exponents_text(
+        result(
+            {
+                "free": ["a", "b"],
+                "balances": [],
+                "all_integer": None,
+                "special": special,
+                "complete": {"integer": False, "half_integer": False, "rational": False},
+                "coverage": ["a grid"],
+            }
+        )
+    )
+    lines = text.splitlines()
+    assert "  integer: a = 11, b = 1" in lines and "  integer: a = 12, b = 1" not in lines
+    assert "  integer: 3 more set(s), not shown (--json lists them)" in lines
+    assert "  rational: a = 2, b = 1" in lines and "rational: 0 more" not in text
+    assert lines.index("  integer: 3 more set(s), not shown (--json lists them)") < lines.index(
+        "  rational: a = 0, b = 1"
+    )
+
+
 def test_an_undecided_analysis_says_why():
     text = exponents_text(result({"decided": False, "reason": "too slow"}))
     assert text.splitlines()[1:] == ["not decided: too slow", "S."]
