@@ -49,11 +49,14 @@ whose balances all have constant integer exponents and no condition passes for i
 generic members; it is reported, and its own exceptional subsets are not explored (a
 smaller set inside a passing one). A stratum with no free parameter left is analysed
 exactly. Where the conditions cut nothing and the exponents that vary depend on one
-parameter p only, the values of p where they can be integers (``integrality``) are the
-next strata: points, and infinite families p = P(n) through an integer index n1, a
-parameter of its own (a family whose resonances move with the index is left undecided:
-the series cannot be written for a symbolic resonance). With one free parameter this is
-``exponent_family``, whose integer list is complete there.
+parameter p only, or on the ratio p/q of two (``_ratio``: every coefficient of their
+factors homogeneous of one degree in p and q, as the heavy top's moments enter, since
+scaling the moments is a symmetry), the values of p (of p/q, with q = 0 apart) where
+they can be integers (``integrality``) are the next strata: points, and infinite
+families p = P(n) through an integer index n1, a parameter of its own (a family whose
+resonances move with the index is left undecided: the series cannot be written for a
+symbolic resonance). With one free parameter this is ``exponent_family``, whose integer
+list is complete there.
 
 *Exponents in (1/2)Z* (``half_integer_strata``). The same walk without the series:
 the conditions are that a constant exponent be in (1/2)Z and the conjugate parts
@@ -346,6 +349,10 @@ class _Walk:
             if not necessary.undecidable and len(varying) == 1:
                 self._integer_values(values, free, necessary, varying.pop())
                 return
+            ratio = None if necessary.undecidable else _ratio(necessary.varying, varying)
+            if ratio is not None:
+                self._integer_values(values, free, necessary, ratio[1], scale=ratio[0])
+                return
             self.undecided.append(
                 f"{here.text()}: some exponents vary with the parameters and no "
                 "condition cuts the set"
@@ -485,21 +492,31 @@ class _Walk:
             left = tuple(p for p in free if p not in chosen) + ((fresh,) if fresh else ())
             self.found.children.append((merged, left))
 
-    def _integer_values(self, values, free, necessary: _Necessary, p: sp.Symbol) -> None:
-        """The exponents that vary depend on one parameter p only: the values of p where
-        they can all be integers (``integer_candidates``), each a stratum; and the
-        exceptional hypersurfaces, as always."""
+    def _integer_values(
+        self, values, free, necessary: _Necessary, p: sp.Symbol, scale: sp.Symbol | None = None
+    ) -> None:
+        """The exponents that vary depend on one parameter p only, or on the ratio p/q
+        (``scale`` q, ``_ratio``): the values of p (of p/q) where they can all be
+        integers (``integer_candidates``), each a stratum p = v (p = v q); where q may be
+        0, that hyperplane; and the exceptional hypersurfaces, as always."""
         varying = list(dict.fromkeys(necessary.varying))
+        unit = sp.Integer(1) if scale is None else scale
+        if scale is not None:
+            varying = [sp.cancel(sp.sympify(f).xreplace({scale: 1})) for f in varying]
+            if not scale.is_nonzero:
+                self._descend(values, free, (scale,))
         found = integer_candidates(
             [doubled(f) for f in varying] if self.half else varying, p, LAMBDA
         )
         for v in found.values:
             if v.is_rational:
-                self._descend(values, free, (sp.numer(sp.together(p - v)),))
+                self._descend(values, free, (sp.numer(sp.together(p - v * unit)),))
             else:
-                text = Stratum({**values, p: v}, free).text()
+                text = Stratum({**values, p: v * unit}, free).text()
                 self.undecided.append(f"{text}: an irrational value, not analysed")
         for expr, index, ranges in found.families:
+            if expr != p:
+                expr = expr * unit
             if self.half:
                 self._half_integer_family(values, free, necessary, p, expr, index)
                 continue
@@ -785,6 +802,32 @@ def _all_components(split: WeightedField, seed: int) -> list[Component] | None:
         )
     except DecompositionLimit:
         return None
+
+
+def _ratio(
+    factors: Sequence[sp.Expr], symbols: set[sp.Symbol]
+) -> tuple[sp.Symbol, sp.Symbol] | None:
+    """(q, p) where the factors whose roots vary depend on two parameters p and q
+    through p/q only: in each factor every coefficient in lambda is a quotient of
+    homogeneous polynomials in (p, q) of one same degree, so the roots are unchanged by
+    (p, q) -> (s p, s q) (a scaling of the family: the heavy top's moments). q is a
+    parameter declared positive where one is. None otherwise."""
+    if len(symbols) != 2 or any(x.is_integer for x in symbols):
+        return None
+    q, p = sorted(symbols, key=lambda x: (not x.is_positive, str(x)))
+    for factor in factors:
+        degrees = set()
+        for c in sp.Poly(factor, LAMBDA).all_coeffs():
+            if c == 0:
+                continue
+            numer, denom = sp.fraction(sp.cancel(sp.sympify(c)))
+            parts = [sp.Poly(x, q, p) for x in (numer, denom)]
+            if not all(x.is_homogeneous for x in parts):
+                return None
+            degrees.add(parts[0].total_degree() - parts[1].total_degree())
+        if len(degrees) > 1:
+            return None
+    return q, p
 
 
 def _fixed_exponents(polynomial, component: Component) -> list[sp.Expr] | None:

@@ -22,6 +22,7 @@ from registry.discovery.exponents import analyse_case, case_field, exponent_opti
 from registry.discovery.painleve_strata import (
     _admissible,
     _never_positive,
+    _ratio,
     _real_system,
     half_integer_strata,
     painleve_strata,
@@ -263,6 +264,42 @@ def test_goryachev_chaplygins_ratio_is_the_one_set_of_half_integer_exponents():
     outside = {**at, z0: 1}  # the centre off the plane
     member = exponents(field.variables, [e.xreplace(outside) for e in field.field], field.weights)
     assert kind_of(member) not in ("integer", "half-integer")
+
+
+def test_moments_left_free_are_classified_by_their_ratio():
+    """Moments (A, A, C) both free, the centre in the equatorial plane: the exponents
+    that vary depend on A/C only (scaling the moments is a symmetry), so the values of
+    the ratio are sought as for one parameter. The test passes on the spherical top
+    A = C and Kovalevskaya's A = 2C (and where the centre is the fixed point); every
+    exponent is in (1/2)Z on those and on Goryachev and Chaplygin's A = 4C. Both lists
+    complete (before, no set was decided: the exponents vary with two parameters)."""
+    path = FAMILIES / "symmetric-top-moments-free.toml"
+    free = ["A", "C", "x0", "y0"]
+    found = strata_of(path, free)
+    assert sets(found) == {
+        frozenset({"A = C"}),
+        frozenset({"A = 2*C"}),
+        frozenset({"x0 = 0", "y0 = 0"}),
+    }
+    assert found.complete, found.undecided
+    members_pass(found, path, free)
+    half = strata_of(path, free, half_integer_strata)
+    assert sets(half) == sets(found) | {frozenset({"A = 4*C"})}
+    assert half.complete, half.undecided
+    (gc,) = [s for s in half.passing if sets_of(s) == {"A = 4*C"}]
+    assert kind_of(gc.analysis) == "half-integer"
+
+
+def test_roots_that_depend_on_a_ratio_only_are_recognised():
+    lam = sp.Symbol("lambda")
+    a, c = sp.symbols("A C", positive=True)
+    x = sp.Symbol("x", real=True)
+    homogeneous = [lam**2 - lam + (2 * a - c) * (a - c) / a**2, a * lam - 3 * c]
+    assert _ratio(homogeneous, {a, c}) == (a, c)  # the first positive one scales
+    assert _ratio([lam - x / a], {a, x}) == (a, x)
+    assert _ratio([lam**2 - lam + (2 * a - c) * (a - 1) / a**2], {a, c}) is None
+    assert _ratio([lam**2 - a * lam + c], {a, c}) is None  # degrees 1 and 1 differ from 0
+    assert _ratio([lam - a / c], {a, c, x}) is None  # three parameters
 
 
 @pytest.mark.parametrize(("moment", "expected"), [("1/4", {"z0 = 0"}), ("1/3", set())])
