@@ -20,6 +20,7 @@ check before it is reported; the statement is complete for this ansatz only.
 
 from __future__ import annotations
 
+import math
 import random
 import time
 
@@ -98,9 +99,9 @@ def measure_search(case: Case) -> MeasureSearch:
             )
         for direction in homogeneous:
             # integer exponents, the smallest: x*y**2 rather than sqrt(x)*y
-            scale = sp.ilcm(*(sp.fraction(sp.Rational(b))[1] for b in direction))
+            scale = math.lcm(*(int(sp.fraction(sp.Rational(b))[1]) for b in direction))
             whole = [sp.Rational(b) * scale for b in direction]
-            common = sp.igcd(*(int(b) for b in whole if b))
+            common = math.gcd(*(int(b) for b in whole if b))
             powers = [(shown[f], b / common) for (f, _), b in zip(darboux, whole, strict=True)]
             integrals.append(to_text(_product(powers)))
     complete = not undecided

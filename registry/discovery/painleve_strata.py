@@ -81,6 +81,7 @@ from dataclasses import dataclass, field
 import sympy as sp
 from sympy.polys.fields import FracElement
 
+from ..errors import WeightedFieldError
 from ..execution.time_budget import BudgetExceeded, time_limit
 from ..mathematics import painleve
 from ..mathematics.balances import balance_equations
@@ -312,7 +313,11 @@ class _Walk:
         concrete = [sp.expand(sp.sympify(f).xreplace(values)) for f in self.field]
         if any(c.has(sp.zoo, sp.nan) for c in concrete):
             return
-        split = split_field(self.variables, concrete, self.weights, parameters=free)
+        try:
+            split = split_field(self.variables, concrete, self.weights, parameters=free)
+        except WeightedFieldError as err:  # every term of lower order at these values
+            self.undecided.append(f"{here.text()}: not analysed under these weights ({err})")
+            return
         if not free:
             analysis = analyse(split, seed=self.seed, painleve=not self.half)
             if self._passes(analysis):

@@ -8,6 +8,7 @@ FLINT's do not convert into each other under sympy's pure-Python ground types.
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 import flint
@@ -146,7 +147,7 @@ def _over_z(ctx, field, f: sp.Poly) -> tuple[flint.fmpz_mpoly, flint.fmpz_mpoly]
         nums, denominator = numerators(ctx, coefficients, extra=1)
     else:  # over Q: integers over the lcm of the denominators
         values = [sp.Rational(f.domain.to_sympy(c)) for c in f.rep.to_list()]
-        common = int(sp.ilcm(*(v.q for v in values)))
+        common = math.lcm(*(int(v.q) for v in values))
         one = ctx.from_dict({}) + 1
         nums, denominator = [one * int(v * common) for v in values], one * common
     x = ctx.gens()[-1]

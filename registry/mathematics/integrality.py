@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import functools
 import itertools
+import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -83,7 +84,7 @@ def integer_candidates(factors: Sequence[sp.Expr], p: sp.Symbol, lam: sp.Symbol)
         ms = sorted(k for k in found or () if all(_is_integer_at(s, m, k) for s in sigmas))
         values = tuple(v for v in (_at(solution, m, k) for k in ms) if v is not None)
         return Candidates(values=values)
-    period = sp.ilcm(*(_denominator(s, m) for s in sigmas), 1)
+    period = math.lcm(1, *(_denominator(s, m) for s in sigmas))
     residues = [r for r in range(period) if all(_is_integer_at(s, m, r) for s in sigmas)]
     n = sp.Symbol("n", integer=True)
     families = tuple((sp.cancel(solution.subs(m, r + period * n)), n, "n in Z") for r in residues)
@@ -130,7 +131,7 @@ def _fraction_part(s: sp.Expr, m: sp.Symbol) -> sp.Expr:
 
 def _denominator(s: sp.Expr, m: sp.Symbol) -> int:
     """The common denominator of a polynomial's rational coefficients."""
-    return int(sp.ilcm(*(sp.Rational(c).q for c in sp.Poly(sp.cancel(s), m).coeffs()), 1))
+    return math.lcm(1, *(int(sp.Rational(c).q) for c in sp.Poly(sp.cancel(s), m).coeffs()))
 
 
 def _integer_points(s: sp.Expr, m: sp.Symbol) -> set[int] | None:
@@ -171,7 +172,7 @@ def _rational_polys(s: sp.Expr, m: sp.Symbol):
     except (sp.PolynomialError, sp.CoercionFailed):
         return None, None
     coefficients = [poly.all_coeffs() for poly in polys]
-    scale = sp.ilcm(*(c.q for row in coefficients for c in row), 1)
+    scale = math.lcm(*(int(c.q) for row in coefficients for c in row))
     return tuple(tuple(int(c * scale) for c in row) for row in coefficients)
 
 

@@ -17,6 +17,7 @@ and a component is decided by its slice where a parameter of non-zero weight is 
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping, Sequence
 
 import sympy as sp
@@ -80,7 +81,7 @@ def covariant_weights(
     basis = sp.Matrix(rows).nullspace()
     out = []
     for vector in basis:
-        scale = sp.ilcm(*(sp.fraction(c)[1] for c in vector))
+        scale = math.lcm(*(int(sp.fraction(c)[1]) for c in vector))
         weights = {p: int(vector[n + k] * scale) for k, p in enumerate(parameters)}
         if any(weights.values()):
             out.append(weights)

@@ -290,6 +290,27 @@ def test_moments_left_free_are_classified_by_their_ratio():
     assert kind_of(gc.analysis) == "half-integer"
 
 
+def test_a_planted_ratio_gives_its_family_and_the_values_without_a_leading_part_are_named():
+    """dx/dt = a x², dy/dt = b x y: exponents -1 and 1 - b/a. Every exponent is in
+    (1/2)Z exactly on b = a (n1/2 + 1), n1 an integer, and on a = 0 (x constant, y an
+    exponential). For the ARS test those resonances move with n1, which the series
+    cannot follow: said so. Where a = b = 0 the field vanishes: named, not a crash."""
+    path = EXPONENTS / "planted-ratio.toml"
+    half = strata_of(path, ["a", "b"], half_integer_strata)
+    assert sets(half) == {frozenset({"b = a*(n1/2 + 1)"}), frozenset({"a = 0"})}
+    (indexed,) = [s for s in half.passing if "b" in map(str, s.values)]
+    n1 = next(p for p in indexed.free if str(p) == "n1")
+    a, b = sp.symbols("a b", real=True)
+    for k in (-3, 0, 5):  # members: the exponent 1 - b/a is -k/2
+        ratio = sp.sympify(indexed.values[b]).xreplace({n1: k}) / a
+        assert sp.simplify(1 - ratio) == sp.Rational(-k, 2)
+    assert [u for u in half.undecided if "no leading part" in u]
+    found = strata_of(path, ["a", "b"])
+    assert sets(found) == {frozenset({"a = 0"})}
+    assert any("move with n1" in u for u in found.undecided)
+    assert not found.complete
+
+
 def test_roots_that_depend_on_a_ratio_only_are_recognised():
     lam = sp.Symbol("lambda")
     a, c = sp.symbols("A C", positive=True)

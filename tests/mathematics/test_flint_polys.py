@@ -115,3 +115,10 @@ def test_a_resultant_of_expressions_keeps_an_extra_symbol_rational():
     assert sp.cancel(value - (lam**2 / b**2 - a)) == 0
     assert resultant_in(x**2 - 2, x - 1, x) == -1
     assert resultant_in(x, x**3 + 1, x) == 1  # sympy's resultant gives -1
+
+
+def test_a_resultant_with_a_constant_over_q_is_its_power():
+    """Res(f, c) = c^deg f: a constant over Q has one coefficient, whose denominator
+    alone is the lcm (sympy's ``ilcm`` refuses a single argument)."""
+    assert resultant_in(x**2 - 2, sp.Rational(3, 2), x) == sp.Rational(9, 4)
+    assert resultant_in(sp.Integer(5), x**3 + x + 1, x) == 125

@@ -57,6 +57,17 @@ def test_polynomial_coefficients_give_residue_classes():
     assert expr in (4 * index, -4 * index)  # p/4 an integer too: p = 4n
 
 
+def test_one_coefficient_linear_in_p_is_a_family_through_its_index():
+    """The exponent 1 - p alone: an integer exactly at p = 1 - m (no other coefficient
+    to bound m; this crashed on sympy's ``ilcm`` of one number)."""
+    found = integer_candidates([lam - 1 + p], p, lam)
+    assert found.complete and found.values == ()
+    ((expr, index, ranges),) = found.families
+    assert ranges == "n in Z" and {expr.subs(index, k) for k in range(-3, 4)} == {
+        1 - k for k in range(-3, 4)
+    }
+
+
 def test_constant_exponents_are_integers_everywhere_or_nowhere():
     assert integer_candidates([lam - 2, lam + 1], p, lam).families == ((p, p, "every value"),)
     nowhere = integer_candidates([lam**2 - 2], p, lam)
