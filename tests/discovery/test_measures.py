@@ -86,6 +86,15 @@ def test_a_density_times_a_first_integral_of_the_ansatz_is_reported_as_such():
     assert "defined everywhere" not in found.statement  # rho x**(1/2) times I**c can be
 
 
+def test_a_darboux_polynomial_that_is_itself_an_integral_is_reported():
+    # dz/dt = 0: z is a first integral alone, and x*y another (this crashed on sympy's
+    # igcd of one number); divergence-free, so rho = 1
+    found = measure_search(case({"x": "x*z", "y": "-y*z", "z": "0"}))
+    assert set(found.integrals) == {"z", "x*y"}
+    (d,) = found.densities
+    assert d.verdict is Verdict.VERIFIED and d.expression == "1"
+
+
 def test_lotka_volterras_density():
     # dx/dt = x (1 - y), dy/dt = y (x - 1): x and y are Darboux polynomials, rho = 1/(x y)
     found = measure_search(case({"x": "x*(1 - y)", "y": "y*(x - 1)"}))
