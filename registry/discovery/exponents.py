@@ -131,8 +131,10 @@ def _default_weights(dynamics: Dynamics) -> Weights:
     shift) and the other gradings tried (``grading.candidates``) under which the field has
     a leading part (no term of shift above 1) keeping a term of every component that is
     not zero; else the weights of the integer program that asks the same
-    (``leading_weights``: Hénon and Heiles's x, y: 2, px, py: 3); else the first of those
-    tried with a leading part at all; else the vectors' own weights."""
+    (``leading_weights``: Hénon and Heiles's x, y: 2, px, py: 3); else, of the first of
+    those tried with a leading part at all and the integer program's weights keeping the
+    most components (Rössler's x: 1, y, z: 2), the one that keeps more; else the
+    vectors' own weights."""
     own = tuple((v.name, v.weight) for v in dynamics.vectors)
     if dynamics.grading and (
         shift(
@@ -146,21 +148,35 @@ def _default_weights(dynamics: Dynamics) -> Weights:
     ):
         return dynamics.grading
     field = [expanded(dynamics.expanded(v), dynamics.variables) for v in dynamics.field]
+    moving = sum(1 for f in field if f != 0)
     partial = None  # the first weights with a leading part that drops some component
     for weights in (own, *candidates(dynamics.vectors)):
-        try:
-            split = split_field(
-                dynamics.variables,
-                field,
-                per_variable(weights, dynamics.vectors, dynamics.variables),
-            )
-        except WeightedFieldError:
-            continue
-        if all(v != 0 for v, f in zip(split.leading, field, strict=True) if f != 0):
+        kept = _leading_components(dynamics, field, weights)
+        if kept == moving:
             return weights
-        partial = partial or weights
+        if kept is not None and partial is None:
+            partial = (weights, kept)
     found = leading_weights(field, dynamics.vectors, dynamics.variables)
-    return found or partial or own
+    if found:
+        return found
+    most = leading_weights(field, dynamics.vectors, dynamics.variables, most=True)
+    if most and (partial is None or (_leading_components(dynamics, field, most) or 0) > partial[1]):
+        return most
+    return partial[0] if partial else own
+
+
+def _leading_components(
+    dynamics: Dynamics, field: Sequence[sp.Expr], weights: Weights
+) -> int | None:
+    """How many components keep a term in the leading part under ``weights`` (None: some
+    term dominates, no leading part)."""
+    try:
+        split = split_field(
+            dynamics.variables, field, per_variable(weights, dynamics.vectors, dynamics.variables)
+        )
+    except WeightedFieldError:
+        return None
+    return sum(1 for v, f in zip(split.leading, field, strict=True) if f != 0 and v != 0)
 
 
 def case_field(case: Case, options: ExponentOptions) -> CaseField:

@@ -35,11 +35,18 @@ LARGEST = 6
 
 
 def leading_weights(
-    field: Sequence[sp.Expr], vectors: Sequence[Vector], variables: Sequence[sp.Symbol]
+    field: Sequence[sp.Expr],
+    vectors: Sequence[Vector],
+    variables: Sequence[sp.Symbol],
+    *,
+    most: bool = False,
 ) -> Weights | None:
     """The weights of the module doc for dx/dt = ``field`` (listed in the order of
     ``variables``), or None where none exist up to ``LARGEST`` or the field is not a
-    polynomial in the state."""
+    polynomial in the state. With ``most``, where no weights keep every component, those
+    that keep the most (then the most leading terms, then the smallest): Rössler's
+    dx/dt = -y - z, dz/dt = b + xz - cz under x: 1, y, z: 2, where dy/dt = x + ay cannot
+    lead (it would need w_x = w_y + 1 and w_x = 1)."""
     # imported here: scipy.optimize takes half a second, and most states never get here
     from scipy.optimize import Bounds, LinearConstraint, milp
 
@@ -64,22 +71,36 @@ def leading_weights(
     big = LARGEST * (max(sum(e) for t in terms for e in t) + 1) + 2
     w_part = np.array(rows)
     marks = np.eye(m)
-    # e_t . w - w_i <= 1, and e_t . w - w_i - M z_t >= 1 - M
-    upper = LinearConstraint(np.hstack([w_part, np.zeros((m, m))]), -np.inf, 1)
-    lower = LinearConstraint(np.hstack([w_part, -big * marks]), 1 - big, np.inf)
+    # e_t . w - w_i <= 1, and e_t . w - w_i - M z_t >= 1 - M (below)
     row_of = {i: r for r, i in enumerate(sorted(set(owners)))}  # a row per non-zero component
-    keep = np.zeros((len(row_of), n + m))
+    c = len(row_of)
+    # sum of z_t over component i >= 1 (with ``most``: >= k_i, a 0/1 mark of a kept one)
+    keep = np.zeros((c, n + m + c))
     for t, owner in enumerate(owners):
         keep[row_of[owner], n + t] = 1
-    kept = LinearConstraint(keep, 1, np.inf)
-    cost = np.concatenate([np.ones(n), -(n * LARGEST + 1) * np.ones(m)])
-    bounds = Bounds(np.concatenate([np.ones(n), np.zeros(m)]),
-                    np.concatenate([LARGEST * np.ones(n), np.ones(m)]))  # fmt: skip
-    found = milp(cost, constraints=[upper, lower, kept], integrality=np.ones(n + m), bounds=bounds)
+    if most:
+        keep[:, n + m :] = -np.eye(c)
+    kept = LinearConstraint(keep, 0 if most else 1, np.inf)
+    one = LinearConstraint(np.concatenate([np.zeros(n + m), np.ones(c)]), 1 if most else 0, c)
+    term = n * LARGEST + 1  # a leading term outweighs any weights
+    cost = np.concatenate(
+        [np.ones(n), -term * np.ones(m), -(m * term + n * LARGEST + 1) * np.ones(c)]
+    )
+    pad = np.zeros((m, c))
+    upper = LinearConstraint(np.hstack([w_part, np.zeros((m, m)), pad]), -np.inf, 1)
+    lower = LinearConstraint(np.hstack([w_part, -big * marks, pad]), 1 - big, np.inf)
+    bounds = Bounds(np.concatenate([np.ones(n), np.zeros(m + c)]),
+                    np.concatenate([LARGEST * np.ones(n), np.ones(m + c)]))  # fmt: skip
+    found = milp(
+        cost,
+        constraints=[upper, lower, kept, one],
+        integrality=np.ones(n + m + c),
+        bounds=bounds,
+    )
     if not found.success:
         return None
     weights = [round(v) for v in found.x[:n]]
-    if not _leading_everywhere(terms, variables, index, weights):  # pragma: no cover
+    if not _leading(terms, variables, index, weights, every=not most):  # pragma: no cover
         return None  # the solver's rounding checked exactly
     return tuple((v.name, w) for v, w in zip(vectors, weights, strict=True))
 
@@ -97,8 +118,10 @@ def _terms(field: Sequence[sp.Expr], variables: Sequence[sp.Symbol]):
     return found
 
 
-def _leading_everywhere(terms, variables, index, weights) -> bool:
-    """Exactly: no term above weight w_i + 1, and one of it in every non-zero component."""
+def _leading(terms, variables, index, weights, *, every: bool) -> bool:
+    """Exactly: no term above weight w_i + 1, and one of it in every non-zero component
+    (``every``), or in one at least."""
+    tops = []
     for i, monomials in enumerate(terms):
         if not monomials:
             continue
@@ -107,6 +130,7 @@ def _leading_everywhere(terms, variables, index, weights) -> bool:
             sum(e * weights[index[x]] for x, e in zip(variables, m, strict=True)) - own
             for m in monomials
         ]
-        if max(shifts) != 1:
+        if max(shifts) > 1:
             return False
-    return True
+        tops.append(max(shifts) == 1)
+    return all(tops) if every else any(tops)

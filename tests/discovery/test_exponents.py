@@ -195,6 +195,23 @@ def test_a_state_whose_own_weights_drop_a_component_gets_weights_that_keep_every
     assert {b["point"]["y"] for b in document["balances"]} == {"-3", "-6/e"}
 
 
+def test_where_no_weights_keep_every_component_those_that_keep_the_most_are_taken():
+    """Rössler's system: no weights keep a leading term in all three components, and the
+    variables' own weight 1 keeps one only (dz/dt = xz: no balance, a vacuous pass).
+    x: 1, y, z: 2 keep two; the balance x = -2/t, z = -2/t² forces a logarithm in y
+    (dy/dt = x + a y ~ -2/t), the compatibility condition at the resonance 2: the test
+    fails for every value, and the stratification says so, complete."""
+    case = load_case(EXPONENTS / "rossler.toml")
+    options = exponent_options(case, free=["a", "b", "c"])
+    assert options.weights == (("x", 1), ("y", 2), ("z", 2))
+    result = analyse_case(case, options, budget=60)
+    (balance,) = result.document["balances"]
+    assert balance["point"] == {"x": "-2", "y": "0", "z": "-2"}
+    assert balance["exponents"] == ["-1", "2", "2"]
+    found = result.document["painleve_sets"]
+    assert found["passing"] == [] and found["complete"]
+
+
 def test_a_set_without_balances_passes_vacuously_and_says_so():
     """Lorenz's system at sigma = 0: x is a constant and the leading part (dx/dt =
     sigma y, dy/dt = -xz, dz/dt = xy) has no balance, so the test has nothing to check

@@ -51,3 +51,21 @@ def test_no_weights_where_a_component_can_never_lead_or_the_field_divides():
     assert leading_weights([x, x * y], scalars(x, y), [x, y]) is None
     assert leading_weights([x**2 / y, y**2], scalars(x, y), [x, y]) is None
     assert leading_weights([0, 0], scalars(x, y), [x, y]) is None
+
+
+def test_where_no_weights_keep_every_component_most_keeps_as_many_as_possible():
+    """Rössler's dx/dt = -y - z, dy/dt = x + a y, dz/dt = b + z (x - c): dy/dt leads only
+    if w_x = w_y + 1, and dz/dt only if w_x = 1, so no weights keep all three; x: 1,
+    y, z: 2 keep dx/dt (both terms) and dz/dt."""
+    z, c = sp.symbols("z c")
+    field = [-y - z, x + a * y, b + z * (x - c)]
+    state = [x, y, z]
+    assert leading_weights(field, scalars(*state), state) is None
+    weights = leading_weights(field, scalars(*state), state, most=True)
+    assert weights == (("x", 1), ("y", 2), ("z", 2))
+    split = split_field(state, field, [w for _, w in weights], parameters=[a, b, c])
+    assert split.leading == (-y - z, 0, x * z)
+    # where weights keep every component, most gives the same
+    hh = [px, py, -a * x - 2 * x * y, -b * y - x**2 - e * y**2]
+    both = [leading_weights(hh, scalars(x, y, px, py), [x, y, px, py], most=m) for m in (0, 1)]
+    assert both[0] == both[1] == (("x", 2), ("y", 2), ("px", 3), ("py", 3))
