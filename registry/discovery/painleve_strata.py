@@ -55,8 +55,10 @@ scaling the moments is a symmetry), the values of p (of p/q, with q = 0 apart) w
 they can be integers (``integrality``) are the next strata: points, and infinite
 families p = P(n) through an integer index n1, a parameter of its own (a family whose
 resonances move with the index is left undecided: the series cannot be written for a
-symbolic resonance). With one free parameter this is ``exponent_family``, whose integer
-list is complete there.
+symbolic resonance). Where the exponents that vary involve more parameters, those of
+some factors may still involve one (or a ratio): their candidates are necessary, and
+cut the set (``_part``); the others are examined on the smaller sets. With one free
+parameter this is ``exponent_family``, whose integer list is complete there.
 
 *Exponents in (1/2)Z* (``half_integer_strata``). The same walk without the series:
 the conditions are that a constant exponent be in (1/2)Z and the conjugate parts
@@ -76,7 +78,7 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import sympy as sp
 from sympy.polys.fields import FracElement
@@ -358,6 +360,12 @@ class _Walk:
             if ratio is not None:
                 self._integer_values(values, free, necessary, ratio[1], scale=ratio[0])
                 return
+            part = None if necessary.undecidable else self._part(necessary.varying)
+            if part is not None:  # some exponents alone cut the set: the others later
+                factors, p, scale = part
+                narrowed = replace(necessary, varying=factors, partial=True)
+                self._integer_values(values, free, narrowed, p, scale=scale)
+                return
             self.undecided.append(
                 f"{here.text()}: some exponents vary with the parameters and no "
                 "condition cuts the set"
@@ -365,6 +373,37 @@ class _Walk:
             return
         for equations in self._candidates(necessary):
             self._descend(values, free, equations)
+
+    def _part(self, varying: Sequence[sp.Expr]):
+        """(factors, p, q) where some of the factors whose roots vary depend on one
+        parameter p (q None), or on p/q (``_ratio``), and cut the set: their roots are
+        not of the kind sought for every value. Each value where every exponent is of
+        the kind makes these roots so too, so their candidates are necessary: the
+        exponents of the other factors are examined on the smaller sets (Hénon and
+        Heiles's quartic analogue: the balances on an axis involve one coefficient, the
+        others two). None where no such part exists."""
+        groups: dict[frozenset, list[sp.Expr]] = {}
+        for f in dict.fromkeys(varying):
+            symbols = frozenset(sp.sympify(f).free_symbols - {LAMBDA})
+            if not any(x.is_integer for x in symbols):
+                groups.setdefault(symbols, []).append(f)
+        for symbols, factors in sorted(groups.items(), key=lambda g: sorted(map(str, g[0]))):
+            if len(symbols) == 1:
+                (p,), scale = tuple(symbols), None
+            else:
+                ratio = _ratio(factors, set(symbols))
+                if ratio is None:
+                    continue
+                scale, p = ratio
+            at = (
+                [sp.cancel(sp.sympify(f).xreplace({scale: 1})) for f in factors]
+                if scale
+                else factors
+            )
+            found = integer_candidates([doubled(f) for f in at] if self.half else at, p, LAMBDA)
+            if found.families != ((p, p, "every value"),):
+                return factors, p, scale
+        return None
 
     def _passes(self, analysis: ExponentAnalysis) -> bool:
         """Whether an analysis is of a set sought: the ARS test passes, or (``half``)

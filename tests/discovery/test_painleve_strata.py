@@ -311,6 +311,26 @@ def test_a_planted_ratio_gives_its_family_and_the_values_without_a_leading_part_
     assert not found.complete
 
 
+def test_exponents_of_one_coefficient_cut_the_set_before_those_of_two():
+    """Two quartic oscillators, x^4/4 + a x^2 y^2/2 + b y^4/4: the balances on the axis
+    y = 0 have exponents in a alone, the others in a and b. Their candidates for a cut
+    the plane first, and the rest is examined on each line. Found: Ramani, Dorizzi and
+    Grammaticos's 1 : 2 : 1 (a = b = 1) and 1 : 6 : 1 (a = 3, b = 1), and two points of
+    the separable a = 0; not complete, the family a = 1 - n1/2 with b free named as
+    undecided. Before, nothing was decided (the exponents vary with two parameters)."""
+    path = FAMILIES / "quartic-oscillators.toml"
+    found = strata_of(path, ["a", "b"])
+    assert sets(found) == {
+        frozenset({"a = 1", "b = 1"}),
+        frozenset({"a = 3", "b = 1"}),
+        frozenset({"a = 0", "b = 1"}),
+        frozenset({"a = 0", "b = 0"}),
+    }
+    assert not found.complete
+    assert any(u.startswith("a = 1 - n1/2 (n1 integer)") for u in found.undecided)
+    members_pass(found, path, ["a", "b"])
+
+
 def test_roots_that_depend_on_a_ratio_only_are_recognised():
     lam = sp.Symbol("lambda")
     a, c = sp.symbols("A C", positive=True)
