@@ -379,9 +379,9 @@ class _Walk:
         parameter p (q None), or on p/q (``_ratio``), and cut the set: their roots are
         not of the kind sought for every value. Each value where every exponent is of
         the kind makes these roots so too, so their candidates are necessary: the
-        exponents of the other factors are examined on the smaller sets (Hénon and
-        Heiles's quartic analogue: the balances on an axis involve one coefficient, the
-        others two). None where no such part exists."""
+        exponents of the other factors are examined on the smaller sets (two quartic
+        oscillators: the balances on an axis involve one coefficient, the others two).
+        None where no such part exists."""
         groups: dict[frozenset, list[sp.Expr]] = {}
         for f in dict.fromkeys(varying):
             symbols = frozenset(sp.sympify(f).free_symbols - {LAMBDA})
@@ -397,7 +397,7 @@ class _Walk:
                 scale, p = ratio
             at = (
                 [sp.cancel(sp.sympify(f).xreplace({scale: 1})) for f in factors]
-                if scale
+                if scale is not None
                 else factors
             )
             found = integer_candidates([doubled(f) for f in at] if self.half else at, p, LAMBDA)
