@@ -362,9 +362,9 @@ class _Walk:
                 return
             part = None if necessary.undecidable else self._part(necessary.varying)
             if part is not None:  # some exponents alone cut the set: the others later
-                factors, p, scale = part
+                factors, p, scale, found = part
                 narrowed = replace(necessary, varying=factors, partial=True)
-                self._integer_values(values, free, narrowed, p, scale=scale)
+                self._integer_values(values, free, narrowed, p, scale=scale, found=found)
                 return
             self.undecided.append(
                 f"{here.text()}: some exponents vary with the parameters and no "
@@ -375,9 +375,9 @@ class _Walk:
             self._descend(values, free, equations)
 
     def _part(self, varying: Sequence[sp.Expr]):
-        """(factors, p, q) where some of the factors whose roots vary depend on one
-        parameter p (q None), or on p/q (``_ratio``), and cut the set: their roots are
-        not of the kind sought for every value. Each value where every exponent is of
+        """(factors, p, q, their candidates) where some of the factors whose roots vary
+        depend on one parameter p (q None), or on p/q (``_ratio``), and cut the set: their
+        roots are not of the kind sought for every value. Each value where every exponent is of
         the kind makes these roots so too, so their candidates are necessary: the
         exponents of the other factors are examined on the smaller sets (two quartic
         oscillators: the balances on an axis involve one coefficient, the others two).
@@ -395,15 +395,19 @@ class _Walk:
                 if ratio is None:
                     continue
                 scale, p = ratio
-            at = (
-                [sp.cancel(sp.sympify(f).xreplace({scale: 1})) for f in factors]
-                if scale is not None
-                else factors
-            )
-            found = integer_candidates([doubled(f) for f in at] if self.half else at, p, LAMBDA)
+            found = self._candidates_of(factors, p, scale)
             if found.families != ((p, p, "every value"),):
-                return factors, p, scale
+                return factors, p, scale, found
         return None
+
+    def _candidates_of(self, factors: Sequence[sp.Expr], p: sp.Symbol, scale: sp.Symbol | None):
+        """The values of p (of p/q at q = ``scale`` = 1) where the factors' roots can all be
+        integers, or (``half``) in (1/2)Z: ``integer_candidates``."""
+        if scale is not None:
+            factors = [sp.cancel(sp.sympify(f).xreplace({scale: 1})) for f in factors]
+        return integer_candidates(
+            [doubled(f) for f in factors] if self.half else list(factors), p, LAMBDA
+        )
 
     def _passes(self, analysis: ExponentAnalysis) -> bool:
         """Whether an analysis is of a set sought: the ARS test passes, or (``half``)
@@ -537,21 +541,23 @@ class _Walk:
             self.found.children.append((merged, left))
 
     def _integer_values(
-        self, values, free, necessary: _Necessary, p: sp.Symbol, scale: sp.Symbol | None = None
+        self,
+        values,
+        free,
+        necessary: _Necessary,
+        p: sp.Symbol,
+        scale: sp.Symbol | None = None,
+        found=None,
     ) -> None:
         """The exponents that vary depend on one parameter p only, or on the ratio p/q
         (``scale`` q, ``_ratio``): the values of p (of p/q) where they can all be
-        integers (``integer_candidates``), each a stratum p = v (p = v q); where q may be
-        0, that hyperplane; and the exceptional hypersurfaces, as always."""
-        varying = list(dict.fromkeys(necessary.varying))
+        integers (``found``, else ``_candidates_of``), each a stratum p = v (p = v q);
+        where q may be 0, that hyperplane; and the exceptional hypersurfaces, as always."""
         unit = sp.Integer(1) if scale is None else scale
-        if scale is not None:
-            varying = [sp.cancel(sp.sympify(f).xreplace({scale: 1})) for f in varying]
-            if not scale.is_nonzero:
-                self._descend(values, free, (scale,))
-        found = integer_candidates(
-            [doubled(f) for f in varying] if self.half else varying, p, LAMBDA
-        )
+        if scale is not None and not scale.is_nonzero:
+            self._descend(values, free, (scale,))
+        if found is None:
+            found = self._candidates_of(list(dict.fromkeys(necessary.varying)), p, scale)
         for v in found.values:
             if v.is_rational:
                 self._descend(values, free, (sp.numer(sp.together(p - v * unit)),))
