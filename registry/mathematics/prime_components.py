@@ -625,13 +625,13 @@ def _cyclic_fraction_free(times: list[list], columns: list[list], k, u: sp.Symbo
     flat, d = numerators(ctx, [e for row in times for e in row])
     matrix = [flat[i * size : (i + 1) * size] for i in range(size)]
     (w, e), *targets = (numerators(ctx, c) for c in columns)
+    if not _spans_somewhere(matrix, w, ctx.nvars()):
+        return None  # decided on integers, before the powers grow in the parameters
     powers = [w]
     for _ in range(size):
         last = powers[-1]
         powers.append([sum((a * b for a, b in zip(row, last, strict=True)), ctx.from_dict({}))
                        for row in matrix])  # fmt: skip
-    if not _spans_somewhere(powers[:size], ctx.nvars()):
-        return None
     rows = [
         [powers[j][i] for j in range(size)] + [powers[size][i]] + [t[i] for t, _ in targets]
         for i in range(size)
@@ -669,21 +669,26 @@ def _cyclic_fraction_free(times: list[list], columns: list[list], k, u: sp.Symbo
     return eliminant, found
 
 
-def _spans_somewhere(columns: list[list], nvars: int, tries: int = 2) -> bool:
-    """Whether the columns (polynomials over Z in the parameters) are independent at one
-    of a few fixed pseudo-random integer points: then they are over Q(p) (a minor that
-    is not zero at a point is not zero). False means that they are dependent at every
+def _spans_somewhere(matrix: list[list], w: list, nvars: int, tries: int = 2) -> bool:
+    """Whether w, N w, ..., N^(D-1) w (N a D x D ``matrix`` and w a vector of polynomials
+    over Z in the parameters) are independent at one of a few fixed pseudo-random integer
+    points: then they are over Q(p) (a minor that is not zero at a point is not zero).
+    The powers are taken at the point, in integers, so that a linear form that does not
+    span costs no power in the parameters. False means that they are dependent at every
     point tried, so over Q(p) too but for a chance smaller than deg/range per point;
     the caller then takes another linear form, or splits the system, which finds the
     same components (the exact elimination it saves fails on every dependent form)."""
-    rng = random.Random(len(columns))  # fixed: the same answer on every run
-    size = len(columns)
+    size = len(w)
+    rng = random.Random(size)  # fixed: the same answer on every run
     for _ in range(tries):
         point = [rng.randint(-(10**12), 10**12) for _ in range(nvars)]
-        matrix = flint.fmpz_mat(
-            [[int(columns[j][i](*point)) for j in range(size)] for i in range(size)]
-        )
-        if matrix.rank() == size:
+        at = flint.fmpz_mat([[int(entry(*point)) for entry in row] for row in matrix])
+        column = flint.fmpz_mat([[int(entry(*point))] for entry in w])
+        powers = [column]
+        for _ in range(size - 1):
+            powers.append(at * powers[-1])
+        krylov = flint.fmpz_mat([[int(p[i, 0]) for p in powers] for i in range(size)])
+        if krylov.rank() == size:
             return True
     return False
 
