@@ -24,7 +24,7 @@ import sympy as sp
 
 from ..dynamics import Dynamics
 from ..errors import ExponentError, Problem, WeightedFieldError
-from ..execution.executor import Executor, InProcess, in_order, timed
+from ..execution.executor import Executor, InProcess, LocalPool, in_order, timed
 from ..execution.serving import Failure
 from ..execution.time_budget import BudgetExceeded, time_limit
 from ..language.forms import with_values
@@ -261,6 +261,8 @@ def analyse_case(
     analyse."""
     start = time.perf_counter()
     found = case_field(case, options)
+    if not found.free and isinstance(executor, LocalPool) and budget:
+        return _apart(case, options, budget, executor, seed)
     try:
         if not found.free:
             with time_limit(budget):
@@ -279,6 +281,52 @@ def analyse_case(
     seconds = time.perf_counter() - start
     document["seconds"] = round(seconds, 3)
     return ExponentResult(case.id, case.content_hash, options, document, seconds)
+
+
+@dataclass(frozen=True)
+class _Refusal:
+    """An ExponentError as a worker hands it back (the exception itself does not pickle)."""
+
+    file: str
+    problems: tuple[Problem, ...]
+
+
+def _apart(
+    case: Case, options: ExponentOptions, budget: float, executor: LocalPool, seed: int
+) -> ExponentResult:
+    """One system's analysis in a local worker process, killed a grace after ``budget``:
+    the timer stops Python code, not a long product or division inside FLINT, which the
+    kill does, so that the analysis ends in its budget as the command promises."""
+    ((_, outcome),) = list(
+        executor.map(
+            _whole,
+            [(case, options, budget, seed)],
+            deadline=timed(budget),
+            label=lambda w: w[0].id,
+            name="registry-exponents",
+        )
+    )
+    if isinstance(outcome, _Refusal):
+        raise ExponentError(outcome.file, list(outcome.problems))
+    if isinstance(outcome, Failure):
+        if outcome.kind != "killed":
+            return refused(case, options, f"no result came back: {outcome.reason}")
+        document = undecided_document(
+            case, options, f"time budget exceeded ({budget:g} s) before the analysis ended"
+        )
+        document["budget"] = budget
+        document["seconds"] = outcome.seconds or budget
+        return ExponentResult(case.id, case.content_hash, options, document, document["seconds"])
+    return outcome
+
+
+def _whole(work) -> ExponentResult | _Refusal:
+    """``analyse_case`` in a worker (``_apart``)."""
+    case, options, budget, seed = work
+    try:
+        return analyse_case(case, options, budget=budget, seed=seed)
+    except ExponentError as err:
+        return _Refusal(err.file, tuple(err.problems))
 
 
 def refused(case: Case, options: ExponentOptions, reason: str) -> ExponentResult:

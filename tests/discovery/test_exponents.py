@@ -21,6 +21,7 @@ see also /work/scratch/exponents32/FINDINGS.md). Two independent derivations sta
 
 from __future__ import annotations
 
+import time
 from collections import Counter
 
 import pytest
@@ -36,6 +37,7 @@ from registry.discovery.exponents import (
 )
 from registry.discovery.painleve_strata import Strata
 from registry.errors import ExponentError
+from registry.execution.executor import GRACE, LocalPool
 from registry.language.casefile import load_case
 from registry.presentation.exponents_output import exponents_text
 from tests.helpers.clocks import cpu_bound
@@ -306,6 +308,40 @@ def test_past_its_budget_an_analysis_establishes_nothing():
     assert not result.decided and "time budget exceeded" in result.document["reason"]
     assert result.statement.startswith("Nothing is established")
     assert not refused(case, exponent_options(case), "why").decided
+
+
+def test_in_a_local_worker_an_analysis_is_the_same_and_refuses_the_same():
+    """With local worker processes one system is analysed in a worker, which is killed
+    past its budget: the document is the one made here, and a refusal still names the
+    file and the problem."""
+    case = load_case(CLASSICAL / "goryachev-chaplygin-top.toml")
+    options = exponent_options(case)
+    here = analyse_case(case, options, budget=120).document
+    there = analyse_case(case, options, budget=120, executor=LocalPool(1)).document
+    assert {k: v for k, v in there.items() if k != "seconds"} == {
+        k: v for k, v in here.items() if k != "seconds"
+    }
+    assert there["decided"] and any("1/2" in e for e in there["balances"][-1]["exponents"])
+    clebsch = load_case(CLASSICAL / "clebsch.toml")
+    with pytest.raises(ExponentError) as info:
+        analyse_case(
+            clebsch, exponent_options(clebsch, {"gamma": 2}), budget=60, executor=LocalPool(1)
+        )
+    assert str(info.value).startswith(f"{clebsch.path}: field: terms of shift 3 > 1 dominate")
+
+
+@pytest.mark.slow  # about 30 s: the budget, and the grace before the kill
+def test_an_analysis_stuck_in_flint_past_its_budget_ends_when_its_worker_is_killed():
+    """Manakov's so(4) body with its four moments symbolic: its balances over Q(j1, ...,
+    j4) go into a fraction-free elimination in FLINT, where the timer's signal waits for
+    the product in C to end (in this process, a 25 s budget ran to about 50 s). In a
+    worker the analysis ends at its budget and the grace, and says why."""
+    case = load_case(CASES / "so4" / "manakov-1976-so4-free-body.toml")
+    begun = time.monotonic()
+    result = analyse_case(case, exponent_options(case), budget=25, executor=LocalPool(1))
+    assert time.monotonic() - begun < 25 + GRACE + 5
+    assert not result.decided and result.document["budget"] == 25
+    assert result.document["reason"] == "time budget exceeded (25 s) before the analysis ended"
 
 
 def test_the_symmetric_top_family_selects_kovalevskaya_and_names_goryachev_chaplygin():
