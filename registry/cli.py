@@ -679,9 +679,10 @@ def searches(case_id: str | None, long_: bool, as_json: bool) -> None:
     type=click.FloatRange(min=0, min_open=True),
     default=settings.DEFAULT_EXPONENT_SECONDS,
     show_default=True,
-    help="Seconds the whole analysis may take; past them nothing is established (a single "
-    "system is analysed in a worker process, stopped there a few seconds past them; with "
-    "--jobs 1 in this process, where a long step in FLINT ends first).",
+    help="Seconds the whole analysis may take; past them nothing is established (with local "
+    "worker processes a single system is analysed in one, stopped a few seconds past "
+    "them; with --jobs 1 or --scheduler in this process, where a long step in FLINT ends "
+    "first).",
 )
 @_where("Analyse the candidate parameter values")
 @_user_errors
