@@ -379,7 +379,32 @@ def _analysed_apart(work) -> ExponentResult:
     try:
         return analyse_case(case, options, budget=budget)
     except ExponentError as err:
-        return refused(case, options, str(err))
+        return refused_by(case, options, err)
+
+
+def refused_by(case: Case, options: ExponentOptions, err: ExponentError) -> ExponentResult:
+    """``refused`` for the error's reason, saying which weights would do where the weights
+    asked leave the field no leading part and its default weights give one (a search's
+    weights, M: 1, gamma: 2, under which an affine torque's terms dominate)."""
+    return refused(case, options, str(err) + _default_would_do(case, options))
+
+
+def _default_would_do(case: Case, options: ExponentOptions) -> str:
+    """The hint of ``refused_by``: empty where the default weights are those asked, or
+    leave no leading part either, or the field is refused for another reason."""
+    try:
+        default = exponent_options(case, None, options.free)
+        if default.weights == options.weights:
+            return ""
+        found = case_field(case, default)
+        split_field(found.variables, found.field, found.weights, parameters=found.parameters)
+    except (ExponentError, WeightedFieldError):
+        return ""
+    weights = ",".join(f"{name}={w}" for name, w in default.weights)
+    return (
+        f"\nunder its default weights, {weights}, the field has a leading part "
+        f"(registry exponents {case.id})"
+    )
 
 
 # ------------------------------------------------------------------ one system

@@ -21,7 +21,7 @@ from ..discovery.exponents import (
     analysed,
     case_field,
     exponent_options,
-    refused,
+    refused_by,
 )
 from ..errors import ExponentError
 from ..execution.executor import Executor
@@ -157,7 +157,7 @@ def beside_search(
             case, options, budget=BESIDE_SEARCH_EXPONENT_SECONDS, executor=executor
         )
     except ExponentError as err:
-        result = refused(case, options, str(err))
+        result = refused_by(case, options, err)
     if record and store is not None and stored is not None:
         store.record_exponents(stored.pk, result, code_version())
     return result

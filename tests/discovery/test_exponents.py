@@ -34,6 +34,7 @@ from registry.discovery.exponents import (
     case_field,
     exponent_options,
     refused,
+    refused_by,
 )
 from registry.discovery.painleve_strata import Strata
 from registry.errors import ExponentError
@@ -308,6 +309,31 @@ def test_past_its_budget_an_analysis_establishes_nothing():
     assert not result.decided and "time budget exceeded" in result.document["reason"]
     assert result.statement.startswith("Nothing is established")
     assert not refused(case, exponent_options(case), "why").decided
+
+
+def test_weights_that_leave_no_leading_part_are_refused_naming_the_default_ones():
+    """Beside a search the analysis takes the search's weights, M: 1, gamma: 2, under
+    which the terms M gamma of Grioli's affine torque dominate dx/dt; the refusal names
+    the case's default weights, M: 1, gamma: 1, under which they lead. Nothing is added
+    where no weights give a leading part (the axis torque's M gamma^k would need
+    k w_gamma <= 1) or where the weights refused are the default ones."""
+    grioli = load_case(CASES / "grioli-1957-charged-body.toml")
+    options = exponent_options(grioli, {"M": 1, "gamma": 2})
+    with pytest.raises(ExponentError) as info:
+        analyse_case(grioli, options)
+    reason = refused_by(grioli, options, info.value).document["reason"]
+    assert reason.startswith(str(info.value))
+    assert reason.endswith(
+        "\nunder its default weights, M=1,gamma=1, the field has a leading part "
+        "(registry exponents grioli-1957-charged-body)"
+    )
+    axis = load_case(CASES / "axis-torque.toml")  # no weights: its default fails too
+    yehia = load_case(CASES / "yehia-2003-kovalevskaya-a.toml")  # its default refused
+    for case, weights in ((axis, {"M": 1, "gamma": 1}), (yehia, None)):
+        options = exponent_options(case, weights)
+        with pytest.raises(ExponentError) as info:
+            analyse_case(case, options)
+        assert refused_by(case, options, info.value).document["reason"] == str(info.value)
 
 
 def test_in_a_local_worker_an_analysis_is_the_same_and_refuses_the_same():
