@@ -274,10 +274,7 @@ def analyse_case(
             if catalog is not None:
                 _name_sets(case, strata, document, catalog)
     except BudgetExceeded:
-        document = undecided_document(
-            case, options, f"time budget exceeded ({budget:g} s) before the analysis ended"
-        )
-        document["budget"] = budget  # a larger one may decide it (runs.exponents_run)
+        document = _out_of_time(case, options, budget)
     seconds = time.perf_counter() - start
     document["seconds"] = round(seconds, 3)
     return ExponentResult(case.id, case.content_hash, options, document, seconds)
@@ -311,10 +308,7 @@ def _apart(
     if isinstance(outcome, Failure):
         if outcome.kind != "killed":
             return refused(case, options, f"no result came back: {outcome.reason}")
-        document = undecided_document(
-            case, options, f"time budget exceeded ({budget:g} s) before the analysis ended"
-        )
-        document["budget"] = budget
+        document = _out_of_time(case, options, budget)
         document["seconds"] = outcome.seconds or budget
         return ExponentResult(case.id, case.content_hash, options, document, document["seconds"])
     return outcome
@@ -327,6 +321,16 @@ def _whole(work) -> ExponentResult | _Refusal:
         return analyse_case(case, options, budget=budget, seed=seed)
     except ExponentError as err:
         return _Refusal(err.file, tuple(err.problems))
+
+
+def _out_of_time(case: Case, options: ExponentOptions, budget: float | None) -> dict[str, Any]:
+    """The document of an analysis whose budget ran out, with the budget: a larger one
+    may decide it, and is not answered by this one (``runs.exponents_run``)."""
+    document = undecided_document(
+        case, options, f"time budget exceeded ({budget:g} s) before the analysis ended"
+    )
+    document["budget"] = budget
+    return document
 
 
 def refused(case: Case, options: ExponentOptions, reason: str) -> ExponentResult:
