@@ -830,10 +830,11 @@ class ExponentResult:
     @property
     def passes(self) -> bool | None:
         """The Painlevé (ARS) test's verdict: True where it passes (integer exponents,
-        every condition holding), False where it fails, None where it was not made (an
+        every condition holding), False where it fails (also where an analysis out of
+        time found a ``witness`` of the failure), None where it was not made (an
         undecided analysis, or integer exponents whose Laurent series was not computed)."""
         painleve = self.document.get("painleve") or {}
-        verdict = painleve.get("passes") if self.decided else None
+        verdict = painleve.get("passes") if self.decided or "witness" in self.document else None
         return None if verdict is None else bool(verdict)
 
     @property

@@ -111,6 +111,34 @@ def _painleve(document: Mapping[str, Any]) -> str:
     return f"{ARS} was not run"
 
 
+def witness_statement(
+    witness: Mapping[str, Any], weights: str, generic: Sequence[str], homogeneous: bool
+) -> str:
+    """The statement of an analysis over Q(parameters) that ran out of time, where one
+    exact analysis at rational values found a simple balance with an exponent that is
+    not an integer (``mathematics.exponent_witness``): the test fails for generic values,
+    and nothing else is stated."""
+    at = ", ".join(f"{p} = {v}" for p, v in witness["values"].items())
+    exact = ", ".join(witness["rational"])
+    n = witness["irrational"]
+    shown = (
+        f"the exponents {exact} and {n} irrational ones (given exactly in the witness)"
+        if n
+        else f"the exponents {exact}"
+    )
+    return (
+        f"{_scope(homogeneous, weights)}. {ARS[0].upper()}{ARS[1:]} fails for generic values of "
+        f"{', '.join(generic)}: at {at}, a balance has {shown}, not all integers, "
+        "and none of them is 0, so "
+        "the balance is a simple root of the balance equations (their Jacobian is the "
+        "Kovalevskaya matrix); it continues to a balance at every nearby value, with an "
+        "exponent that stays off the integers there and, the balances being algebraic in "
+        "the parameters, at every value outside a set of measure zero. The balances of "
+        "generic values were not all found within the budget, so nothing else is "
+        "established: not their exponents, nor the degrees Yoshida's theorem allows"
+    ) + "."
+
+
 def family_statement(document: Mapping[str, Any], weights: str) -> str:
     """The statement of a family's analysis: what holds for generic values of the free
     parameters, the sets where every exponent is an integer, half an integer, rational

@@ -36,11 +36,13 @@ from ..mathematics.exponent_families import (
     exponent_family,
     kind_of,
 )
+from ..mathematics.exponent_witness import Witness, witness
 from ..mathematics.grading import candidates, per_variable, shift
+from ..mathematics.kovalevskaya import LAMBDA
 from ..mathematics.leading_weights import leading_weights
-from ..mathematics.weighted import by_denominator, expanded, split_field
+from ..mathematics.weighted import WeightedField, by_denominator, expanded, split_field
 from ..model import Case, ExponentOptions, ExponentResult, Weights, as_weights
-from .exponent_statement import family_statement, statement
+from .exponent_statement import family_statement, statement, witness_statement
 from .identification.catalog_index import CatalogIndex
 from .identification.identify import identify
 from .painleve_strata import Strata, half_integer_strata, painleve_strata
@@ -67,6 +69,10 @@ SUPERSEDED = (
 #: Then the share of what is left that the generic analysis over Q(free) may take
 #: before the grid of small values is searched without it.
 GENERIC_SHARE = 0.3
+#: A single system with symbolic parameters: the share of the budget the analysis over
+#: Q(parameters) may take; the rest looks for a witness of the test's failure at rational
+#: values (``exponent_witness``) where that analysis runs out of time.
+EXACT_SHARE = 0.75
 
 
 @dataclass(frozen=True)
@@ -265,9 +271,7 @@ def analyse_case(
         return _apart(case, options, budget, executor, seed)
     try:
         if not found.free:
-            with time_limit(budget):
-                analysis = _exponents(case, found, seed)
-            document = _document(case, options, found, analysis)
+            document = _single(case, options, found, budget, seed)
         else:
             family, strata = _family(case, found, executor or InProcess(), budget, seed)
             document = _family_document(case, options, found, family, *strata)
@@ -278,6 +282,65 @@ def analyse_case(
     seconds = time.perf_counter() - start
     document["seconds"] = round(seconds, 3)
     return ExponentResult(case.id, case.content_hash, options, document, seconds)
+
+
+def _single(
+    case: Case, options: ExponentOptions, found: CaseField, budget: float | None, seed: int
+) -> dict[str, Any]:
+    """The document of one system. With symbolic parameters and a budget, the analysis
+    over Q(parameters) takes ``EXACT_SHARE`` of it; where that runs out, the rest seeks a
+    witness at rational values that the test fails for generic values (an analysis out of
+    time that says so); BudgetExceeded where none is found."""
+    started = time.perf_counter()
+    exact = budget * EXACT_SHARE if budget and found.parameters else budget
+    try:
+        with time_limit(exact):
+            return _document(case, options, found, _exponents(case, found, seed))
+    except BudgetExceeded:
+        left = (budget or 0.0) - (time.perf_counter() - started)
+        if exact == budget or left <= 0:
+            raise
+    with time_limit(left):  # BudgetExceeded past it, as for the analysis itself
+        try:
+            split = split_field(
+                found.variables, found.field, found.weights, parameters=found.parameters
+            )
+        except WeightedFieldError as err:
+            raise _named(case, found, err) from None
+        found_witness = witness(split, seed=seed)
+    if found_witness is None:
+        raise BudgetExceeded
+    document = _out_of_time(case, options, budget)
+    document |= _witness_part(options, found, split, found_witness)
+    return document
+
+
+def _witness_part(
+    options: ExponentOptions, found: CaseField, split: WeightedField, w: Witness
+) -> dict[str, Any]:
+    """The test's verdict from a witness, and the witness itself, in an undecided
+    document: the balances, exponents and degrees of generic values stay unknown."""
+    entry = _balance(w.balance, tested=False)
+    e = w.balance.exponents
+    irrational = sum(int(sp.degree(f, LAMBDA)) * m for f, m in e.implicit)
+    witnessed = {
+        "values": {str(p): sp.sstr(v) for p, v in w.values.items()},
+        "point": entry["point"],
+        "root_of": entry["root_of"],
+        "exponents": entry["exponents"],
+        "rational": [sp.sstr(v) for v in e.values],
+        "irrational": irrational,
+    }
+    return {
+        "painleve": {"passes": False, "compatible": None, "conditions": []},
+        "witness": witnessed,
+        "statement": witness_statement(
+            witnessed,
+            options.weights_text(),
+            [str(p) for p in found.parameters],
+            split.homogeneous,
+        ),
+    }
 
 
 @dataclass(frozen=True)

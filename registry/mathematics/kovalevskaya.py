@@ -123,8 +123,11 @@ class ComponentPolynomial:
     norm: tuple[sp.Expr, ...] = ()  # over Q: the irreducible factors of Res_u(g, H)
 
 
-def characteristic_polynomial(component: Component, matrix: sp.Matrix) -> ComponentPolynomial:
-    """det(lambda - K) over the component's field, split as in the module doc."""
+def characteristic_polynomial(
+    component: Component, matrix: sp.Matrix, *, norm: bool = True
+) -> ComponentPolynomial:
+    """det(lambda - K) over the component's field, split as in the module doc (without
+    H's norm where ``norm`` is False: enough to tell which exponents are rational)."""
     ext = algebraic.Extension(component.symbol, component.minimal)
     k, u = ext.domain, component.symbol
     # Berkowitz's division-free algorithm in k[u]/(g), over Z[p] (integral_algebra)
@@ -149,11 +152,11 @@ def characteristic_polynomial(component: Component, matrix: sp.Matrix) -> Compon
     factors = tuple((f, e) for f, e in factor_list(common.as_expr(), gens) if f.has(LAMBDA))
     free = set(component.free)
     varying = any(f.free_symbols & free for f, _ in factors) or bool(rest.free_symbols & free)
-    norm: tuple[sp.Expr, ...] = ()
-    if k.is_QQ and len(quotient) > 1:
+    norms: tuple[sp.Expr, ...] = ()
+    if norm and k.is_QQ and len(quotient) > 1:
         resultant = resultant_in(component.minimal.as_expr(), rest, u)
-        norm = tuple(f for f, _ in factor_list(resultant, [LAMBDA]))
-    return ComponentPolynomial(factors, rest, varying, norm)
+        norms = tuple(f for f, _ in factor_list(resultant, [LAMBDA]))
+    return ComponentPolynomial(factors, rest, varying, norms)
 
 
 def berkowitz(matrix: list[list], ring, reduce) -> list:

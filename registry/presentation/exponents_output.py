@@ -39,7 +39,10 @@ def _lines(result: ExponentResult) -> list[str]:
     d = result.document
     lines = [_heading(d)]
     if not result.decided:
-        lines += [f"not decided: {d.get('reason', '')}", result.statement]
+        lines.append(f"not decided: {d.get('reason', '')}")
+        if "witness" in d:
+            lines += _witness(d["witness"])
+        lines.append(result.statement)
         return lines
     if d.get("leading"):
         lines.append("the field is not weighted-homogeneous: its leading part is analysed,")
@@ -99,6 +102,21 @@ def _balance(i: int, b: Mapping[str, Any]) -> list[str]:
     lines.append(f"    exponents: {', '.join(b['exponents'])} ({kind})")
     resonances = b["painleve"]["resonances"]
     lines += [f"    {text}" for text in failures(resonances) or _holding(resonances)]
+    return lines
+
+
+def _witness(w: Mapping[str, Any]) -> list[str]:
+    """The balance at rational values that shows the test failing for generic values."""
+    at = ", ".join(f"{p} = {v}" for p, v in w["values"].items())
+    point = ", ".join(f"{x} = {shown(v)}" for x, v in w["point"].items())
+    lines = [
+        f"Painlevé (ARS) test for generic values: fails (by a simple balance at {at})",
+        f"  balance there: {point}",
+        f"    theta: a root of {shown(w['root_of'])}",
+        f"    exponents: {', '.join(map(shown, w['exponents']))} (not all integers; none 0)",
+    ]
+    if any(len(v) > LONG for v in [*w["point"].values(), w["root_of"], *w["exponents"]]):
+        lines.append("    (long expressions elided: registry exponents --json prints them whole)")
     return lines
 
 

@@ -582,8 +582,22 @@ def _exponents(
             )
             if key in d
         ],
+        "witness": _witness(d["witness"]) if "witness" in d else None,
         "statement": entry.result.statement,
         "every_degree": entry.every_degree,
+    }
+
+
+def _witness(w: dict[str, Any]) -> dict[str, Any]:
+    """The balance at rational values that shows the Painlevé test failing for generic
+    values (an analysis out of time), long expressions elided with the whole behind."""
+    texts = [*w["point"].values(), w["root_of"], *w["exponents"]]
+    return {
+        "at": ", ".join(f"{p} = {v}" for p, v in w["values"].items()),
+        "point": ", ".join(f"{x} = {shown(v)}" for x, v in w["point"].items()),
+        "root_of": shown(w["root_of"]),
+        "exponents": ", ".join(map(shown, w["exponents"])),
+        "whole": [t for t in texts if shown(t) != t],
     }
 
 

@@ -24,6 +24,7 @@ from __future__ import annotations
 import time
 from collections import Counter
 
+import mpmath
 import pytest
 import sympy as sp
 
@@ -309,6 +310,43 @@ def test_past_its_budget_an_analysis_establishes_nothing():
     assert not result.decided and "time budget exceeded" in result.document["reason"]
     assert result.statement.startswith("Nothing is established")
     assert not refused(case, exponent_options(case), "why").decided
+
+
+def test_out_of_time_with_a_parameter_a_witness_shows_the_test_failing_for_generic_values():
+    """The heavy top with moments (2, 3, 4) and centre (1, 2, a): its balances over Q(a)
+    take minutes (261 s once), so the analysis runs out of time; at one rational a, a
+    simple balance with irrational exponents shows the test failing for generic a. The
+    witness is checked again numerically, apart from the exact code: each root theta
+    gives a point solving v(c) + w c = 0, whose Kovalevskaya matrix has no eigenvalue 0
+    and one off the integers."""
+    case, result = analysed(EXPONENTS / "heavy-top-centre-a.toml", budget=8)
+    d = result.document
+    assert not result.decided and d["budget"] == 8
+    assert d["reason"] == "time budget exceeded (8 s) before the analysis ended"
+    assert result.passes is False and d["painleve"]["passes"] is False
+    assert "degrees" not in d and d["balances"] == []  # nothing generic is claimed
+    w = d["witness"]
+    assert list(w["values"]) == ["a"] and w["rational"] == ["-1", "2", "3", "4"]
+    assert w["irrational"] == 2
+    assert "fails for generic values of a: at a = " in result.statement
+    assert "nor the degrees Yoshida's theorem allows" in result.statement
+    assert "fails (by a simple balance at a = " in exponents_text(result)
+    found = case_field(case, exponent_options(case))
+    theta, (a,) = sp.Symbol("theta"), found.parameters
+    field = sp.Matrix([f.subs(a, sp.Rational(w["values"]["a"])) for f in found.field])
+    state = sp.Matrix(found.variables)
+    matrix = field.jacobian(state) + sp.diag(*found.weights)
+    g = sp.Poly(sp.sympify(w["root_of"].removesuffix(" = 0")), theta)
+    named = {str(x): x for x in found.variables}
+    point = {named[k]: sp.sympify(v) for k, v in w["point"].items()}
+    for root in g.nroots(n=30):
+        at = {x: sp.N(v.subs(theta, root), 30) for x, v in point.items()}
+        residual = (field + sp.diag(*found.weights) * state).subs(at)
+        assert max(abs(r) for r in residual) < 1e-15
+        numeric = mpmath.matrix([[complex(e) for e in row] for row in matrix.subs(at).tolist()])
+        eigenvalues = mpmath.eig(numeric)[0]
+        assert min(abs(e) for e in eigenvalues) > 1e-3
+        assert max(abs(e - round(e.real)) for e in eigenvalues) > 1e-3
 
 
 def test_weights_that_leave_no_leading_part_are_refused_naming_the_default_ones():

@@ -362,6 +362,37 @@ def test_a_long_balance_is_elided_on_the_page_and_shown_whole_on_request():
     assert page(balance, passes=None)["painleve"] == "not made"
 
 
+def test_a_witnessed_failure_is_shown_with_its_balance_and_its_long_parts_elided():
+    """An analysis out of time with a witness (``exponent_witness``): the page says the
+    test fails for generic values, at which values, and shows the balance there."""
+    long = " + ".join(f"{k}*theta**{k}" for k in range(1, 80))
+    witness = {
+        "values": {"a": "6/7"}, "point": {"M1": "theta", "M2": "0"},
+        "root_of": "theta**2 + 3 = 0", "exponents": ["-1", f"root of lambda**2 + {long}"],
+        "rational": ["-1"], "irrational": 1,
+    }  # fmt: skip
+    document = {
+        "weights": {"M": 1}, "decided": False, "reason": "time budget exceeded (8 s)",
+        "balances": [], "painleve": {"passes": False}, "witness": witness,
+    }  # fmt: skip
+    result = ExponentResult("demo", "h", ExponentOptions((("M", 1),)), document)
+    shown = site._exponents(site.ExponentEntry(1, 1, result))
+    assert shown["painleve"] == "fails" and not shown["decided"]
+    w = shown["witness"]
+    assert (w["at"], w["point"], w["root_of"]) == (
+        "a = 6/7",
+        "M1 = theta, M2 = 0",
+        "theta**2 + 3 = 0",
+    )
+    assert w["exponents"].startswith("-1, <an expression in lambda, of, root, theta: ")
+    assert w["whole"] == [f"root of lambda**2 + {long}"]
+    bare = {k: v for k, v in document.items() if k != "witness"}  # no witness: not made
+    without = site._exponents(
+        site.ExponentEntry(1, 1, ExponentResult("d", "h", result.options, bare))
+    )
+    assert without["witness"] is None and without["painleve"] == "not made"
+
+
 def _same_system_section(built, case_id: str) -> str:
     page = (built.site / "cases" / f"{case_id}.html").read_text(encoding="utf-8")
     return html.unescape(page[page.index('id="same-system"') : page.index('id="exponents"')])

@@ -4,11 +4,12 @@ new row; an analysis without a registry."""
 
 from __future__ import annotations
 
+import registry
 from registry.execution.executor import InProcess
 from registry.language.casefile import load_case
 from registry.runs.exponents_run import ExponentRequest, exponents_run
 from registry.store.database import Store
-from tests.helpers.samples import CLASSICAL
+from tests.helpers.samples import CLASSICAL, TEST_DATA
 
 KOVALEVSKAYA = CLASSICAL / "kovalevskaya-top.toml"
 
@@ -52,3 +53,22 @@ def test_an_analysis_that_ran_out_of_time_is_made_again_with_a_larger_budget(tmp
     assert not longer.reused and longer.result.decided and longer.number == short.number + 1
     assert exponents_run(store, case_id, ExponentRequest(budget=1e-6), here).reused
     store.close()
+
+
+def test_a_witnessed_failure_is_recorded_as_failing_and_nothing_else(tmp_path):
+    """Out of time with a witness (``exponent_witness``): the stored analysis is not
+    decided, its Painlevé column says fails, its document comes back whole, and a larger
+    budget analyses again."""
+    path = TEST_DATA / "exponents" / "heavy-top-centre-a.toml"
+    with registry.open(tmp_path / "r.sqlite") as reg:
+        report = reg.analyse_exponents(path, budget=8, record=True, jobs=1)
+        assert "witness" in report.result.document
+        row = reg.exponents().iloc[-1]
+        assert (row["case"], bool(row["decided"]), row["painleve"]) == (
+            "test-heavy-top-centre-a",
+            False,
+            False,
+        )
+        again = reg.analyse_exponents("test-heavy-top-centre-a", budget=8)
+        assert again.reused and again.result.document == report.result.document
+        assert again.result.passes is False

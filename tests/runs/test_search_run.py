@@ -86,28 +86,40 @@ def test_the_main_job_sums_up_the_analyses_in_one_line():
     assert [r.search.complete for r in reports] == [True, True]
     assert [r.bounded for r in reports] == [False, True]
     assert _main_job().exponents_line(reports) == (
-        "1 Kovalevskaya analyses: 1 decided, 1 passing the ARS test, 1 case(s) with every "
-        "degree Yoshida allows searched; see reg.exponents()"
+        "1 Kovalevskaya analyses: 1 decided, 1 passing the ARS test; of the others, 0 failing "
+        "it for generic values (a witness at rational values); 1 case(s) with every degree "
+        "Yoshida allows searched; see reg.exponents()"
     )
 
 
 def test_the_main_job_counts_a_test_not_made_as_not_passing():
     """An analysis whose Painlevé test was not made (passes None) is decided but does not
-    pass; the line is still written (a sum over None would raise)."""
+    pass; the line is still written (a sum over None would raise). An analysis out of
+    time counts as failing only where it found a witness."""
     options = ExponentOptions((("M", 1), ("gamma", 2)))
     made = {True: "a", None: "b", False: "c"}
+    documents = [(case, {"painleve": {"passes": verdict}}) for verdict, case in made.items()]
+    failing = {"passes": False, "compatible": None, "conditions": []}
+    documents += [
+        ("d", {"decided": False, "painleve": failing, "witness": {}}),
+        ("e", {"decided": False, "painleve": failing}),
+        ("f", {"decided": False, "reason": "time budget exceeded"}),
+    ]
     reports = [
         SimpleNamespace(
             search=SimpleNamespace(case=case),
-            exponents=ExponentResult(case, "h", options, {"painleve": {"passes": verdict}}),
+            exponents=ExponentResult(case, "h", options, document),
             bounded=False,
         )
-        for verdict, case in made.items()
+        for case, document in documents
     ]
     assert (
         _main_job()
         .exponents_line(reports)
-        .startswith("3 Kovalevskaya analyses: 3 decided, 1 passing the ARS test, 0 case(s)")
+        .startswith(
+            "6 Kovalevskaya analyses: 3 decided, 1 passing the ARS test; of the others, 1 failing "
+            "it for generic values (a witness at rational values); 0 case(s)"
+        )
     )
 
 

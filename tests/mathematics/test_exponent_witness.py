@@ -1,0 +1,75 @@
+"""A witness at rational parameter values that the Painlevé test fails for generic values:
+found where the generic analysis fails, never where it passes, never from a balance that
+is not simple, and equal there to the generic exponents evaluated."""
+
+from __future__ import annotations
+
+import sympy as sp
+
+from registry.mathematics.exponent_analysis import exponents
+from registry.mathematics.exponent_witness import witness
+from registry.mathematics.weighted import split_field
+from tests.helpers.tops import HEAVY_WEIGHTS, STATE, euler_top, heavy_top
+
+a = sp.Symbol("a")
+x, y, z = sp.symbols("x y z")
+
+
+def test_an_exponent_that_varies_with_a_parameter_is_witnessed():
+    """x' = x^2, y' = a x y: the one balance (-1, 0) has the exponents -1 and 1 - a, an
+    integer at every integer a; the witness is taken at a value that is not one."""
+    field = [x**2, a * x * y]
+    generic = exponents([x, y], field, [1, 1])
+    assert [b.exponents.values for b in generic.balances] == [(-1, 1 - a)]
+    assert generic.painleve_verdict is False
+    found = witness(split_field([x, y], field, [1, 1]))
+    assert found is not None
+    value = found.values[a]
+    assert not value.is_integer
+    assert sorted(found.balance.exponents.values) == sorted([-1, 1 - value])
+
+
+def test_no_witness_where_every_exponent_is_an_integer_for_every_value():
+    """Euler's free top with its three moments symbolic passes the test generically."""
+    moments = sp.symbols("A B C")
+    field = euler_top(moments)
+    assert exponents(STATE[:3], field, (1, 1, 1)).painleve_verdict is True
+    assert witness(split_field(STATE[:3], field, (1, 1, 1))) is None
+
+
+def test_a_family_of_balances_is_no_witness():
+    """x' = x^2, y' = a x y, z' = x z: the balances (-1, 0, z) form a family along z,
+    with the exponents -1, 0 and 1 - a. The test fails for generic a, but a balance with
+    the exponent 0 is not a simple root, so no witness is claimed from it."""
+    field = [x**2, a * x * y, x * z]
+    generic = exponents([x, y, z], field, [1, 1, 1])
+    assert generic.painleve_verdict is False
+    assert all(b.balance.dimension == 1 for b in generic.balances)
+    assert witness(split_field([x, y, z], field, [1, 1, 1])) is None
+
+
+def test_the_witness_has_the_generic_exponents_at_its_values():
+    """The heavy top with moments (2, 2, a) and centre (1, 0, 0): the exponents of the
+    witnessing balance are those of a generic balance with a put in."""
+    field = heavy_top((2, 2, a), (1, 0, 0))
+    generic = exponents(STATE, field, HEAVY_WEIGHTS, painleve=False)
+    assert generic.painleve_verdict is False
+    found = witness(split_field(STATE, field, HEAVY_WEIGHTS))
+    assert found is not None
+    at = found.values[a]
+    specialised = [
+        sorted((sp.nsimplify(sp.radsimp(v.subs(a, at))) for v in b.exponents.values), key=str)
+        for b in generic.balances
+    ]
+    assert sorted(found.balance.exponents.values, key=str) in specialised
+
+
+def test_a_parameter_value_where_a_coefficient_is_undefined_is_passed_over():
+    """x' = x^2, y' = x y / (a - v) for the first value v the witness would try: that
+    value is not a specialisation of the field, and the next one is used."""
+    first = witness(split_field([x, y], [x**2, a * x * y], [1, 1]), tries=1)
+    assert first is not None
+    v = first.values[a]
+    field = [x**2, x * y / (a - v)]
+    found = witness(split_field([x, y], field, [1, 1]))
+    assert found is not None and found.values[a] != v
