@@ -28,7 +28,12 @@ its centre anywhere, at balances whose coordinates bring I and square roots of t
 parameters, by the quadratic formula (what the analysis does) against sympy's ``roots``
 (what it did), in the same run, compared at a random point.
 
+With ``--witness``: heavy tops with symbolic parameters, the analysis over Q(parameters)
+(under ``--timeout``) against the witness at rational values that the ARS test fails for
+generic values (``exponent_witness``), in the same run, with both verdicts.
+
 Usage: python scripts/bench_exponents.py [--timeout 120] [--repeat 3]
+       python scripts/bench_exponents.py --witness [--timeout 120]
        python scripts/bench_exponents.py --conditions
        python scripts/bench_exponents.py --radicals [--timeout 120]
        python scripts/bench_exponents.py --catalog [--budget 120] [--cpu] [--jobs 1] [--only TEXT]
@@ -206,6 +211,47 @@ def catalog(args) -> None:
     )
 
 
+def witnesses(args) -> None:
+    """The generic analysis against the witness, each heavy top once, CPU seconds."""
+    from registry.mathematics.exponent_witness import witness
+    from registry.mathematics.weighted import split_field
+
+    a, b, c, x0, y0, z0 = sp.symbols("a b c x0 y0 z0")
+    tops = {
+        "moments (2, 2, a), r = (1, 0, 0)": ((2, 2, a), (1, 0, 0)),
+        "moments (2, 3, 4), r = (1, 2, a)": ((2, 3, 4), (1, 2, a)),
+        "moments (1, b, c), r = (x0, 0, z0)": ((1, b, c), (x0, 0, z0)),
+        "moments (a, b, c), r = (x0, y0, z0)": ((a, b, c), (x0, y0, z0)),
+    }
+    print(
+        f"{'heavy top':38} {'generic':>9} {'verdict':>8} {'witness':>8} {'found':>6} {'ratio':>8}"
+    )
+    for name, (inertia, r) in tops.items():
+        field = heavy_top(inertia, r)
+        clear_cache()
+        start = time.process_time()
+        try:
+            verdict = limited(args.timeout, lambda f=field: ours(f, False)).painleve_verdict
+            generic, shown = time.process_time() - start, f"{time.process_time() - start:.2f}"
+        except BudgetExceeded:
+            verdict, generic, shown = None, None, f"> {args.timeout:g}"
+        clear_cache()
+        start = time.process_time()
+        found = witness(split_field(mech.STATE, field, WEIGHTS))
+        mine = time.process_time() - start
+        ratio = f"{generic / mine:.0f}x" if generic else f"> {args.timeout / mine:.0f}x"
+        word = {True: "passes", False: "fails", None: "-"}[verdict]
+        print(
+            f"{name:38} {shown:>9} {word:>8} {mine:8.2f} {'yes' if found else 'no':>6} {ratio:>8}",
+            flush=True,
+        )
+    print(
+        "generic: CPU s of the analysis over Q(parameters) without the series; witness: CPU s "
+        "to a simple balance at rational values with an exponent off the integers; ratio: "
+        "generic / witness"
+    )
+
+
 def conditions(args) -> None:
     """Each condition at its balance: square roots' normal form against radsimp."""
     import random
@@ -326,7 +372,13 @@ def main() -> None:
     parser.add_argument(
         "--radicals", action="store_true", help="exponents among radicals: formula vs roots"
     )
+    parser.add_argument(
+        "--witness", action="store_true", help="generic analysis against a witness at values"
+    )
     args = parser.parse_args()
+    if args.witness:
+        witnesses(args)
+        return
     if args.radicals:
         radicals(args)
         return
