@@ -69,10 +69,12 @@ SUPERSEDED = (
 #: Then the share of what is left that the generic analysis over Q(free) may take
 #: before the grid of small values is searched without it.
 GENERIC_SHARE = 0.3
-#: A single system with symbolic parameters: the share of the budget the analysis over
-#: Q(parameters) may take; the rest looks for a witness of the test's failure at rational
-#: values (``exponent_witness``) where that analysis runs out of time.
-EXACT_SHARE = 0.75
+#: A single system with symbolic parameters: the share of the budget kept, at most
+#: WITNESS_SECONDS, to look for a witness of the test's failure at rational values
+#: (``exponent_witness``) where the analysis over Q(parameters) runs out of time (one
+#: analysis over Q, a second or less for the catalog's tops).
+WITNESS_SHARE = 0.25
+WITNESS_SECONDS = 10.0
 
 
 @dataclass(frozen=True)
@@ -288,11 +290,14 @@ def _single(
     case: Case, options: ExponentOptions, found: CaseField, budget: float | None, seed: int
 ) -> dict[str, Any]:
     """The document of one system. With symbolic parameters and a budget, the analysis
-    over Q(parameters) takes ``EXACT_SHARE`` of it; where that runs out, the rest seeks a
-    witness at rational values that the test fails for generic values (an analysis out of
-    time that says so); BudgetExceeded where none is found."""
+    over Q(parameters) leaves ``WITNESS_SHARE`` of it (at most ``WITNESS_SECONDS``);
+    where it runs out, the rest seeks a witness at rational values that the test fails
+    for generic values (an analysis out of time that says so); BudgetExceeded where none
+    is found."""
     started = time.perf_counter()
-    exact = budget * EXACT_SHARE if budget and found.parameters else budget
+    exact = budget
+    if budget and found.parameters:
+        exact = budget - min(budget * WITNESS_SHARE, WITNESS_SECONDS)
     try:
         with time_limit(exact):
             return _document(case, options, found, _exponents(case, found, seed))

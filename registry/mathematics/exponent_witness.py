@@ -35,7 +35,7 @@ from .balances import Balance, balance_equations
 from .exponent_analysis import BalanceResult, Painleve
 from .flint_gcd import flint_gcd
 from .kovalevskaya import LAMBDA, Exponents, characteristic_polynomial, kovalevskaya_matrix
-from .prime_components import components
+from .prime_components import DecompositionLimit, components
 from .weighted import WeightedField, WeightedFieldError, split_field
 
 #: Parameter values tried: each costs one decomposition over Q, and a generic failure
@@ -63,15 +63,18 @@ def witness(split: WeightedField, *, seed: int = 0, tries: int = TRIES) -> Witne
     rng = random.Random(seed)
     for _ in range(tries):
         values = _values(split.parameters, rng)
-        at = [sp.expand(sp.together(f.xreplace(values))) for f in split.field]
+        at = [f.xreplace(values) for f in split.field]  # split_field expands as it reads
         if any(f.has(sp.zoo, sp.nan, sp.oo) for f in at):
             continue  # a coefficient's denominator vanishes there: not a specialisation
         try:
             special = split_field(split.variables, at, split.weights, parameters=())
         except WeightedFieldError:  # the leading part vanishes there
             continue
-        with flint_gcd():
-            found = _failing_balance(special)
+        try:
+            with flint_gcd():
+                found = _failing_balance(special)
+        except DecompositionLimit:  # too many branches at this value: try another
+            continue
         if found is not None:
             return Witness(values, found)
     return None
