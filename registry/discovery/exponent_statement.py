@@ -112,7 +112,11 @@ def _painleve(document: Mapping[str, Any]) -> str:
 
 
 def witness_statement(
-    witness: Mapping[str, Any], weights: str, generic: Sequence[str], homogeneous: bool
+    witness: Mapping[str, Any],
+    weights: str,
+    generic: Sequence[str],
+    homogeneous: bool,
+    divided: bool = False,
 ) -> str:
     """The statement of an analysis over Q(parameters) that ran out of time, where one
     exact analysis at rational values found a simple balance with an exponent that is
@@ -120,22 +124,28 @@ def witness_statement(
     and nothing else is stated."""
     at = ", ".join(f"{p} = {v}" for p, v in witness["values"].items())
     exact = ", ".join(witness["rational"])
-    n = witness["irrational"]
-    shown = (
-        f"the exponents {exact} and {n} irrational ones (given exactly in the witness)"
-        if n
-        else f"the exponents {exact}"
+    n = witness["not_rational"]
+    if not n:
+        shown = f"the exponents {exact}"
+    elif exact:
+        shown = f"the exponents {exact} and {n} that are not rational (in the witness)"
+    else:
+        shown = f"{n} exponents, none rational (in the witness)"
+    jacobian = (
+        "the Kovalevskaya matrix times the field's denominators"
+        if divided
+        else "the Kovalevskaya matrix"
     )
     return (
-        f"{_scope(homogeneous, weights)}. {ARS[0].upper()}{ARS[1:]} fails for generic values of "
-        f"{', '.join(generic)}: at {at}, a balance has {shown}, not all integers, "
-        "and none of them is 0, so "
-        "the balance is a simple root of the balance equations (their Jacobian is the "
-        "Kovalevskaya matrix); it continues to a balance at every nearby value, with an "
-        "exponent that stays off the integers there and, the balances being algebraic in "
-        "the parameters, at every value outside a set of measure zero. The balances of "
-        "generic values were not all found within the budget, so nothing else is "
-        "established: not their exponents, nor the degrees Yoshida's theorem allows"
+        f"{_scope(homogeneous, weights)}. {ARS[0].upper()}{ARS[1:]} fails for generic values "
+        f"of {', '.join(generic)}: at {at}, a balance has {shown}, not all integers, and "
+        "none of them is 0, so the balance is a simple root of the balance equations (their "
+        f"Jacobian is {jacobian}); it continues to a balance at every nearby value, with "
+        "an exponent that stays off the integers there, and, the balances being algebraic "
+        "in the parameters, at every value outside a set of measure zero some balance has "
+        "an exponent that is not an integer. The balances of generic values were not all "
+        "found within the budget, so nothing else is established: not their exponents, nor "
+        "the degrees Yoshida's theorem allows"
     ) + "."
 
 

@@ -327,14 +327,16 @@ def _witness_part(
     document: the balances, exponents and degrees of generic values stay unknown."""
     entry = _balance(w.balance, tested=False)
     e = w.balance.exponents
-    irrational = sum(int(sp.degree(f, LAMBDA)) * m for f, m in e.implicit)
+    rational = [v for v in e.values if v.is_rational]
     witnessed = {
         "values": {str(p): sp.sstr(v) for p, v in w.values.items()},
         "point": entry["point"],
         "root_of": entry["root_of"],
         "exponents": entry["exponents"],
-        "rational": [sp.sstr(v) for v in e.values],
-        "irrational": irrational,
+        "rational": [sp.sstr(v) for v in rational],
+        "not_rational": len(e.values)
+        - len(rational)
+        + sum(int(sp.degree(f, LAMBDA)) * m for f, m in e.implicit),
     }
     return {
         "painleve": {"passes": False, "compatible": None, "conditions": []},
@@ -344,6 +346,7 @@ def _witness_part(
             options.weights_text(),
             [str(p) for p in found.parameters],
             split.homogeneous,
+            bool(split.denominators),
         ),
     }
 

@@ -327,7 +327,8 @@ def test_out_of_time_with_a_parameter_a_witness_shows_the_test_failing_for_gener
     assert "degrees" not in d and d["balances"] == []  # nothing generic is claimed
     w = d["witness"]
     assert list(w["values"]) == ["a"] and w["rational"] == ["-1", "2", "3", "4"]
-    assert w["irrational"] == 2
+    assert w["not_rational"] == 2
+    assert "-1, 2, 3, 4 and 2 that are not rational" in result.statement
     assert "fails for generic values of a: at a = " in result.statement
     assert "nor the degrees Yoshida's theorem allows" in result.statement
     assert "fails (by a simple balance at a = " in exponents_text(result)

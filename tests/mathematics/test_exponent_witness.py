@@ -73,3 +73,28 @@ def test_a_parameter_value_where_a_coefficient_is_undefined_is_passed_over():
     field = [x**2, x * y / (a - v)]
     found = witness(split_field([x, y], field, [1, 1]))
     assert found is not None and found.values[a] != v
+
+
+def test_a_parameter_declared_integer_gets_no_witness():
+    """x' = x^2, y' = n x y with n an integer: the exponents -1 and 1 - n are integers
+    at every admissible n, and the solutions x = -1/(t - t0), y = C (t - t0)^(-n) are
+    meromorphic; a value off the integers proves nothing about them."""
+    n = sp.Symbol("n", integer=True)
+    field = [x**2, n * x * y]
+    assert exponents([x, y], field, [1, 1]).painleve_verdict is not False
+    assert witness(split_field([x, y], field, [1, 1])) is None
+    real = sp.Symbol("n")
+    assert witness(split_field([x, y], [x**2, real * x * y], [1, 1])) is not None
+
+
+def test_exponents_of_a_factor_over_q_that_are_not_rational_are_counted_as_such():
+    """x' = x^2, y' = a x z, z' = x y: the balance (-1, 0, 0) has the exponents -1 and
+    1 +- sqrt(a), the roots of a factor over Q at a value that is not a square."""
+    field = [x**2, a * x * z, x * y]
+    found = witness(split_field([x, y, z], field, [1, 1, 1]))
+    assert found is not None
+    values = found.balance.exponents.values
+    assert [v for v in values if v.is_rational] == [-1]
+    assert sorted(values, key=str)[1:] == sorted(
+        [1 - sp.sqrt(found.values[a]), 1 + sp.sqrt(found.values[a])], key=str
+    )

@@ -369,7 +369,7 @@ def test_a_witnessed_failure_is_shown_with_its_balance_and_its_long_parts_elided
     witness = {
         "values": {"a": "6/7"}, "point": {"M1": "theta", "M2": "0"},
         "root_of": "theta**2 + 3 = 0", "exponents": ["-1", f"root of lambda**2 + {long}"],
-        "rational": ["-1"], "irrational": 1,
+        "rational": ["-1"], "not_rational": 1,
     }  # fmt: skip
     document = {
         "weights": {"M": 1}, "decided": False, "reason": "time budget exceeded (8 s)",
