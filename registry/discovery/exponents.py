@@ -36,7 +36,7 @@ from ..mathematics.exponent_families import (
     exponent_family,
     kind_of,
 )
-from ..mathematics.exponent_witness import Witness, witness
+from ..mathematics.exponent_witness import Witness, approximate, witness
 from ..mathematics.grading import candidates, per_variable, shift
 from ..mathematics.kovalevskaya import LAMBDA
 from ..mathematics.leading_weights import leading_weights
@@ -328,15 +328,16 @@ def _witness_part(
     entry = _balance(w.balance, tested=False)
     e = w.balance.exponents
     rational = [v for v in e.values if v.is_rational]
+    implicit = sum(int(sp.degree(f, LAMBDA)) * m for f, m in e.implicit)
+    not_rational = len(e.values) - len(rational) + implicit
     witnessed = {
         "values": {str(p): sp.sstr(v) for p, v in w.values.items()},
         "point": entry["point"],
         "root_of": entry["root_of"],
         "exponents": entry["exponents"],
         "rational": [sp.sstr(v) for v in rational],
-        "not_rational": len(e.values)
-        - len(rational)
-        + sum(int(sp.degree(f, LAMBDA)) * m for f, m in e.implicit),
+        "not_rational": not_rational,
+        "approximate": [_approximately(z) for z in approximate(w)],
     }
     return {
         "painleve": {"passes": False, "compatible": None, "conditions": []},
@@ -349,6 +350,14 @@ def _witness_part(
             bool(split.denominators),
         ),
     }
+
+
+def _approximately(z: complex) -> str:
+    """A number to six digits in the case language (``0.5 - 2.13094*I``)."""
+    if abs(z.imag) <= 1e-12 * max(1.0, abs(z.real)):
+        return f"{z.real:.6g}"
+    sign = "-" if z.imag < 0 else "+"
+    return f"{z.real:.6g} {sign} {abs(z.imag):.6g}*I"
 
 
 @dataclass(frozen=True)

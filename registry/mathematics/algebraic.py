@@ -269,7 +269,7 @@ def _crootof(root: sp.CRootOf) -> flint.acb:
     """The ball of the FLINT root of the CRootOf's polynomial that lies in its isolating
     interval (refined until exactly one does)."""
     poly = root.poly
-    candidates = _flint_roots(poly)
+    candidates = flint_roots(poly)
     for _ in range(60):
         interval = root._get_interval()
         if root.is_real:
@@ -286,7 +286,7 @@ def _crootof(root: sp.CRootOf) -> flint.acb:
 
 
 @functools.lru_cache(maxsize=256)
-def _flint_roots(poly: sp.Poly) -> list[flint.acb]:
+def flint_roots(poly: sp.Poly) -> list[flint.acb]:
     """Balls around the roots of a polynomial over Q (at the working precision)."""
     coeffs = sp.Poly(poly.as_expr(), *poly.gens, domain=sp.QQ).clear_denoms(convert=True)[1]
     integral = flint.fmpz_poly([int(a) for a in coeffs.all_coeffs()[::-1]])

@@ -36,6 +36,7 @@ import random
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
+import flint
 import sympy as sp
 
 from . import algebraic
@@ -86,6 +87,27 @@ def witness(split: WeightedField, *, seed: int = 0, tries: int = TRIES) -> Witne
         if found is not None:
             return Witness(values, found)
     return None
+
+
+def approximate(found: Witness) -> list[complex]:
+    """The witness's exponents that are not rational, numerically, at one root theta of
+    its component's minimal polynomial: for a reader, never for the verdict (which the
+    factors over Q decide exactly). Empty where FLINT cannot isolate them."""
+    component = found.balance.balance.component
+    e = found.balance.exponents
+    try:
+        with algebraic.precision():
+            theta = algebraic.flint_roots(component.minimal)[0]
+            values = [algebraic.to_acb(v) for v in e.values if not v.is_rational]
+            for factor, multiplicity in e.implicit:
+                poly = sp.Poly(factor, LAMBDA)
+                at = {component.symbol: theta}
+                coeffs = [algebraic.evaluate(c, at) for c in reversed(poly.all_coeffs())]
+                values += [r for r in flint.acb_poly(coeffs).roots() for _ in range(multiplicity)]
+    except (ValueError, ZeroDivisionError, algebraic.Unidentified):
+        return []
+    numbers = [complex(float(v.real.mid()), float(v.imag.mid())) for v in values]
+    return sorted(numbers, key=lambda z: (round(z.real, 9), round(z.imag, 9)))
 
 
 def _values(parameters: Sequence[sp.Symbol], rng: random.Random) -> dict:

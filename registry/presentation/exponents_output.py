@@ -115,6 +115,9 @@ def _witness(w: Mapping[str, Any]) -> list[str]:
         f"    theta: a root of {shown(w['root_of'])}",
         f"    exponents: {', '.join(map(shown, w['exponents']))} (not all integers; none 0)",
     ]
+    if w.get("approximate"):
+        numbers = ", ".join(w["approximate"])
+        lines.append(f"    those not rational, at one root theta, approximately: {numbers}")
     if any(len(v) > LONG for v in [*w["point"].values(), w["root_of"], *w["exponents"]]):
         lines.append("    (long expressions elided: registry exponents --json prints them whole)")
     return lines

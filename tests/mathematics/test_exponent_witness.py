@@ -7,7 +7,7 @@ from __future__ import annotations
 import sympy as sp
 
 from registry.mathematics.exponent_analysis import exponents
-from registry.mathematics.exponent_witness import witness
+from registry.mathematics.exponent_witness import approximate, witness
 from registry.mathematics.weighted import split_field
 from tests.helpers.tops import HEAVY_WEIGHTS, STATE, euler_top, heavy_top
 
@@ -98,3 +98,23 @@ def test_exponents_of_a_factor_over_q_that_are_not_rational_are_counted_as_such(
     assert sorted(values, key=str)[1:] == sorted(
         [1 - sp.sqrt(found.values[a]), 1 + sp.sqrt(found.values[a])], key=str
     )
+    root = float(sp.sqrt(found.values[a]))
+    assert [round(z.real, 9) for z in approximate(found)] == [
+        round(1 - root, 9),
+        round(1 + root, 9),
+    ]
+    assert all(z.imag == 0 for z in approximate(found))
+
+
+def test_the_heavy_top_s_exponents_off_the_integers_come_in_a_pair_summing_to_one():
+    """Moments (2, 3, 4), centre (1, 2, a): the witnessing balance lies off gamma = 0,
+    where the exponents are -1, 2, 3, 4 and rho, 1 - rho (Kovalevskaya's pairing), rho
+    a root of a quadratic over the balance's field of degree 8: approximately, at one
+    root theta, the two sum to 1 and are not real integers."""
+    found = witness(split_field(STATE, heavy_top((2, 3, 4), (1, 2, a)), HEAVY_WEIGHTS))
+    assert found is not None
+    assert found.balance.exponents.values == (-1, 2, 3, 4)
+    assert found.balance.balance.component.minimal.degree() == 8
+    rho, other = approximate(found)
+    assert abs(rho + other - 1) < 1e-9
+    assert min(abs(rho - round(rho.real)), abs(other - round(other.real))) > 1e-3
