@@ -24,7 +24,7 @@ integer gets no witness.
 
 The components at p0 are taken smallest first, and each is decided from its
 characteristic polynomial over Q(u)/(g) split as G H (``kovalevskaya``): its rational
-exponents are G's roots, H's roots are irrational at every balance. So no balance's
+exponents are G's roots, H's roots are not rational at any balance. So no balance's
 exponents need be written out, and the first component that fails ends the search.
 Nothing else carries over from one value: exponents that are integers at p0 may not be
 elsewhere, and Yoshida's degrees need every balance of the generic system.
@@ -57,7 +57,7 @@ class Witness:
     """A simple balance with an exponent that is not an integer, at rational parameter
     ``values``: the test fails for generic values (module doc). The balance is given
     through a root of its component's minimal polynomial, its exponents as the rational
-    ones and a factor whose roots are irrational (``Exponents.implicit``)."""
+    ones and factors whose roots are not rational (``Exponents.implicit``)."""
 
     values: Mapping[sp.Symbol, sp.Rational]
     balance: BalanceResult
