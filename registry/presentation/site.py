@@ -591,13 +591,20 @@ def _exponents(
 def _witness(w: dict[str, Any]) -> dict[str, Any]:
     """The balance at rational values that shows the Painlevé test failing for generic
     values (an analysis out of time), long expressions elided with the whole behind."""
-    texts = [*w["point"].values(), w["root_of"], *w["exponents"]]
+    point = ", ".join(f"{x} = {shown(v)}" for x, v in w["point"].items())
+    exponents = ", ".join(map(shown, w["exponents"]))
+    whole = [
+        (", ".join(f"{x} = {v}" for x, v in w["point"].items()), point),
+        (w["root_of"], shown(w["root_of"])),
+        (", ".join(w["exponents"]), exponents),
+    ]
     return {
         "at": ", ".join(f"{p} = {v}" for p, v in w["values"].items()),
-        "point": ", ".join(f"{x} = {shown(v)}" for x, v in w["point"].items()),
+        "point": point,
         "root_of": shown(w["root_of"]),
-        "exponents": ", ".join(map(shown, w["exponents"])),
-        "whole": [t for t in texts if shown(t) != t],
+        "exponents": exponents,
+        "approximate": ", ".join(w.get("approximate", ())),
+        "whole": [full for full, short in whole if full != short],
     }
 
 

@@ -45,7 +45,16 @@ from registry.language.casefile import parse_case_text
 from registry.model import ExponentOptions, ExponentResult
 from registry.presentation import site
 from registry.presentation.site import bracket
-from tests.helpers.samples import AFFINE, CASES, FAMILIES, HAMILTONIAN, SEED, YEHIA_B, ZHUKOVSKY
+from tests.helpers.samples import (
+    AFFINE,
+    CASES,
+    FAMILIES,
+    HAMILTONIAN,
+    SEED,
+    TEST_DATA,
+    YEHIA_B,
+    ZHUKOVSKY,
+)
 
 ROOT = Path(__file__).resolve().parents[2]
 ARTIFACTS = ROOT / "test-artifacts"
@@ -54,6 +63,8 @@ CHROMEDRIVER = os.environ.get("REGISTRY_CHROMEDRIVER", "/usr/bin/chromedriver")
 RENAMED = "zhukovsky-1885-renamed-gyrostat"
 SO31 = "test-kovalevskaya-so31"  # Hamiltonian form, kappa = -1
 SO4 = "test-kovalevskaya-so4"  # Hamiltonian form, kappa a parameter
+#: the heavy top (2, 3, 4), (1, 2, a): minutes over Q(a), a witness at one a in a second
+WITNESSED = TEST_DATA / "exponents" / "heavy-top-centre-a.toml"
 HOSTILE_ID = "hostile-2024-markup"
 #: A family whose special set (Sretenskii's gyrostat) is the affine torque at some values.
 GYROSTATS = "goryachev-chaplygin-gyrostat"
@@ -112,6 +123,7 @@ def built(tmp_path_factory) -> SimpleNamespace:
         reg.audit(jobs=1)
         reg.survey([RENAMED], jobs=1)
         reg.analyse_exponents(SO4, record=True)
+        reg.analyse_exponents(WITNESSED, budget=8, record=True, jobs=1)  # out of time
         reg.analyse_exponents(HOSTILE_ID, free=["c"], record=True, jobs=1)
         reg.add(FAMILIES / "lagrange-lam.toml")  # two parameters: generic series not computed
         reg.analyse_exponents("family-lagrange-lam", free=["lam", "z"], record=True, jobs=1)
@@ -154,7 +166,9 @@ def test_every_case_has_its_permanent_page_downloads_and_alias_redirect(built):
     family = f"family-{GYROSTATS}"  # recorded by its search, with its special set
     recorded = {family, f"{family}-where-k1-0-k2-0"}
     lagrange = "family-lagrange-lam"
-    assert set(ids) == {*SEED, RENAMED, HOSTILE_ID, SO31, SO4, lagrange, *recorded} - {ZHUKOVSKY}
+    witnessed = "test-heavy-top-centre-a"
+    expected = {*SEED, RENAMED, HOSTILE_ID, SO31, SO4, lagrange, witnessed, *recorded}
+    assert set(ids) == expected - {ZHUKOVSKY}
     for case_id in ids:
         for ext in ("html", "toml", "audit.json", "m", "mpl", "py"):
             assert (built.site / "cases" / f"{case_id}.{ext}").is_file(), (case_id, ext)
@@ -362,6 +376,17 @@ def test_a_long_balance_is_elided_on_the_page_and_shown_whole_on_request():
     assert page(balance, passes=None)["painleve"] == "not made"
 
 
+def test_a_case_page_shows_a_failure_witnessed_at_rational_values(built):
+    """The analysis over Q(a) ran out of time; the page says the test fails for generic
+    values, by which balance, with its long coordinates behind a disclosure."""
+    section = _exponents_section(built, "test-heavy-top-centre-a")
+    assert "Painlevé (ARS) test for generic values: fails, by a simple balance at a = " in section
+    assert "those not rational, at one root theta, approximately" in section
+    assert "<details><summary>in full</summary><code>M1 = " in section
+    assert "fails for generic values of a" in section  # the statement
+    assert "Degrees Yoshida's theorem allows" not in section  # nothing generic is claimed
+
+
 def test_a_witnessed_failure_is_shown_with_its_balance_and_its_long_parts_elided():
     """An analysis out of time with a witness (``exponent_witness``): the page says the
     test fails for generic values, at which values, and shows the balance there."""
@@ -369,7 +394,7 @@ def test_a_witnessed_failure_is_shown_with_its_balance_and_its_long_parts_elided
     witness = {
         "values": {"a": "6/7"}, "point": {"M1": "theta", "M2": "0"},
         "root_of": "theta**2 + 3 = 0", "exponents": ["-1", f"root of lambda**2 + {long}"],
-        "rational": ["-1"], "not_rational": 1,
+        "rational": ["-1"], "not_rational": 1, "approximate": ["0.5 - 1.2*I"],
     }  # fmt: skip
     document = {
         "weights": {"M": 1}, "decided": False, "reason": "time budget exceeded (8 s)",
@@ -385,7 +410,8 @@ def test_a_witnessed_failure_is_shown_with_its_balance_and_its_long_parts_elided
         "theta**2 + 3 = 0",
     )
     assert w["exponents"].startswith("-1, <an expression in lambda, of, root, theta: ")
-    assert w["whole"] == [f"root of lambda**2 + {long}"]
+    assert w["whole"] == [f"-1, root of lambda**2 + {long}"]
+    assert w["approximate"] == "0.5 - 1.2*I"
     bare = {k: v for k, v in document.items() if k != "witness"}  # no witness: not made
     without = site._exponents(
         site.ExponentEntry(1, 1, ExponentResult("d", "h", result.options, bare))
