@@ -315,10 +315,10 @@ def test_past_its_budget_an_analysis_establishes_nothing():
 def test_out_of_time_with_a_parameter_a_witness_shows_the_test_failing_for_generic_values():
     """The heavy top with moments (2, 3, 4) and centre (1, 2, a): its balances over Q(a)
     take minutes (261 s once), so the analysis runs out of time; at one rational a, a
-    simple balance with irrational exponents shows the test failing for generic a. The
-    witness is checked again numerically, apart from the exact code: each root theta
-    gives a point solving v(c) + w c = 0, whose Kovalevskaya matrix has no eigenvalue 0
-    and one off the integers."""
+    simple balance with exponents that are not rational shows the test failing for
+    generic a. The witness is checked again numerically, apart from the exact code: each
+    root theta gives a point solving v(c) + w c = 0, whose Kovalevskaya matrix has no
+    eigenvalue 0 and one off the integers."""
     case, result = analysed(EXPONENTS / "heavy-top-centre-a.toml", budget=8)
     d = result.document
     assert not result.decided and d["budget"] == 8

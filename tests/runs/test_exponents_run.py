@@ -57,8 +57,7 @@ def test_an_analysis_that_ran_out_of_time_is_made_again_with_a_larger_budget(tmp
 
 def test_a_witnessed_failure_is_recorded_as_failing_and_nothing_else(tmp_path):
     """Out of time with a witness (``exponent_witness``): the stored analysis is not
-    decided, its Painlevé column says fails, its document comes back whole, and a larger
-    budget analyses again."""
+    decided, its Painlevé column says fails, and its document comes back whole."""
     path = TEST_DATA / "exponents" / "heavy-top-centre-a.toml"
     with registry.open(tmp_path / "r.sqlite") as reg:
         report = reg.analyse_exponents(path, budget=8, record=True, jobs=1)
