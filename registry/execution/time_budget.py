@@ -18,6 +18,11 @@ from dataclasses import dataclass, replace
 
 from .. import settings
 
+#: Seconds between further signals once a block's time is up, until it ends: Python drops
+#: an exception raised where it cannot propagate (a garbage collector's weakref callback,
+#: a ``__del__``), and a signal that lands there would otherwise be lost.
+AGAIN = 0.5
+
 
 class BudgetExceeded(BaseException):
     """Raised inside a check whose time is up.
@@ -77,7 +82,9 @@ def time_limit(seconds: float | None, *, cpu: bool = False) -> Iterator[None]:
     A block that the signal interrupted always ends in BudgetExceeded, also when code
     inside it caught the exception and went on (sympy's ``except Exception`` around a C
     extension's callback, where the exception arrives as a SystemError): what it then
-    computed came after its time.
+    computed came after its time. Once the time is up the signal comes again every
+    ``AGAIN`` seconds until the block ends, so that one Python dropped (raised in a
+    garbage collector's callback) does not let the block run on.
 
     Blocks nest: an inner block ends no later than the enclosing one's time, and the
     enclosing block's timer goes on after it (a stage with its own budget inside an
@@ -93,8 +100,12 @@ def time_limit(seconds: float | None, *, cpu: bool = False) -> Iterator[None]:
         (signal.SIGPROF, signal.ITIMER_PROF) if cpu else (signal.SIGALRM, signal.ITIMER_REAL)
     )
     fired: list[bool] = []
+    over: list[bool] = []
 
     def interrupt(signum, frame):
+        if over:  # a signal that outlived its block (its cleanup was cut short): stop it
+            signal.setitimer(timer, 0)
+            return
         fired.append(True)
         raise BudgetExceeded
 
@@ -102,8 +113,10 @@ def time_limit(seconds: float | None, *, cpu: bool = False) -> Iterator[None]:
     outer, interval = signal.getitimer(timer)  # what an enclosing block has left (0: none)
     clock = time.process_time if cpu else time.monotonic
     begun = clock()
-    signal.setitimer(timer, min(seconds, outer) if outer else seconds)
     try:
+        # armed inside the try: a signal at once (a budget of 1e-9 s) still meets the
+        # cleanup below, and no timer is left running after the block
+        signal.setitimer(timer, min(seconds, outer) if outer else seconds, AGAIN)
         yield
         if fired:  # the BudgetExceeded was caught inside the block, and it went on
             raise BudgetExceeded
@@ -115,6 +128,7 @@ def time_limit(seconds: float | None, *, cpu: bool = False) -> Iterator[None]:
             raise BudgetExceeded from err
         raise
     finally:
+        over.append(True)
         signal.setitimer(timer, 0)
         signal.signal(sig, previous)
         if outer:  # the enclosing block's timer goes on: what it has left, or at once

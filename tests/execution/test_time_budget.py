@@ -9,7 +9,7 @@ import pytest
 import sympy as sp
 
 from registry import Verdict, audit_case, load_case
-from registry.execution.time_budget import BudgetExceeded, TimeBudget, time_limit
+from registry.execution.time_budget import AGAIN, BudgetExceeded, TimeBudget, time_limit
 from registry.model import Expression
 from tests.helpers.clocks import HANG, cpu_bound
 from tests.helpers.samples import CASES
@@ -52,6 +52,38 @@ def test_a_budget_exceeded_swallowed_inside_the_block_still_ends_it_so():
                 swallowed.__cause__ = err
             finished.append(True)
     assert finished == [True]
+
+
+def test_a_signal_python_dropped_comes_again_until_the_block_ends():
+    """A signal that lands in a garbage collector's weakref callback is printed and
+    dropped by Python (SQLAlchemy's ``_collection_gced`` once swallowed the 1 s budget of
+    an audit check, which then ran past 20 s of CPU time). Here the first interrupt is
+    dropped by hand; the timer comes again and ends the block within a second."""
+    dropped = []
+    begun = time.monotonic()
+    with cpu_bound(5), pytest.raises(BudgetExceeded):
+        with time_limit(0.1):
+            while time.monotonic() - begun < 30:
+                if dropped:
+                    continue
+                try:
+                    sum(range(1000))
+                except BudgetExceeded:
+                    dropped.append(True)  # what Python does in a weakref callback
+    assert dropped == [True] and time.monotonic() - begun < 0.1 + AGAIN + 0.5
+
+
+def test_a_budget_spent_before_the_block_begins_leaves_no_timer_behind():
+    """A budget of 1e-9 s fires before the block's first line: the block still ends in
+    BudgetExceeded and its timer, which fires again until the block ends, is stopped."""
+    handler = signal.getsignal(signal.SIGALRM)
+    for _ in range(20):
+        with pytest.raises(BudgetExceeded):
+            with time_limit(1e-9):
+                while True:
+                    pass
+        assert signal.getitimer(signal.ITIMER_REAL) == (0.0, 0.0)
+        assert signal.getsignal(signal.SIGALRM) is handler
 
 
 def test_time_limit_is_lifted_afterwards():
