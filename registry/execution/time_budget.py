@@ -10,6 +10,7 @@ processes (``local``, ``children``) are killed from outside when their case over
 from __future__ import annotations
 
 import signal
+import sys
 import threading
 import time
 from collections.abc import Iterator, Mapping
@@ -84,7 +85,9 @@ def time_limit(seconds: float | None, *, cpu: bool = False) -> Iterator[None]:
     extension's callback, where the exception arrives as a SystemError): what it then
     computed came after its time. Once the time is up the signal comes again every
     ``AGAIN`` seconds until the block ends, so that one Python dropped (raised in a
-    garbage collector's callback) does not let the block run on.
+    garbage collector's callback) does not let the block run on; not while a
+    BudgetExceeded is being handled (a ``finally`` stopping worker processes on the way
+    out), which it would cut short.
 
     Blocks nest: an inner block ends no later than the enclosing one's time, and the
     enclosing block's timer goes on after it (a stage with its own budget inside an
@@ -106,6 +109,8 @@ def time_limit(seconds: float | None, *, cpu: bool = False) -> Iterator[None]:
         if over:  # a signal that outlived its block (its cleanup was cut short): stop it
             signal.setitimer(timer, 0)
             return
+        if fired and isinstance(sys.exc_info()[1], BudgetExceeded):
+            return  # a cleanup on the way out (a pool stopping its workers): let it end
         fired.append(True)
         raise BudgetExceeded
 

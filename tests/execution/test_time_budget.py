@@ -73,6 +73,23 @@ def test_a_signal_python_dropped_comes_again_until_the_block_ends():
     assert dropped == [True] and time.monotonic() - begun < 0.1 + AGAIN + 0.5
 
 
+def test_a_cleanup_on_the_way_out_is_not_cut_short_by_the_signal_that_comes_again():
+    """A worker pool stops its processes in a ``finally`` as the BudgetExceeded passes
+    through: the signal that comes again every AGAIN seconds leaves that alone."""
+    cleaned = []
+    with cpu_bound(5), pytest.raises(BudgetExceeded):
+        with time_limit(0.05):
+            try:
+                while True:
+                    pass
+            finally:
+                begun = time.monotonic()
+                while time.monotonic() - begun < 2 * AGAIN + 0.2:
+                    pass
+                cleaned.append(True)
+    assert cleaned == [True]
+
+
 def test_a_budget_spent_before_the_block_begins_leaves_no_timer_behind():
     """A budget of 1e-9 s fires before the block's first line: the block still ends in
     BudgetExceeded and its timer, which fires again until the block ends, is stopped."""
