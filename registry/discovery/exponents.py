@@ -28,7 +28,7 @@ from ..execution.executor import Executor, InProcess, LocalPool, in_order, timed
 from ..execution.serving import Failure
 from ..execution.time_budget import BudgetExceeded, time_limit
 from ..language.forms import with_values
-from ..mathematics.exponent_analysis import BalanceResult, ExponentAnalysis, exponents
+from ..mathematics.exponent_analysis import BalanceResult, ExponentAnalysis, analyse, exponents
 from ..mathematics.exponent_families import (
     GRID,
     ExponentFamily,
@@ -298,20 +298,17 @@ def _single(
     exact = budget
     if budget and found.parameters:
         exact = budget - min(budget * WITNESS_SHARE, WITNESS_SECONDS)
+    split: WeightedField | None = None
     try:
         with time_limit(exact):
-            return _document(case, options, found, _exponents(case, found, seed))
+            split = _split(case, found)
+            analysis = analyse(split, seed=seed, start=started)
+            return _document(case, options, found, analysis)
     except BudgetExceeded:
         left = (budget or 0.0) - (time.perf_counter() - started)
-        if exact == budget or left <= 0:
+        if exact == budget or left <= 0 or split is None:
             raise
     with time_limit(left):  # BudgetExceeded past it, as for the analysis itself
-        try:
-            split = split_field(
-                found.variables, found.field, found.weights, parameters=found.parameters
-            )
-        except WeightedFieldError as err:
-            raise _named(case, found, err) from None
         found_witness = witness(split, seed=seed)
     if found_witness is None:
         raise BudgetExceeded
@@ -494,11 +491,10 @@ def _default_would_do(case: Case, options: ExponentOptions) -> str:
 # ------------------------------------------------------------------ one system
 
 
-def _exponents(case: Case, found: CaseField, seed: int) -> ExponentAnalysis:
+def _split(case: Case, found: CaseField) -> WeightedField:
+    """The case's field split under its weights; its problems named by the case's file."""
     try:
-        return exponents(
-            found.variables, found.field, found.weights, parameters=found.parameters, seed=seed
-        )
+        return split_field(found.variables, found.field, found.weights, parameters=found.parameters)
     except WeightedFieldError as err:
         raise _named(case, found, err) from None
 

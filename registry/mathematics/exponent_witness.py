@@ -43,7 +43,12 @@ from . import algebraic
 from .balances import Balance, balance_equations
 from .exponent_analysis import BalanceResult, Painleve
 from .flint_gcd import flint_gcd
-from .kovalevskaya import LAMBDA, Exponents, characteristic_polynomial, kovalevskaya_matrix
+from .kovalevskaya import (
+    LAMBDA,
+    balance_exponents,
+    characteristic_polynomial,
+    kovalevskaya_matrix,
+)
 from .prime_components import DecompositionLimit, components
 from .weighted import WeightedField, WeightedFieldError, split_field
 
@@ -98,13 +103,13 @@ def approximate(found: Witness) -> list[complex]:
     try:
         with algebraic.precision():
             theta = algebraic.flint_roots(component.minimal)[0]
-            values = [algebraic.to_acb(v) for v in e.values if not v.is_rational]
+            at = {component.symbol: theta}
+            values = [algebraic.evaluate(v, at) for v in e.values if not v.is_rational]
             for factor, multiplicity in e.implicit:
                 poly = sp.Poly(factor, LAMBDA)
-                at = {component.symbol: theta}
                 coeffs = [algebraic.evaluate(c, at) for c in reversed(poly.all_coeffs())]
                 values += [r for r in flint.acb_poly(coeffs).roots() for _ in range(multiplicity)]
-    except (ValueError, ZeroDivisionError, algebraic.Unidentified):
+    except (ValueError, ZeroDivisionError):  # Unidentified is a ValueError
         return []
     numbers = [complex(float(v.real.mid()), float(v.imag.mid())) for v in values]
     return sorted(numbers, key=lambda z: (round(z.real, 9), round(z.imag, 9)))
@@ -132,17 +137,8 @@ def _failing_balance(split: WeightedField) -> BalanceResult | None:
         polynomial = characteristic_polynomial(component, matrix, norm=False)
         if any(sp.expand(f.subs(LAMBDA, 0)) == 0 for f, _ in polynomial.common):
             continue  # 0 is an exponent: not a simple root
-        values, implicit = [], []
-        for factor, multiplicity in polynomial.common:
-            roots = algebraic.exact_roots(sp.Poly(factor, LAMBDA, domain=sp.QQ))
-            if roots is None:
-                implicit.append((factor, multiplicity))
-            else:
-                values += [r for r in roots for _ in range(multiplicity)]
-        if sp.Poly(polynomial.rest, LAMBDA).degree() > 0:
-            implicit.append((sp.expand(polynomial.rest), 1))
-        exponents = Exponents(tuple(sorted(values, key=algebraic.numeric_key)), tuple(implicit))
+        balance = Balance(dict(component.coordinates), component, None)
+        exponents = balance_exponents(balance, polynomial)  # H's roots left implicit
         if not exponents.integer:
-            balance = Balance(dict(component.coordinates), component, None)
             return BalanceResult(balance, exponents, Painleve(()))
     return None
