@@ -680,8 +680,9 @@ def searches(case_id: str | None, long_: bool, as_json: bool) -> None:
     default=settings.DEFAULT_EXPONENT_SECONDS,
     show_default=True,
     help="Seconds the whole analysis may take; past them nothing is established, except "
-    "that a system with parameters may be shown to fail the Painlevé test at generic "
-    "values by a witness at rational ones, sought in the last quarter, 10 s at most (with "
+    "that a system with parameters (a family's generic members) may be shown to fail the "
+    "Painlevé test at generic values by a witness at rational ones, sought in the last "
+    "quarter, 10 s at most (with "
     "local worker processes a single system is analysed in one, stopped a few seconds "
     "past them; with --jobs 1 or --scheduler in this process, where a long step in FLINT "
     "ends first).",

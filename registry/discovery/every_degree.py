@@ -118,6 +118,11 @@ def _not_combined(search: Search, exponents: ExponentResult | None) -> str:
             "the Kovalevskaya analysis used other weights "
             f"({exponents.options.weights_text()}) than the search ({o.weights_text()})"
         )
+    if not exponents.document["balances"] and exponents.document.get("all_integer") is None:
+        return (
+            "the balances of generic values were not found (the family's analysis over "
+            "Q(parameters) was not made)"
+        )
     if not exponents.document["balances"]:
         return "the leading part has no balance, so Yoshida's theorem says nothing"
     return ""
@@ -162,6 +167,13 @@ def _family(search: Search, d: Mapping[str, Any]) -> str:
     if d.get("all_integer") is False:
         parts.insert(
             0, f"generic members have exponents that are not all integers: {ARS} fails for them"
+        )
+    elif "witness" in d:
+        at = ", ".join(f"{p} = {v}" for p, v in d["witness"]["values"].items())
+        parts.insert(
+            0,
+            f"{ARS} fails for generic members (a simple balance at {at} has an exponent that "
+            "is not an integer)",
         )
     return "; ".join(parts)
 

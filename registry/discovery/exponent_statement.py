@@ -122,6 +122,15 @@ def witness_statement(
     exact analysis at rational values found a simple balance with an exponent that is
     not an integer (``mathematics.exponent_witness``): the test fails for generic values,
     and nothing else is stated."""
+    return (
+        f"{_scope(homogeneous, weights)}. {_witnessed(witness, generic, divided)}. The "
+        "balances of generic values were not all found within the budget, so nothing else "
+        "is established: not their exponents, nor the degrees Yoshida's theorem allows."
+    )
+
+
+def _witnessed(witness: Mapping[str, Any], generic: Sequence[str], divided: bool) -> str:
+    """That the test fails for generic values of ``generic``, by the witness, and why."""
     at = ", ".join(f"{p} = {v}" for p, v in witness["values"].items())
     exact = ", ".join(witness["rational"])
     n = witness["not_rational"]
@@ -137,16 +146,14 @@ def witness_statement(
         else "the Kovalevskaya matrix"
     )
     return (
-        f"{_scope(homogeneous, weights)}. {ARS[0].upper()}{ARS[1:]} fails for generic values "
+        f"{ARS[0].upper()}{ARS[1:]} fails for generic values "
         f"of {', '.join(generic)}: at {at}, a balance has {shown}, not all integers, and "
         "none of them is 0, so the balance is a simple root of the balance equations (their "
         f"Jacobian is {jacobian}); it continues to a balance at every nearby value, with "
         "an exponent that stays off the integers there, and, the balances being algebraic "
         "in the parameters, at every value outside a set of measure zero some balance has "
-        "an exponent that is not an integer. The balances of generic values were not all "
-        "found within the budget, so nothing else is established: not their exponents, nor "
-        "the degrees Yoshida's theorem allows"
-    ) + "."
+        "an exponent that is not an integer"
+    )
 
 
 def family_statement(document: Mapping[str, Any], weights: str) -> str:
@@ -192,7 +199,11 @@ def family_statement(document: Mapping[str, Any], weights: str) -> str:
         parts.append(_painleve_sets(document["painleve_sets"]))
     if "half_integer_sets" in document:
         parts.append(_half_integer_sets(document["half_integer_sets"]))
-    return "; ".join(parts) + "."
+    text = "; ".join(parts) + "."
+    if "witness" in document:  # the generic members' test, which the sets left unknown
+        divided = bool(document.get("denominators"))
+        text += f" {_witnessed(document['witness'], document['free'], divided)}."
+    return text
 
 
 def _painleve_sets(found: Mapping[str, Any]) -> str:

@@ -275,10 +275,9 @@ def analyse_case(
         if not found.free:
             document = _single(case, options, found, budget, seed)
         else:
-            family, strata = _family(case, found, executor or InProcess(), budget, seed)
-            document = _family_document(case, options, found, family, *strata)
-            if catalog is not None:
-                _name_sets(case, strata, document, catalog)
+            document = _family_analysis(
+                case, options, found, executor or InProcess(), budget, seed, catalog
+            )
     except BudgetExceeded:
         document = _out_of_time(case, options, budget)
     seconds = time.perf_counter() - start
@@ -297,7 +296,7 @@ def _single(
     started = time.perf_counter()
     exact = budget
     if budget and found.parameters:
-        exact = budget - min(budget * WITNESS_SHARE, WITNESS_SECONDS)
+        exact = budget - _reserve(budget)
     split: WeightedField | None = None
     try:
         with time_limit(exact):
@@ -313,13 +312,68 @@ def _single(
     if found_witness is None:
         raise BudgetExceeded
     document = _out_of_time(case, options, budget)
-    document |= _witness_part(options, found, split, found_witness)
+    document |= _witness_part(options, split, found_witness)
     return document
 
 
-def _witness_part(
-    options: ExponentOptions, found: CaseField, split: WeightedField, w: Witness
+def _reserve(budget: float) -> float:
+    """The seconds of ``budget`` kept for a witness: ``WITNESS_SHARE``, at most
+    ``WITNESS_SECONDS``."""
+    return min(budget * WITNESS_SHARE, WITNESS_SECONDS)
+
+
+def _family_analysis(
+    case: Case,
+    options: ExponentOptions,
+    found: CaseField,
+    executor: Executor,
+    budget: float | None,
+    seed: int,
+    catalog: CatalogIndex | None,
 ) -> dict[str, Any]:
+    """A family's document (``_family``), each set of a stratification named with a
+    ``catalog``. With a budget, its reserve (``_reserve``) seeks a witness at rational
+    values that the test fails for generic members, where their test is left unknown
+    (a stratification not complete), or where one free parameter's analysis runs out of
+    time (a document that then stays undecided, as for a single system); BudgetExceeded
+    where that finds none."""
+    started = time.perf_counter()
+    reserve = _reserve(budget) if budget else 0.0
+    try:
+        family, strata = _family(case, found, executor, budget and budget - reserve, seed)
+    except BudgetExceeded:
+        if not reserve:
+            raise
+        document = _out_of_time(case, options, budget)
+    else:
+        document = _family_document(case, options, found, family, *strata)
+        if catalog is not None:
+            _name_sets(case, strata, document, catalog)
+        if not reserve or document["painleve"]["passes"] is not None:
+            return document
+    left = (budget or 0.0) - (time.perf_counter() - started)
+    split = _split(case, found, found.free)
+    found_witness = None
+    if left > 0:
+        try:
+            with time_limit(left):
+                found_witness = witness(split, seed=seed)
+        except BudgetExceeded:
+            pass
+    if found_witness is None:
+        if not document["decided"]:
+            raise BudgetExceeded
+        return document
+    part = _witness_part(options, split, found_witness)
+    if not document["decided"]:
+        return document | part
+    document["painleve"]["passes"] = False
+    document["witness"] = part["witness"]
+    document["statement"] = family_statement(document, options.weights_text())
+    return document
+
+
+def _witness_part(options: ExponentOptions, split: WeightedField, w: Witness) -> dict[str, Any]:
     """The test's verdict from a witness, and the witness itself, in an undecided
     document: the balances, exponents and degrees of generic values stay unknown."""
     entry = _balance(w.balance, tested=False)
@@ -342,7 +396,7 @@ def _witness_part(
         "statement": witness_statement(
             witnessed,
             options.weights_text(),
-            [str(p) for p in found.parameters],
+            [str(p) for p in split.parameters],
             split.homogeneous,
             bool(split.denominators),
         ),
@@ -491,10 +545,15 @@ def _default_would_do(case: Case, options: ExponentOptions) -> str:
 # ------------------------------------------------------------------ one system
 
 
-def _split(case: Case, found: CaseField) -> WeightedField:
-    """The case's field split under its weights; its problems named by the case's file."""
+def _split(
+    case: Case, found: CaseField, parameters: Sequence[sp.Symbol] | None = None
+) -> WeightedField:
+    """The case's field split under its weights, with its symbolic ``parameters`` (default:
+    those that are not free); its problems named by the case's file."""
+    if parameters is None:
+        parameters = found.parameters
     try:
-        return split_field(found.variables, found.field, found.weights, parameters=found.parameters)
+        return split_field(found.variables, found.field, found.weights, parameters=parameters)
     except WeightedFieldError as err:
         raise _named(case, found, err) from None
 

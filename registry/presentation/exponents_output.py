@@ -59,6 +59,9 @@ def _lines(result: ExponentResult) -> list[str]:
     if d["balances"]:
         degrees = ", ".join(map(str, d["degrees"])) or "none"
         lines.append(f"degrees (Yoshida): {degrees}")
+    if "witness" in d:  # a family whose sets left its generic members' test unknown
+        lines += _witness(d["witness"])
+    elif d["balances"]:
         verdict = painleve_word(d["painleve"]["passes"])
         lines.append(f"Painlevé (ARS) test{' for generic values' if d['free'] else ''}: {verdict}")
     elif "painleve_sets" in d and d["painleve"]["passes"] is not None:  # generic: not analysed

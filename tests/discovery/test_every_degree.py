@@ -83,6 +83,11 @@ def test_every_failing_hypothesis_is_named():
     undecided = ExponentResult("demo", "h", ExponentOptions(WEIGHTS), stopped)
     assert why(search(), undecided) == "the Kovalevskaya analysis was not decided (slow)."
     assert every_degree(search(), None).startswith("Nothing is stated beyond degree 4")
+    unmade = analysis(balances=[], all_integer=None, special=[])  # a family's, out of time
+    assert why(search(), unmade).startswith("the balances of generic values were not found")
+    assert why(search(), analysis(balances=[], degrees=[])).startswith(
+        "the leading part has no balance"
+    )
 
 
 def test_a_family_sets_its_special_sets_beside_the_exponents():
@@ -104,3 +109,21 @@ def test_a_family_sets_its_special_sets_beside_the_exponents():
         "(the ARS test passes)" in text  # fmt: skip
     assert "where lam = 3 the search finds more integrals, yet not every exponent is an " \
         "integer there" in text  # fmt: skip
+
+
+def test_a_family_shown_failing_by_a_witness_says_so_beside_its_special_sets():
+    """A family whose sets left its generic members' test unknown, decided by a witness at
+    rational values: the combined statement says the test fails for generic members and
+    where the witness is; without a witness, nothing is said of them."""
+    witness = {"values": {"lam": "5/2"}, "exponents": ["-1", "1/3"]}
+    found = analysis(free=["lam"], special=[], witness=witness, painleve={"passes": False})
+    special = [IntegralSet(("lam = 3",), 1)]
+    text = every_degree(search(free=("lam",), special=special), found)
+    assert (
+        "; the ARS test (Ablowitz, Ramani and Segur, J. Math. Phys. 21 (1980) 715) fails for "
+        "generic members (a simple balance at lam = 5/2 has an exponent that is not an "
+        "integer); where lam = 3 the search finds more integrals (not compared)." in text
+    )
+    unknown = analysis(free=["lam"], special=[])
+    plain = every_degree(search(free=("lam",), special=special), unknown)
+    assert "generic members" not in plain and "(not compared)" in plain

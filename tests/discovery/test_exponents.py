@@ -350,6 +350,43 @@ def test_out_of_time_with_a_parameter_a_witness_shows_the_test_failing_for_gener
         assert max(abs(e - round(e.real)) for e in eigenvalues) > 1e-3
 
 
+def test_a_family_out_of_time_with_one_free_parameter_is_shown_failing_by_a_witness():
+    """The same top as a family in a: its analysis over Q(a) runs out of time, and the
+    reserve of the budget finds the witness that a single system would, now for the
+    generic members of the family; without the witness (a budget too small for it),
+    nothing is established, as before."""
+    case, result = analysed(EXPONENTS / "heavy-top-centre-a.toml", free=["a"], budget=8)
+    d = result.document
+    assert not result.decided and result.passes is False and d["free"] == ["a"]
+    assert list(d["witness"]["values"]) == ["a"] and d["witness"]["not_rational"] == 2
+    assert "fails for generic values of a: at a = " in result.statement
+    assert "fails (by a simple balance at a = " in exponents_text(result)
+    short = analyse_case(case, exponent_options(case, free=["a"]), budget=0.2)
+    assert not short.decided and short.passes is None and "witness" not in short.document
+    assert short.statement.startswith("Nothing is established")
+
+
+def test_a_family_whose_sets_leave_its_generic_test_unknown_is_shown_failing_by_a_witness():
+    """The top with its centre at (1, b, a), a and b free: within 8 s neither
+    stratification is complete, so the sets do not decide the generic members' test;
+    a simple balance at rational (a, b) with exponents that are not rational decides
+    that it fails. The document stays a family's (its sets, as far as they went), and
+    its statement, text and verdict say where the failure comes from."""
+    _, result = analysed(EXPONENTS / "heavy-top-centre-ab.toml", free=["a", "b"], budget=8)
+    d = result.document
+    assert result.decided and not d["painleve_sets"]["complete"]
+    assert d["balances"] == [] and d["all_integer"] is None  # generic: not analysed
+    assert result.passes is False and d["painleve"]["passes"] is False
+    w = d["witness"]
+    assert sorted(w["values"]) == ["a", "b"] and w["rational"] == ["-1", "2", "3", "4"]
+    assert all(sp.Rational(v).q > 1 for v in w["values"].values())  # not integers
+    assert "fails for generic values of a, b: at a = " in result.statement
+    assert "nothing else is established" not in result.statement  # the sets are
+    text = exponents_text(result)
+    assert "Painlevé (ARS) test for generic values: fails (by a simple balance at a = " in text
+    assert "(by the sets below)" not in text
+
+
 def test_weights_that_leave_no_leading_part_are_refused_naming_the_default_ones():
     """Beside a search the analysis takes the search's weights, M: 1, gamma: 2, under
     which the terms M gamma of Grioli's affine torque dominate dx/dt; the refusal names
