@@ -334,9 +334,9 @@ def _family_analysis(
     """A family's document (``_family``), each set of a stratification named with a
     ``catalog``. With a budget, its reserve (``_reserve``) seeks a witness at rational
     values that the test fails for generic members, where their test is left unknown
-    (a stratification not complete), or where one free parameter's analysis runs out of
-    time (a document that then stays undecided, as for a single system); BudgetExceeded
-    where that finds none."""
+    (their balances not found, and a stratification not complete), or where one free
+    parameter's analysis runs out of time (a document that then stays undecided, as for
+    a single system); BudgetExceeded where that finds none."""
     started = time.perf_counter()
     reserve = _reserve(budget) if budget else 0.0
     try:
@@ -349,7 +349,8 @@ def _family_analysis(
         document = _family_document(case, options, found, family, *strata)
         if catalog is not None:
             _name_sets(case, strata, document, catalog)
-        if not reserve or document["painleve"]["passes"] is not None:
+        unknown = document["painleve"]["passes"] is None and document["all_integer"] is None
+        if not reserve or not unknown:  # generic integer exponents: no witness exists
             return document
     left = (budget or 0.0) - (time.perf_counter() - started)
     split = _split(case, found, found.free)
