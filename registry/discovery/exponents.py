@@ -375,8 +375,9 @@ def _family_analysis(
 
 
 def _witness_part(options: ExponentOptions, split: WeightedField, w: Witness) -> dict[str, Any]:
-    """The test's verdict from a witness, and the witness itself, in an undecided
-    document: the balances, exponents and degrees of generic values stay unknown."""
+    """The test's verdict from a witness, the witness itself and the statement of an
+    undecided document, whose balances, exponents and degrees of generic values stay
+    unknown (a decided family's document takes the witness alone)."""
     entry = _balance(w.balance, tested=False)
     e = w.balance.exponents
     rational = [v for v in e.values if v.is_rational]
