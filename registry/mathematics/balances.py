@@ -147,10 +147,13 @@ def _over_q(g: sp.Poly) -> sp.Poly:
 
 
 def _tidy(expr: sp.Expr) -> sp.Expr:
-    """A coordinate in a short form: expanded, radicals out of denominators."""
+    """A coordinate in a short form: expanded, radicals out of denominators; over
+    Q(parameters) one fraction whose numerator is expanded, so that terms that cancel
+    (Suslov's I13**2*I22**2 - I22*(... + I13**2*I22)) are gone."""
     expr = sp.expand(expr)
     if expr.free_symbols:
-        return sp.factor_terms(sp.together(expr))
+        numerator, denominator = sp.fraction(sp.together(expr))
+        return sp.factor_terms(sp.expand(numerator)) / denominator
     return sp.radsimp(expr)
 
 

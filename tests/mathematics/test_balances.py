@@ -124,3 +124,26 @@ def test_the_weighted_scaling_maps_no_balance_to_another(scale):
             is_zero(f.xreplace(scaled) + scale * w * scaled[v])
             for f, v, w in zip(split.leading, STATE, HEAVY_WEIGHTS, strict=True)
         )
+
+
+def test_a_balance_over_parameters_is_written_with_nothing_left_to_cancel():
+    # Suslov's body with the constraint omega3 = 0 (I12 = 0): I11 w1' = -(I13 w1 + I23 w2) w2,
+    # I22 w2' = (I13 w1 + I23 w2) w1. Its two balances are complex, over Q(I11, I22, I13,
+    # I23) with sqrt(I11), sqrt(I22). Each coordinate is one fraction over the quadratic's
+    # I11 I23**2 + I13**2 I22, its numerator no longer than when expanded (before, w1 kept
+    # I13**2*I22**2 - I22*(I11*I23**2 + I13**2*I22) and a factor I23 on both sides)
+    i11, i22 = sp.symbols("I11 I22", positive=True)
+    i13, i23 = sp.symbols("I13 I23", real=True)
+    w1, w2 = sp.symbols("w1 w2")
+    axis = i13 * w1 + i23 * w2
+    split = split_field(
+        [w1, w2], [-axis * w2 / i11, axis * w1 / i22], [1, 1], parameters=(i11, i22, i13, i23)
+    )
+    found = balances(split)
+    assert len(found) == 2
+    for b in found:
+        assert solves(split, b.point)
+        for value in b.point.values():
+            numerator, denominator = sp.fraction(value)
+            assert denominator == i11 * i23**2 + i13**2 * i22
+            assert sp.count_ops(numerator) <= sp.count_ops(sp.expand(numerator))
