@@ -180,6 +180,22 @@ def test_chaplygins_ball_density_is_proven_and_its_flipped_sign_refuted():
     assert result.verdict is R and result.witness is not None
 
 
+def test_suslovs_problem_keeps_its_energy_and_not_lebesgues_measure():
+    """Suslov's problem (omega3 = 0): the energy is conserved, a flipped sign in it is not;
+    Lebesgue's measure is not invariant (the divergence -I13 w2/I11 + I23 w1/I22), and
+    both wrong claims hold exactly where I13 = I23 = 0, the body without the coupling."""
+    audit = audit_case(load_case(DATA / "suslov-problem.toml"))
+    assert {r.claim: r.verdict for r in audit.results if r.check != "casimir"} == {
+        "energy": V,
+        "lebesgue": R,
+        "energy-sign": R,
+    }
+    assert audit.result("measure", "lebesgue").witness is not None
+    conditions = {c.target: c.branches for c in audit.conditions}
+    assert conditions["lebesgue"] == (("I13 = 0", "I23 = 0"),)
+    assert conditions["energy-sign"] == (("I13 = 0", "I23 = 0"),)
+
+
 def test_an_integral_claimed_without_its_relation_is_refuted_and_holds_with_it():
     path = CASES / "nonholonomic" / "verdier-2016-chaplygin-sleigh-odelab.toml"
     text = path.read_text(encoding="utf-8")

@@ -23,6 +23,7 @@ from __future__ import annotations
 import math
 import random
 import time
+from typing import Any
 
 import sympy as sp
 
@@ -149,8 +150,12 @@ class _Rings:
         if not any(p.degrees()[: self.n]):
             return []
         # by Gauss's lemma, p's factors over Q that involve the state (FLINT's, in big)
-        found = [f for f, _ in factor_element(p) if any(f.degrees()[: self.n])]
-        return [f.monic() if not self.params else _positive_leading(f) for f in found]
+        return [self.normal(f) for f, _ in factor_element(p) if any(f.degrees()[: self.n])]
+
+    def normal(self, f):
+        """``f`` up to a constant factor in one form (monic over Q, else with a positive
+        leading coefficient), so that a polynomial met twice is one candidate."""
+        return f.monic() if not self.params else _positive_leading(f)
 
 
 def _not_divisible(p, f, ring, rng: random.Random) -> bool:
@@ -186,13 +191,17 @@ def _cleared(field, rings: _Rings):
     ``rings.big``, and D's irreducible factors with their multiplicities. The fractions
     are read in Q[state, parameters] (cheap), the denominators factored one small factor
     at a time, and the lcm taken on the factors: no gcd of large polynomials is ever
-    computed."""
+    computed. The constant a factorisation leaves out (f = u prod g**k) is divided out
+    of that component, so that every component is multiplied by the same D."""
     cache: dict = {}
     irreducible: dict = {}
 
-    def factors(f) -> list:
+    def factors(f) -> tuple[list, Any]:
         if f not in irreducible:
-            irreducible[f] = [(_positive_leading(g), k) for g, k in factor_element(f)]
+            found = [(rings.normal(g), k) for g, k in factor_element(f)]
+            # leading coefficients multiply: u = LC(f) / prod LC(g)**k
+            unit = f.LC / math.prod((g.LC**k for g, k in found), start=rings.big.domain.one)
+            irreducible[f] = (found, unit)
         return irreducible[f]
 
     parts = []
@@ -200,7 +209,9 @@ def _cleared(field, rings: _Rings):
         numer, den = as_fraction(expr, rings.big, cache)
         powers: dict = {}
         for f, e in den.items():
-            for g, k in factors(f):
+            found, unit = factors(f)
+            numer = numer.quo_ground(unit**e)
+            for g, k in found:
                 powers[g] = powers.get(g, 0) + k * e
         parts.append((numer, powers))
     common: dict = {}

@@ -60,7 +60,12 @@ def _known_as(entry: IntegralSet) -> str:
 def _relations_statement(search: Search, ansatz: str) -> str:
     """A search for invariant relations in one sentence: the cofactors that carry them."""
     found = [
-        f"{', '.join(f'{t} = 0' for t in s.integrals)} (cofactor {s.cofactor})"
+        f"{', '.join(f'{t} = 0' for t in s.integrals)} "
+        + (
+            f"(cofactor {s.cofactor})"
+            if s.cofactor not in ("", "0")
+            else f"(cofactor 0: first integral{'s' * (len(s.integrals) != 1)})"
+        )
         for s in search.special
     ]
     if found:

@@ -103,6 +103,41 @@ def test_lotka_volterras_density():
     assert sorted(a for _, a in d.factors) == ["-1", "-1"]
 
 
+def veselova(a: int, b: int, c: int) -> dict[str, str]:
+    """Veselova's problem (L.E. Veselova, 1986), the constraint (omega, gamma) = 0 kept by
+    the multiplier lam: I omega' = I omega x omega + lam gamma, gamma' = gamma x omega."""
+    e = [f"({b} - {c})*w2*w3", f"({c} - {a})*w3*w1", f"({a} - {b})*w1*w2"]
+    quadric = f"(g1**2/{a} + g2**2/{b} + g3**2/{c})"
+    lam = f"(-({e[0]}*g1/{a} + {e[1]}*g2/{b} + {e[2]}*g3/{c})/{quadric})"
+    return {
+        "w1": f"({e[0]} + {lam}*g1)/{a}",
+        "w2": f"({e[1]} + {lam}*g2)/{b}",
+        "w3": f"({e[2]} + {lam}*g3)/{c}",
+        "g1": "g2*w3 - g3*w2",
+        "g2": "g3*w1 - g1*w3",
+        "g3": "g1*w2 - g2*w1",
+    }
+
+
+def test_veselovas_density_with_a_denominator_of_rational_coefficients():
+    # Veselova's invariant measure has density sqrt(gamma . I^-1 gamma). With moments
+    # (1, 2, 3) the field's denominator g1**2 + g2**2/2 + g3**2/3 factors as
+    # (6 g1**2 + 3 g2**2 + 2 g3**2)/6: the constant 1/6 must divide out of every
+    # component alike (before, the search proposed a wrong exponent 1/12, which the
+    # measure check refuted), and the two forms are one Darboux polynomial (before, both
+    # were listed and their constant ratio reported as a first integral)
+    found = measure_search(case(veselova(1, 2, 3)))
+    assert found.complete
+    assert [f for f, _ in found.darboux] == ["g1**2 + g2**2/2 + g3**2/3"]
+    assert found.integrals == ()
+    (d,) = found.densities
+    assert d.verdict is Verdict.VERIFIED
+    g1, g2, g3 = sp.symbols("g1 g2 g3")
+    names = {"g1": g1, "g2": g2, "g3": g3}
+    expected = sp.sqrt(g1**2 + g2**2 / 2 + g3**2 / 3)
+    assert sp.simplify(sp.sympify(d.expression, locals=names) / expected).is_number
+
+
 def test_a_field_with_radicals_is_refused():
     with pytest.raises(DiscoveryError, match="rational vector field"):
         measure_search(case({"x": "sqrt(x)", "y": "y"}))

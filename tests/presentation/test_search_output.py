@@ -65,6 +65,17 @@ def test_the_text_lists_invariant_relations_with_their_cofactor():
     assert "    M1*x0 + M3*z0 = 0    (dF/dt = K F verified)" in lines
 
 
+def test_a_relation_that_is_a_first_integral_is_named_so_in_the_statement():
+    """Suslov's problem: the energy's level sets are invariant relations with cofactor 0
+    (the statement once printed "(cofactor )"), and I13 w1 + I23 w2 = 0 has its own."""
+    suslov = FAMILIES.parent / "any-form" / "suslov-problem.toml"
+    search = discover_file(suslov, degree=2, relations=True).search
+    text = statement(search)
+    assert "I11*w1**2 + I22*w2**2 = 0 (cofactor 0: first integral)" in text
+    assert "I13*w1 + I23*w2 = 0 (cofactor (I11*I23*w1 - I13*I22*w2)/(I11*I22))" in text
+    assert "(cofactor )" not in text
+
+
 def test_the_text_says_which_symmetries_split_the_ansatz():
     """Lagrange's top at degree 8: turning about axis 3 and the reflections swapping axes
     1 and 2 keep the field, and split its ansatz; the text says so."""
