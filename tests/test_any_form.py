@@ -196,6 +196,17 @@ def test_suslovs_problem_keeps_its_energy_and_not_lebesgues_measure():
     assert conditions["energy-sign"] == (("I13 = 0", "I23 = 0"),)
 
 
+def test_todas_traces_are_proven_and_a_changed_coefficient_refuted():
+    audit = audit_case(load_case(DATA / "toda-flaschka.toml"))
+    assert {r.claim: r.verdict for r in audit.results} == {
+        "trace": V,
+        "trace-2": V,
+        "trace-3": V,
+        "trace-3-mutated": R,
+    }
+    assert audit.result("integral", "trace-3-mutated").witness is not None
+
+
 def test_an_integral_claimed_without_its_relation_is_refuted_and_holds_with_it():
     path = CASES / "nonholonomic" / "verdier-2016-chaplygin-sleigh-odelab.toml"
     text = path.read_text(encoding="utf-8")

@@ -24,16 +24,17 @@ def statement(search: Search) -> str:
     if search.generic.extra:
         text = f"{search.generic.extra} extra integral(s) {ansatz} exist for generic {values}"
         again = search.generic.rediscovered if search.generic.status else ()
+        named = sorted({c for st in search.generic.status for c in st.equals})
         if again:
-            named = sorted({c for st in search.generic.status for c in st.equals})
             text += (
                 f" ({len(search.generic.new)} new, {len(again)} the case's claims "
                 f"{', '.join(named)} again)"
             )
-        if search.claims_complete:
+        if search.claims_complete and named:
+            beyond = f" beyond {', '.join(search.known)}" if search.known else ""
             text += (
                 f"; the claims {', '.join(named)} span every integral of weighted degree "
-                f"<= {o.degree} beyond {', '.join(search.known)}"
+                f"<= {o.degree}{beyond}"
             )
     else:
         text = f"No extra integral {ansatz} exists for generic {values}"

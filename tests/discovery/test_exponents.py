@@ -152,6 +152,34 @@ def test_a_system_given_by_its_equations_with_a_logarithmic_branch():
     independently(case, d, {"x": 1, "y": 3, "z": 2})
 
 
+def test_todas_lattice_branches_in_flaschkas_variables_and_passes_in_their_squares():
+    """The open Toda lattice of three particles. In Flaschka's a_k, b_k (weights 1) the
+    traces of L, L**2, L**3 have degrees 1, 2, 3, which Yoshida's theorem puts among the
+    exponents; where one a_k vanishes at the balance, a_k' = a_k (b_(k+1) - b_k) with
+    b_(k+1) - b_k = 1/(2t) makes a_k grow like t**(1/2): exponent 3/2, and the ARS test
+    fails. In u_k = a_k**2 (weights u: 2, b: 1), meromorphic, every exponent is an
+    integer and the test passes."""
+    case, result = analysed(TEST_DATA / "any-form" / "toda-flaschka.toml")
+    d = result.document
+    assert len(d["balances"]) == 8 and all("-1" in e for e in spectra(d))
+    assert d["degrees"] == [1, 2, 3]
+    branched = [b for b in d["balances"] if "0" in (b["point"]["a1"], b["point"]["a2"])]
+    assert len(branched) == 4
+    assert all(b["exponents"] == ["-1", "1", "1", "3/2", "2"] for b in branched)
+    assert d["all_rational"] and not d["all_integer"] and not d["painleve"]["passes"]
+    independently(case, d)
+    case, result = analysed(EXPONENTS / "toda-squares.toml")
+    d = result.document
+    assert d["weights"] == {"u1": 2, "u2": 2, "b": 1}
+    assert sorted(map(tuple, spectra(d))) == [
+        ("-1", "1", "1", "2", "3"),
+        ("-1", "1", "1", "2", "3"),
+        ("-2", "-1", "1", "2", "3"),
+    ]
+    assert d["all_integer"] and d["painleve"]["passes"] and d["degrees"] == [1, 2, 3]
+    independently(case, d)
+
+
 def test_a_field_that_is_not_homogeneous_is_analysed_through_its_leading_part():
     """Kovalevskaya's top on so(4) (Hamiltonian with kappa): under M: 1, gamma: 2 the
     bracket's kappa terms have lower shift; the leading part is Kovalevskaya's e(3) top,

@@ -76,6 +76,18 @@ def test_a_relation_that_is_a_first_integral_is_named_so_in_the_statement():
     assert "(cofactor )" not in text
 
 
+def test_claims_that_span_the_integrals_of_a_system_with_nothing_known():
+    """Toda's lattice in Flaschka's variables has no known integral (no Hamiltonian, no
+    bracket): its three traces span every integral of degree <= 3, said without the
+    "beyond" of nothing (the statement once ended "beyond .")."""
+    toda = FAMILIES.parent / "any-form" / "toda-flaschka.toml"
+    search = discover_file(toda, degree=3).search
+    assert search.known == () and search.generic.extra == 3
+    text = statement(search)
+    assert "the claims trace, trace-2, trace-3 span every integral of weighted degree <= 3." in text
+    assert "beyond" not in text
+
+
 def test_the_text_says_which_symmetries_split_the_ansatz():
     """Lagrange's top at degree 8: turning about axis 3 and the reflections swapping axes
     1 and 2 keep the field, and split its ansatz; the text says so."""
