@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable, Iterator, Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import sympy as sp
@@ -40,6 +40,7 @@ from ..mathematics.exponent_witness import Witness, approximate, witness
 from ..mathematics.grading import candidates, per_variable, shift
 from ..mathematics.kovalevskaya import LAMBDA
 from ..mathematics.leading_weights import leading_weights
+from ..mathematics.parameter_translations import Reduction, reduction
 from ..mathematics.weighted import WeightedField, by_denominator, expanded, split_field
 from ..model import Case, ExponentOptions, ExponentResult, Weights, as_weights
 from .exponent_statement import family_statement, statement, witness_statement
@@ -298,11 +299,13 @@ def _single(
     if budget and found.parameters:
         exact = budget - _reserve(budget)
     split: WeightedField | None = None
+    reduced: Reduction | None = None
     try:
         with time_limit(exact):
-            split = _split(case, found)
+            reduced = _reduced(found)
+            split = _split(case, found) if reduced is None else _split_reduced(case, found, reduced)
             analysis = analyse(split, seed=seed, start=started)
-            return _document(case, options, found, analysis)
+            return _document(case, options, found, analysis, reduced)
     except BudgetExceeded:
         left = (budget or 0.0) - (time.perf_counter() - started)
         if exact == budget or left <= 0 or split is None:
@@ -311,9 +314,36 @@ def _single(
         found_witness = witness(split, seed=seed)
     if found_witness is None:
         raise BudgetExceeded
+    if reduced is not None:  # the reduced field at p' is the case's at p'_j, p_k = 0
+        found_witness = Witness(
+            {
+                **{_original(found, p): v for p, v in found_witness.values.items()},
+                **{p: sp.Integer(0) for p in reduced.removed},
+            },
+            found_witness.balance,
+        )
     document = _out_of_time(case, options, budget)
-    document |= _witness_part(options, split, found_witness)
+    document |= _witness_part(options, split, found_witness, found.parameters)
     return document
+
+
+def _reduced(found: CaseField) -> Reduction | None:
+    """The field with a parameter set to 0 for each translation of the parameters that
+    keeps it (``parameter_translations``); None where there is none, or where the field
+    divides by a function of the state (its denominators stay as they are)."""
+    if len(found.parameters) < 2 or any(not e.is_polynomial(*found.variables) for e in found.field):
+        return None
+    return reduction(found.field, found.parameters)
+
+
+def _split_reduced(case: Case, found: CaseField, reduced: Reduction) -> WeightedField:
+    """``_split`` of the reduced field, over its remaining parameters."""
+    return _split(case, replace(found, field=reduced.field, parameters=reduced.parameters))
+
+
+def _original(found: CaseField, p: sp.Symbol) -> sp.Symbol:
+    """The case's parameter of the name of a reduced one."""
+    return next(q for q in found.parameters if q.name == p.name)
 
 
 def _reserve(budget: float) -> float:
@@ -374,10 +404,16 @@ def _family_analysis(
     return document
 
 
-def _witness_part(options: ExponentOptions, split: WeightedField, w: Witness) -> dict[str, Any]:
+def _witness_part(
+    options: ExponentOptions,
+    split: WeightedField,
+    w: Witness,
+    parameters: Sequence[sp.Symbol] | None = None,
+) -> dict[str, Any]:
     """The test's verdict from a witness, the witness itself and the statement of an
     undecided document, whose balances, exponents and degrees of generic values stay
-    unknown (a decided family's document takes the witness alone)."""
+    unknown (a decided family's document takes the witness alone). The statement names
+    ``parameters`` (default: the split field's)."""
     entry = _balance(w.balance, tested=False)
     e = w.balance.exponents
     rational = [v for v in e.values if v.is_rational]
@@ -398,7 +434,7 @@ def _witness_part(options: ExponentOptions, split: WeightedField, w: Witness) ->
         "statement": witness_statement(
             witnessed,
             options.weights_text(),
-            [str(p) for p in split.parameters],
+            [str(p) for p in (split.parameters if parameters is None else parameters)],
             split.homogeneous,
             bool(split.denominators),
         ),
@@ -569,35 +605,75 @@ def _named(case: Case, found: CaseField, err: WeightedFieldError) -> ExponentErr
 
 
 def _document(
-    case: Case, options: ExponentOptions, found: CaseField, analysis: ExponentAnalysis
+    case: Case,
+    options: ExponentOptions,
+    found: CaseField,
+    analysis: ExponentAnalysis,
+    reduced: Reduction | None = None,
 ) -> dict[str, Any]:
-    """The JSON document of one analysis (docs/json-output.md)."""
+    """The JSON document of one analysis (docs/json-output.md); an analysis of the
+    ``reduced`` field is written back in the case's parameters."""
+    back = {} if reduced is None else reduced.back
     document: dict[str, Any] = {
         "case": case.id,
         "weights": dict(options.weights),
         "homogeneous": analysis.homogeneous,
         "free": list(options.free),
-        "parameters": [str(p) for p in analysis.parameters],
+        "parameters": [str(p) for p in (found.parameters if reduced else analysis.parameters)],
     }
     if analysis.denominators:
-        document["denominators"] = [sp.sstr(d) for d in analysis.denominators]
+        document["denominators"] = [sp.sstr(d.xreplace(back)) for d in analysis.denominators]
     if not analysis.homogeneous:
         document["leading"] = {
-            str(x): sp.sstr(v) for x, v in zip(analysis.variables, analysis.leading, strict=True)
+            str(x): sp.sstr(v.xreplace(back))
+            for x, v in zip(analysis.variables, analysis.leading, strict=True)
         }
-    document |= _analysis_part(analysis)
+    document |= _analysis_part(analysis, back)
     document["statement"] = statement(
         document, options.weights_text(), [str(p) for p in found.parameters]
     )
-    document["notes"] = list(analysis.notes)
+    document["notes"] = (
+        list(analysis.notes) if reduced is None else _notes_back(analysis, found, reduced)
+    )
     document["method"] = METHOD
     document["decided"] = True
     return document
 
 
-def _analysis_part(analysis: ExponentAnalysis) -> dict[str, Any]:
-    """Balances, exponents, degrees and the Painlevé test of one analysis."""
-    balances = [_balance(b, analysis.tested) for b in analysis.balances]
+def _notes_back(analysis: ExponentAnalysis, found: CaseField, reduced: Reduction) -> list[str]:
+    """The analysis's notes with the one on its generic parameters said of the case's,
+    and how the field was reduced (``parameter_translations``)."""
+    kept = [n for n in analysis.notes if not n.startswith("parameters ")]
+    names = ", ".join(map(str, found.parameters))
+    moves = "; ".join(
+        ", ".join(
+            f"{p} -> {sp.sstr(p + c * _T)}" for p, c in zip(found.parameters, v, strict=True) if c
+        )
+        for v in reduced.translations
+    )
+    written = ", ".join(
+        f"{sp.sstr(e)} for {p}" for p, e in reduced.back.items() if sp.sstr(e) != p.name
+    )
+    return [
+        *kept,
+        f"parameters {names} are treated as generic: the results hold outside a proper "
+        "algebraic subset of their values (exponent_family finds special values)",
+        f"the field is the same after {moves} for every t: it was analysed with "
+        f"{', '.join(f'{p} = 0' for p in reduced.removed)}, its results written back with "
+        f"{written}",
+    ]
+
+
+#: The parameter of a translation, in the notes.
+_T = sp.Symbol("t")
+
+
+def _analysis_part(
+    analysis: ExponentAnalysis, back: Mapping[sp.Symbol, sp.Expr] | None = None
+) -> dict[str, Any]:
+    """Balances, exponents, degrees and the Painlevé test of one analysis (``back``: the
+    reduced parameters written as the case's, ``parameter_translations``)."""
+    balances = [_balance(b, analysis.tested, back) for b in analysis.balances]
     conditions = [
         {"balance": i, **c}
         for i, b in enumerate(balances, 1)
@@ -617,12 +693,16 @@ def _analysis_part(analysis: ExponentAnalysis) -> dict[str, Any]:
     }
 
 
-def _balance(b: BalanceResult, tested: bool) -> dict[str, Any]:
+def _balance(
+    b: BalanceResult, tested: bool, back: Mapping[sp.Symbol, sp.Expr] | None = None
+) -> dict[str, Any]:
     """One balance: the maths' entry, with its Painlevé test resonance by resonance (its
     ``compatible`` null where the analysis computed no series) and its coordinates along
     a family of balances named ``along``."""
-    entry = b.as_dict()
-    named = {} if b.balance.root is not None else {b.balance.component.symbol: sp.Symbol("theta")}
+    entry = b.as_dict(back)
+    named = dict(back or {})
+    if b.balance.root is None:
+        named[b.balance.component.symbol] = sp.Symbol("theta")
     entry["along"] = entry.pop("free")
     entry["painleve"] = {
         "compatible": b.painleve.compatible if tested else None,

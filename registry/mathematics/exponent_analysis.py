@@ -20,7 +20,7 @@ subset (where a denominator or a discriminant met on the way vanishes);
 from __future__ import annotations
 
 import time
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 
 import sympy as sp
@@ -67,16 +67,17 @@ class BalanceResult:
     painleve: Painleve
     notes: tuple[str, ...] = ()
 
-    def as_dict(self) -> dict:
+    def as_dict(self, back: Mapping[sp.Symbol, sp.Expr] | None = None) -> dict:
+        """The JSON entry of the balance; ``back`` writes parameters that stand for
+        combinations of others (``parameter_translations``) as those combinations."""
         b, e = self.balance, self.exponents
-        point = dict(b.point)
         extra: dict = {}
-        named: dict = {}
+        named: dict = dict(back or {})
         if b.root is None:  # the point through a root theta of the component's polynomial
-            named = {b.component.symbol: sp.Symbol("theta")}
-            point = {x: v.xreplace(named) for x, v in point.items()}
+            named[b.component.symbol] = sp.Symbol("theta")
             g = b.component.minimal.as_expr().xreplace(named)
             extra["root_of"] = f"{sp.sstr(g)} = 0"
+        point = {x: v.xreplace(named) for x, v in b.point.items()}
         return {
             "point": {str(x): sp.sstr(v) for x, v in point.items()},
             "exponents": _exponent_texts(e, named),

@@ -180,6 +180,67 @@ def test_todas_lattice_branches_in_flaschkas_variables_and_passes_in_their_squar
     independently(case, d)
 
 
+def is_zero(number: sp.Expr) -> bool:
+    """Exactly, for an algebraic number: its minimal polynomial is t."""
+    number = sp.expand(number)
+    t = sp.Dummy("t")
+    return number == 0 or sp.minimal_polynomial(number, t) == t
+
+
+def test_a_field_unchanged_by_translating_its_parameters_is_analysed_with_one_fewer():
+    """Kirchhoff's equations with moments (1, 2, 3) and the potential sum a_i gamma_i**2/2
+    involve a1, a2, a3 only through their differences (gamma . gamma is a Casimir). The
+    field is analysed at a3 = 0 and written back: at values of a1, a2, a3 with a3 != 0,
+    every balance solves the case's own equations, and its exponents are the eigenvalues
+    of the case's own Kovalevskaya matrix there (the characteristic polynomials agree,
+    exactly)."""
+    weights = {"M": 1, "gamma": 1}
+    case, result = analysed(EXPONENTS / "kirchhoff-123-potential.toml", weights)
+    d = result.document
+    assert d["parameters"] == ["a1", "a2", "a3"] and len(d["balances"]) == 16
+    (note,) = [n for n in d["notes"] if "for every t" in n]
+    assert "a1 -> a1 + t, a2 -> a2 + t, a3 -> a3 + t" in note and "with a3 = 0" in note
+    assert "a1 - a3 for a1, a2 - a3 for a2" in note
+    assert "for generic values of a1, a2, a3" in d["statement"]
+    found = case_field(case, exponent_options(case, weights))
+    names = {str(x): x for x in (*found.variables, *found.parameters)}
+    matrix = sp.Matrix(found.field).jacobian(found.variables) + sp.diag(*found.weights)
+    lam = sp.Symbol("lam")
+    a1, a2, a3 = found.parameters
+    for values in ({a1: 5, a2: 2, a3: -1}, {a1: sp.Rational(-3, 2), a2: 7, a3: sp.Rational(1, 3)}):
+        for b in d["balances"]:
+            point = {
+                names[x]: sp.sympify(v, locals=names).xreplace(values)
+                for x, v in b["point"].items()
+            }
+            at = {**point, **values}
+            for x, v, w in zip(found.variables, found.field, found.weights, strict=True):
+                assert is_zero(v.xreplace(at) + w * point[names[str(x)]])
+            theirs = sp.Poly(matrix.xreplace(at).charpoly(lam).as_expr(), lam)
+            mine = sp.Poly(
+                sp.Mul(
+                    *(lam - sp.sympify(e, locals=names).xreplace(values) for e in b["exponents"])
+                ),
+                lam,
+            )
+            assert all(is_zero(c) for c in (mine - theirs).all_coeffs())
+    # a generic exponent varies with a1 - a3 and a2 - a3: the test fails for generic values
+    assert not d["all_rational"] and d["painleve"]["passes"] is False
+
+
+def test_neumanns_problem_passes_the_test_for_generic_potentials():
+    """Neumann's problem on e(3) (unit moments, potential sum a_i gamma_i**2/2), weights 1:
+    one family of balances with exponents -1, 0, 1, 2, 2, 2, and every compatibility
+    condition holds, for generic a1, a2, a3. Over Q(a1, a2, a3) this ran past 300 s; with
+    a3 = 0 (a translation of the a_i keeps the field) it takes seconds."""
+    case, result = analysed(EXPONENTS / "neumann.toml", {"M": 1, "gamma": 1})
+    d = result.document
+    assert spectra(d) == [["-1", "0", "1", "2", "2", "2"]]
+    assert d["painleve"]["passes"] is True and d["degrees"] == [1, 2]
+    assert d["parameters"] == ["a1", "a2", "a3"]
+    assert "a1, a2, a3" in d["statement"]
+
+
 def test_a_field_that_is_not_homogeneous_is_analysed_through_its_leading_part():
     """Kovalevskaya's top on so(4) (Hamiltonian with kappa): under M: 1, gamma: 2 the
     bracket's kappa terms have lower shift; the leading part is Kovalevskaya's e(3) top,
