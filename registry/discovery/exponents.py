@@ -329,9 +329,15 @@ def _single(
 
 def _reduced(found: CaseField) -> Reduction | None:
     """The field with a parameter set to 0 for each translation of the parameters that
-    keeps it (``parameter_translations``); None where there is none, or where the field
-    divides by a function of the state (its denominators stay as they are)."""
-    if len(found.parameters) < 2 or any(not e.is_polynomial(*found.variables) for e in found.field):
+    keeps it (``parameter_translations``); None where there is none, where the field
+    divides by a function of the state (its denominators stay as they are), or where a
+    parameter is declared an integer (the reduced ones would not be, and a witness at
+    rational values would then speak for values the case excludes)."""
+    if (
+        len(found.parameters) < 2
+        or any(p.is_integer for p in found.parameters)
+        or any(not e.is_polynomial(*found.variables) for e in found.field)
+    ):
         return None
     return reduction(found.field, found.parameters)
 
