@@ -241,6 +241,10 @@ def with_values(case: Case, values: Mapping[sp.Symbol, sp.Expr]) -> Case | None:
             torque=(put(system.torque[0]), put(system.torque[1]), put(system.torque[2])),
             hamiltonian=None if given is None else put(given),
             kappa=put(system.kappa),
+            # a state of its own: its equations, or its bracket (with the Hamiltonian)
+            equations=tuple(put(e) for e in system.equations),
+            bracket=tuple((x, y, put(v)) for x, y, v in system.bracket),
+            definitions=tuple((name, put(e)) for name, e in system.definitions),
         )
     except Undefined:  # a value where a denominator vanishes
         return None

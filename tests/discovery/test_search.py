@@ -696,3 +696,14 @@ def test_a_set_whose_integral_is_a_product_with_cancelling_leading_parts_is_not_
     assert symmetric[0] == ("p11 = p22", "c113 = c223")
     (integral,) = symmetric[1]
     assert sp.expand(sp.sympify(integral) - sp.sympify("M3 - c223*gamma3**2 - p22*gamma3")) == 0
+
+
+def test_a_family_given_by_its_equations_is_searched_at_its_special_values():
+    """Lorenz's system with sigma, r, b free, degree 2: at sigma = 0, dx/dt = 0 and x is
+    an integral. The set is searched with sigma put into the equations (before, the field
+    kept sigma, and the set was left "not searched", the search incomplete); no other
+    values carry an integral of degree <= 2."""
+    found = search("lorenz", degree=2, free=("sigma", "r", "b"))
+    assert found.complete and not any("not searched" in c for c in found.coverage)
+    assert where(found) == {("sigma = 0",): ("x",)}
+    assert found.generic.extra == 0

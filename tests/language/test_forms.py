@@ -9,7 +9,7 @@ import sympy as sp
 from registry.language import forms
 from registry.language.casefile import load_case, parse_case_text
 from registry.mathematics import mechanics as mech
-from tests.helpers.samples import CASES
+from tests.helpers.samples import CASES, FAMILIES
 
 SO4 = """id = "so4-form"
 title = "Kovalevskaya's H on so(4)"
@@ -71,6 +71,41 @@ def test_values_that_bring_a_parameter_in_declare_it_real():
     assert at is not None and at.parameters["w"] == w and "c" not in at.parameters
     assert str(at.assumptions["w"]) == "real" and w in at.dynamics.parameters
     assert at.assumptions["kappa"] == case.assumptions["kappa"]
+
+
+def test_values_are_put_in_a_system_given_by_its_equations_or_its_bracket():
+    """A state of its own: the values go into the equations (and the definitions), or
+    into the bracket and the Hamiltonian. Before, only the paper's forms were changed,
+    and a search kept Lorenz's sigma in the field at sigma = 0."""
+    lorenz = load_case(FAMILIES / "lorenz.toml")
+    sigma = lorenz.parameters["sigma"]
+    at = forms.with_values(lorenz, {sigma: sp.Integer(0)})
+    assert at is not None and "sigma" not in at.parameters
+    x = at.dynamics.variables[0]
+    assert at.dynamics.field[0] == 0 and not any(f.has(sigma) for f in at.dynamics.field)
+    assert at.system.equations[0].text == "0" and x in at.dynamics.field[1].free_symbols
+    text = """id = "bracket-form"
+title = "a rigid body on so(3) given by its bracket, with a parameter"
+[source]
+citation = "test"
+[parameters]
+k = "real"
+[system]
+variables = ["M1", "M2", "M3"]
+hamiltonian = "(M1**2 + 2*M2**2 + 3*M3**2)/2"
+[system.definitions]
+q = "k*M3"
+[system.bracket]
+"M1, M2" = "q"
+"M2, M3" = "M1"
+"M3, M1" = "M2"
+"""
+    case = parse_case_text(text)
+    k = case.parameters["k"]
+    at = forms.with_values(case, {k: sp.Integer(2)})
+    assert at is not None and not any(f.has(k) for f in at.dynamics.field)
+    assert [v.text for _, _, v in at.system.bracket] == ["2*M3", "M1", "M2"]
+    assert [(n, e.text) for n, e in at.system.definitions] == [("q", "2*M3")]
 
 
 def test_the_store_keeps_the_forms_fields_as_written():
