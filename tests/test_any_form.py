@@ -197,6 +197,8 @@ def test_suslovs_problem_keeps_its_energy_and_not_lebesgues_measure():
 
 
 def test_todas_traces_are_proven_and_a_changed_coefficient_refuted():
+    """Flaschka's traces of L, L**2 and L**3 are integrals of Toda's lattice; tr L**3 with
+    one coefficient changed (3 -> 2) is refuted at a point where dI/dt is not zero."""
     audit = audit_case(load_case(DATA / "toda-flaschka.toml"))
     assert {r.claim: r.verdict for r in audit.results} == {
         "trace": V,
